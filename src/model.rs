@@ -1,0 +1,364 @@
+//! The TSWM physics of MODEL.md sections 2 to 5: forces, the force transfer
+//! function ψ, the equation of motion, the switching function φ and the
+//! stick test. No integration here: the integrator calls these.
+//!
+//! Keep in sync with `shaders/tswm.wgsl` (functions of the same names).
+
+use crate::params::{FrictionKind, MotorKind, Num, Params};
+
+/// Most points a friction table may hold (fixed so the GPU can keep it in a
+/// fixed-size uniform).
+pub const MAX_TABLE_POINTS: usize = 32;
+
+/// μ(Vs) as points, interpolated linearly and held constant past its ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionTable {
+    /// Number of points used.
+    pub n: usize,
+    /// Sliding speeds, m/s, strictly increasing, the first >= 0.
+    pub vs: [f64; MAX_TABLE_POINTS],
+    /// Friction coefficients, >= 0.
+    pub mu: [f64; MAX_TABLE_POINTS],
+}
+
+impl FrictionTable {
+    /// Builds a table; errors say what is allowed.
+    pub fn new(vs: &[f64], mu: &[f64]) -> Result<Self, String> {
+        if vs.len() != mu.len() {
+            return Err(format!("vs has {} points but mu has {}; they must match", vs.len(), mu.len()));
+        }
+        if vs.len() < 2 || vs.len() > MAX_TABLE_POINTS {
+            return Err(format!("needs 2 to {MAX_TABLE_POINTS} points, got {}", vs.len()));
+        }
+        let mut t = FrictionTable { n: vs.len(), vs: [0.0; MAX_TABLE_POINTS], mu: [0.0; MAX_TABLE_POINTS] };
+        for i in 0..vs.len() {
+            if !vs[i].is_finite() || !mu[i].is_finite() {
+                return Err(format!("point {} is not finite", i + 1));
+            }
+            if vs[i] < 0.0 || (i > 0 && vs[i] <= vs[i - 1]) {
+                return Err(format!("vs must start >= 0 and increase strictly (point {})", i + 1));
+            }
+            if mu[i] < 0.0 {
+                return Err(format!("mu must be >= 0 (point {})", i + 1));
+            }
+            t.vs[i] = vs[i];
+            t.mu[i] = mu[i];
+        }
+        Ok(t)
+    }
+
+    /// μ at sliding speed `vs` (linear between points, constant outside).
+    #[inline]
+    pub fn mu_at(&self, vs: f64) -> f64 {
+        let n = self.n;
+        if vs <= self.vs[0] {
+            return self.mu[0];
+        }
+        for i in 1..n {
+            if vs < self.vs[i] {
+                let w = (vs - self.vs[i - 1]) / (self.vs[i] - self.vs[i - 1]);
+                return self.mu[i - 1] + w * (self.mu[i] - self.mu[i - 1]);
+            }
+        }
+        self.mu[n - 1]
+    }
+}
+
+/// A lane's constants in the form the integrator uses: fixed size, laws as
+/// codes, trigonometry done once.
+///
+/// Keep in sync with `GpuLane` in `src/gpu/layout.rs` and `Lane` in the shader.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lane {
+    pub m1: f64,
+    pub m2: f64,
+    pub tan_g: f64,
+    pub sin_g: f64,
+    pub cos_g: f64,
+    /// 1 / cos γ
+    pub inv_cos_g: f64,
+    pub f2: f64,
+    /// 0 = kloss, 1 = constant
+    pub motor: u32,
+    pub v_sync: f64,
+    /// critical slip σk
+    pub sigma_k: f64,
+    pub f_crit: f64,
+    pub f1: f64,
+    /// time the motor is cut; +inf for never
+    pub motor_off: f64,
+    /// 0 = paper, 1 = coulomb, 2 = table
+    pub friction: u32,
+    pub fric_a: f64,
+    pub fric_b: f64,
+    pub fric_c: f64,
+    /// sliding μ for coulomb
+    pub mu: f64,
+    /// static μs = tan ρ(0) for every law
+    pub mu_s: f64,
+    pub x1_0: f64,
+    pub v1_0: f64,
+    pub t_end: f64,
+}
+
+/// Motor law codes shared with the shader.
+pub const MOTOR_KLOSS: u32 = 0;
+/// Constant motor force.
+pub const MOTOR_CONSTANT: u32 = 1;
+/// Friction law codes shared with the shader.
+pub const FRICTION_PAPER: u32 = 0;
+/// Constant μ.
+pub const FRICTION_COULOMB: u32 = 1;
+/// Tabulated μ(Vs).
+pub const FRICTION_TABLE: u32 = 2;
+
+impl Lane {
+    /// Derives a lane's constants from validated parameters.
+    pub fn new(p: &Params, table: Option<&FrictionTable>) -> Lane {
+        let g = p.get(Num::GammaDeg).to_radians();
+        let nan_to = |v: f64, d: f64| if v.is_nan() { d } else { v };
+        let (motor, v_sync, sigma_k, f_crit, f1) = match p.motor {
+            MotorKind::Kloss => {
+                let vs = p.get(Num::VSync);
+                (MOTOR_KLOSS, vs, (vs - p.get(Num::VCrit)) / vs, p.get(Num::FCrit), 0.0)
+            }
+            MotorKind::Constant => (MOTOR_CONSTANT, 1.0, 1.0, 0.0, p.get(Num::F1)),
+        };
+        let mut lane = Lane {
+            m1: p.get(Num::M1),
+            m2: p.get(Num::M2),
+            tan_g: g.tan(),
+            sin_g: g.sin(),
+            cos_g: g.cos(),
+            inv_cos_g: 1.0 / g.cos(),
+            f2: p.get(Num::F2),
+            motor,
+            v_sync,
+            sigma_k,
+            f_crit,
+            f1,
+            motor_off: nan_to(p.get(Num::MotorOff), f64::INFINITY),
+            friction: match p.friction {
+                FrictionKind::Paper => FRICTION_PAPER,
+                FrictionKind::Coulomb => FRICTION_COULOMB,
+                FrictionKind::Table => FRICTION_TABLE,
+            },
+            fric_a: nan_to(p.get(Num::FricA), 0.0),
+            fric_b: nan_to(p.get(Num::FricB), 1.0),
+            fric_c: nan_to(p.get(Num::FricC), 1.0),
+            mu: nan_to(p.get(Num::Mu), 0.0),
+            mu_s: 0.0,
+            x1_0: p.get(Num::X10),
+            v1_0: p.get(Num::V10),
+            t_end: p.get(Num::TEnd),
+        };
+        lane.mu_s = match p.friction {
+            FrictionKind::Coulomb => p.get(Num::MuStatic),
+            _ => mu_sliding(&lane, table, 0.0),
+        };
+        lane
+    }
+}
+
+/// Motor force F1 at speed `v1`; zero once the motor is off.
+#[inline]
+pub fn motor_force(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
+    if !motor_on {
+        return 0.0;
+    }
+    if lane.motor == MOTOR_CONSTANT {
+        return lane.f1;
+    }
+    // Kloss in the form 2 f σ σk / (σ² + σk²): finite at σ = 0, negative
+    // above synchronous speed (generator braking).
+    let sigma = (lane.v_sync - v1) / lane.v_sync;
+    let sk = lane.sigma_k;
+    2.0 * lane.f_crit * sigma * sk / (sigma * sigma + sk * sk)
+}
+
+/// Sliding friction coefficient μ = tan ρ at sliding speed `vs` >= 0.
+#[inline]
+pub fn mu_sliding(lane: &Lane, table: Option<&FrictionTable>, vs: f64) -> f64 {
+    match lane.friction {
+        FRICTION_PAPER => {
+            let rho = (std::f64::consts::PI / 180.0) / (lane.fric_a * vs.powf(lane.fric_b) + lane.fric_c);
+            tan_small(rho)
+        }
+        FRICTION_COULOMB => lane.mu,
+        _ => table.map_or(f64::NAN, |t| t.mu_at(vs)),
+    }
+}
+
+/// tan x, by its Taylor series up to x^15 where that is exact to the last
+/// bit (|x| <= 0.15 rad, 8.6°: friction angles of real worm gears), else
+/// by the library. About twice as fast as `f64::tan` on the hot path.
+#[inline]
+pub fn tan_small(x: f64) -> f64 {
+    if x.abs() > 0.15 {
+        return x.tan();
+    }
+    let x2 = x * x;
+    let p = 929569.0 / 638512875.0;
+    let p = p * x2 + 21844.0 / 6081075.0;
+    let p = p * x2 + 1382.0 / 155925.0;
+    let p = p * x2 + 62.0 / 2835.0;
+    let p = p * x2 + 17.0 / 315.0;
+    let p = p * x2 + 2.0 / 15.0;
+    let p = p * x2 + 1.0 / 3.0;
+    x + x * x2 * p
+}
+
+/// Switching function φ = F1/m1 − F2/(m2 tan γ): a-a when > 0, b-b when < 0.
+#[inline]
+pub fn phi(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
+    motor_force(lane, v1, motor_on) / lane.m1 - lane.f2 / (lane.m2 * lane.tan_g)
+}
+
+/// The contact side for φ: +1 (a-a) when φ >= 0, else −1 (b-b).
+#[inline]
+pub fn side_of(phi: f64) -> i32 {
+    if phi >= 0.0 {
+        1
+    } else {
+        -1
+    }
+}
+
+/// What the equation of motion gives in one mode at one speed.
+#[derive(Clone, Copy, Debug)]
+pub struct Motion {
+    /// ẍ1
+    pub acc: f64,
+    /// D = m1 − ψ m2 tan γ; the mode is inconsistent when D <= 0.
+    pub d: f64,
+    /// motor force F1
+    pub f1: f64,
+    /// contact reactions S1, S2
+    pub s1: f64,
+    pub s2: f64,
+}
+
+/// Equation of motion in mode (`side` c, direction `dir` s) at speed `v1`.
+///
+/// ψ = −tan(γ + c s ρ) = −p/q by the tangent sum, with p = tan γ + c s μ and
+/// q = 1 − tan γ c s μ; multiplying through by q leaves one division on the
+/// path to ẍ1. The sliding speed is taken as max(s·v1, 0): inside a step
+/// the mode is frozen, and past a rest event this keeps the right-hand side
+/// finite and continuous for root finding.
+#[inline]
+pub fn motion(lane: &Lane, table: Option<&FrictionTable>, side: i32, dir: i32, motor_on: bool, v1: f64) -> Motion {
+    let f1 = motor_force(lane, v1, motor_on);
+    let vs = (dir as f64 * v1).max(0.0) * lane.inv_cos_g;
+    let t = (side * dir) as f64 * mu_sliding(lane, table, vs);
+    let p = lane.tan_g + t;
+    let q = 1.0 - lane.tan_g * t;
+    // D·q = m1 q + p m2 tan γ
+    let dq = lane.m1 * q + p * lane.m2 * lane.tan_g;
+    let acc = (f1 * q + p * lane.f2) / dq;
+    Motion { acc, d: dq / q, f1, s1: f1 - lane.m1 * acc, s2: lane.f2 - lane.m2 * lane.tan_g * acc }
+}
+
+/// Stick test at rest (MODEL.md section 4): returns (sticks, T), where T is
+/// the tangential force needed at rest; sign(T) is the direction of
+/// departure when the lane does not stick.
+#[inline]
+pub fn stick_test(lane: &Lane, motor_on: bool) -> (bool, f64) {
+    let f1 = motor_force(lane, 0.0, motor_on);
+    let n = (lane.f2 * lane.cos_g - f1 * lane.sin_g).abs();
+    let t = f1 * lane.cos_g + lane.f2 * lane.sin_g;
+    (t.abs() <= lane.mu_s * n, t)
+}
+
+/// Mesh efficiency in the current mode: direct flow (c·s = +1, the worm
+/// drives) −S2ẋ2/(S1ẋ1), inverse flow (c·s = −1, the wheel drives)
+/// −S1ẋ1/(S2ẋ2). NaN when there is no power flow.
+#[inline]
+pub fn efficiency(lane: &Lane, m: &Motion, side: i32, dir: i32, v1: f64) -> f64 {
+    let p1 = m.s1 * v1;
+    let p2 = m.s2 * v1 * lane.tan_g;
+    let (p_in, p_out) = if side * dir > 0 { (p1, p2) } else { (p2, p1) };
+    if p_in == 0.0 {
+        f64::NAN
+    } else {
+        -p_out / p_in
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Spec;
+
+    fn paper() -> Lane {
+        Lane::new(&Spec::default().resolve(false).unwrap(), None)
+    }
+
+    #[test]
+    fn paper_friction_law_matches_model_md() {
+        let l = paper();
+        let rho = |vs: f64| mu_sliding(&l, None, vs).atan().to_degrees();
+        assert!((rho(0.0) - 1.0 / 0.14).abs() < 1e-12); // 7.14 deg
+        assert!((rho(1.0) - 3.18).abs() < 0.005);
+        // MODEL.md: "ρ(3.4 m/s) ≈ 2°" (1.97° by the formula).
+        assert!((rho(3.4) - 2.0).abs() < 0.05);
+    }
+
+    #[test]
+    fn tan_small_is_exact_where_used() {
+        for i in 0..=3000 {
+            let x = -0.15 + 0.3 * i as f64 / 3000.0;
+            assert!((tan_small(x) - x.tan()).abs() <= 2.0 * f64::EPSILON * x.tan().abs(), "{x}");
+        }
+        assert_eq!(tan_small(0.5), 0.5f64.tan());
+    }
+
+    #[test]
+    fn kloss_is_zero_at_sync_and_peaks_at_crit() {
+        let l = paper();
+        assert_eq!(motor_force(&l, 3.35, true), 0.0);
+        assert!((motor_force(&l, 2.07, true) - 4375.0).abs() < 1e-9);
+        assert!(motor_force(&l, 3.5, true) < 0.0);
+        assert_eq!(motor_force(&l, 1.0, false), 0.0);
+    }
+
+    #[test]
+    fn psi_is_the_papers_kernel_and_s2_follows_phi() {
+        let l = paper();
+        let g = 0.1f64.atan();
+        for (side, want_rho_sign) in [(1, 1.0), (-1, -1.0)] {
+            let v = 1.0;
+            let m = motion(&l, None, side, 1, true, v);
+            let rho = mu_sliding(&l, None, v / l.cos_g).atan();
+            let psi = -(g + want_rho_sign * rho).tan();
+            assert!((m.s1 - psi * m.s2).abs() < 1e-9 * m.s1.abs().max(1.0));
+            // S2 = −m1 m2 tanγ φ / D
+            let s2 = -l.m1 * l.m2 * l.tan_g * phi(&l, v, true) / m.d;
+            assert!((m.s2 - s2).abs() < 1e-9 * s2.abs().max(1.0));
+        }
+    }
+
+    #[test]
+    fn steady_efficiency_is_tan_ratio() {
+        let l = paper();
+        let v = 2.0;
+        let m = motion(&l, None, 1, 1, true, v);
+        let rho = mu_sliding(&l, None, v / l.cos_g).atan();
+        let g = l.tan_g.atan();
+        assert!((efficiency(&l, &m, 1, 1, v) - g.tan() / (g + rho).tan()).abs() < 1e-12);
+        let m = motion(&l, None, -1, 1, true, v);
+        assert!((efficiency(&l, &m, -1, 1, v) - (g - rho).tan() / g.tan()).abs() < 1e-12);
+        // Running backwards on the a-a side the wheel drives: inverse flow.
+        let m = motion(&l, None, 1, -1, false, -v);
+        assert!((efficiency(&l, &m, 1, -1, -v) - (g - rho).tan() / g.tan()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn table_interpolates_and_clamps() {
+        let t = FrictionTable::new(&[0.0, 1.0, 3.0], &[0.1, 0.06, 0.04]).unwrap();
+        assert_eq!(t.mu_at(0.0), 0.1);
+        assert!((t.mu_at(0.5) - 0.08).abs() < 1e-15);
+        assert!((t.mu_at(2.0) - 0.05).abs() < 1e-15);
+        assert_eq!(t.mu_at(10.0), 0.04);
+        assert!(FrictionTable::new(&[1.0, 0.5], &[0.1, 0.1]).is_err());
+    }
+}
