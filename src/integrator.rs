@@ -154,10 +154,8 @@ pub struct LaneResult {
 }
 
 // Dormand–Prince 5(4) tableau.
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
+// Stage times c2..c5 (1/5, 3/10, 4/5, 8/9) are not needed: between events
+// the right-hand side is autonomous.
 const A21: f64 = 1.0 / 5.0;
 const A31: f64 = 3.0 / 40.0;
 const A32: f64 = 9.0 / 40.0;
@@ -191,9 +189,6 @@ const D4: f64 = -10690763975.0 / 1880347072.0;
 const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
-// Silence the unused C-constants lint: the right-hand side is autonomous
-// between events, so stage times are not needed; kept for reading.
-const _STAGE_TIMES: [f64; 4] = [C2, C3, C4, C5];
 
 /// Step size of the first step, s. The friction law's derivative is
 /// unbounded at rest, so the controller shrinks it there as it must.

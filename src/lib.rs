@@ -1,9 +1,20 @@
 //! `tswm`: batch simulation of the Two-Sided Wedge Mechanism, the dynamic
 //! model of a worm drive in `MODEL.md`, over thousands to millions of
 //! parameter variants on a CPU (f64, rayon) or a GPU (f32, WGSL via wgpu).
+//!
+//! Modules: [`params`] (names, specs, validation), [`model`] (physics),
+//! [`integrator`] (DP5 with located events, the lane automaton), [`sweep`]
+//! and [`lanes`] (where lanes come from), [`runner`] and [`output`]
+//! (chunked runs streamed to `lanes.csv`), [`cli`].
 
+pub mod cli;
+pub mod error;
 pub mod integrator;
+pub mod lanes;
 pub mod model;
+pub mod output;
 pub mod params;
+pub mod runner;
 pub mod sampling;
+pub mod sweep;
 pub mod testmodels;

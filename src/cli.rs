@@ -1,0 +1,96 @@
+//! The command line: flags parsed by clap, then validated into a [`Plan`].
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use crate::error::{Error, Result};
+use crate::integrator::Settings;
+use crate::lanes::Source;
+
+/// Simulate thousands to millions of worm-drive (TSWM) variants.
+#[derive(Parser, Debug)]
+#[command(name = "tswm", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Which backend integrates the lanes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BackendChoice {
+    /// A hardware GPU if there is one, else the faster of CPU and software GPU.
+    Auto,
+    /// The f64 CPU path.
+    Cpu,
+    /// The f32 WGSL path on the best adapter.
+    Gpu,
+}
+
+/// Where the lanes come from.
+#[derive(clap::Args, Debug, Clone)]
+pub struct LanesArgs {
+    /// Sweep file (TOML). With --lanes it may give only [base] and [friction_table].
+    pub sweep: Option<PathBuf>,
+    /// Explicit lane table (CSV, one lane a row, MODEL.md parameter names as columns).
+    #[arg(long, value_name = "FILE.csv")]
+    pub lanes: Option<PathBuf>,
+    /// CPU threads (default: all cores).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run a sweep and write DIR/lanes.csv and DIR/sweep.resolved.toml.
+    Run {
+        #[command(flatten)]
+        lanes: LanesArgs,
+        /// Output folder.
+        #[arg(long, value_name = "DIR", default_value = "out")]
+        out: PathBuf,
+        /// Backend.
+        #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+        backend: BackendChoice,
+    },
+    /// Run the same lanes on the CPU and the GPU and compare (exit 1 when a bound is missed).
+    Check {
+        #[command(flatten)]
+        lanes: LanesArgs,
+    },
+    /// List GPU adapters and their limits.
+    Devices,
+}
+
+/// A validated run.
+pub struct Plan {
+    /// The lanes.
+    pub source: Source,
+    /// CPU threads (0: all).
+    pub threads: usize,
+    /// Integration settings of the CPU path.
+    pub settings: Settings,
+}
+
+impl LanesArgs {
+    /// Validates the lane arguments into a plan (reads and checks every lane).
+    pub fn plan(&self) -> Result<Plan> {
+        let source = match (&self.sweep, &self.lanes) {
+            (None, None) => {
+                return Err(Error::Usage("name a sweep file (tswm run SWEEP.toml) or a lane table (--lanes FILE.csv)".into()))
+            }
+            (Some(s), None) => {
+                let src = Source::sweep(s)?;
+                src.validate()?;
+                src
+            }
+            (s, Some(l)) => Source::table(l, s.as_deref())?,
+        };
+        if self.threads == Some(0) {
+            return Err(Error::Usage("--threads must be >= 1".into()));
+        }
+        Ok(Plan { source, threads: self.threads.unwrap_or(0), settings: Settings::default() })
+    }
+}

@@ -1,0 +1,62 @@
+//! Errors. Bad input is one variant whose fields carry the file, the place
+//! in it, the parameter and what is allowed, so `main` can print it on one
+//! line and exit with code 2.
+
+use std::path::{Path, PathBuf};
+
+/// Everything `tswm` can fail with.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Bad input in a file (or on the command line): exit code 2.
+    #[error("{}: {}{}{}", file.display(), at.as_deref().map(|a| format!("{a}: ")).unwrap_or_default(), param.as_deref().map(|p| format!("{p}: ")).unwrap_or_default(), msg)]
+    Input {
+        /// The file that holds the bad input.
+        file: PathBuf,
+        /// Where in it: "line 4", "row 3 (line 4)", "lane 17".
+        at: Option<String>,
+        /// The parameter or key concerned.
+        param: Option<String>,
+        /// What is wrong and what is allowed.
+        msg: String,
+    },
+    /// A command line that names nothing to run, or conflicting options: exit code 2.
+    #[error("{0}")]
+    Usage(String),
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The GPU backend failed (no adapter, device lost, out of memory).
+    #[error("GPU: {0}")]
+    Gpu(String),
+    /// `tswm check` found deviations beyond the bounds.
+    #[error("check failed: {0}")]
+    CheckFailed(String),
+}
+
+impl Error {
+    /// Bad input in `file`.
+    pub fn input(file: &Path, at: Option<String>, param: Option<&str>, msg: impl Into<String>) -> Error {
+        Error::Input { file: file.to_path_buf(), at, param: param.map(str::to_string), msg: msg.into() }
+    }
+
+    /// An I/O error on `path`.
+    pub fn io(path: &Path, source: std::io::Error) -> Error {
+        Error::Io { path: path.to_path_buf(), source }
+    }
+
+    /// The process exit code for this error.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Input { .. } | Error::Usage(_) => 2,
+            _ => 1,
+        }
+    }
+}
+
+/// Shorthand result.
+pub type Result<T> = std::result::Result<T, Error>;

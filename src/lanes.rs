@@ -1,0 +1,230 @@
+//! Where lanes come from: a sweep file, or an explicit lane table
+//! (`--lanes FILE.csv`, one lane a row, columns named as in MODEL.md
+//! section 9, an empty cell meaning "not set"). Either way lanes are read
+//! in order, a chunk at a time, so a sweep of any size runs in bounded
+//! memory; a validation pass over every lane comes first, so bad input is
+//! reported before anything is written.
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::model::FrictionTable;
+use crate::params::{Param, Params, Spec};
+use crate::sampling::Uniforms;
+use crate::sweep::Sweep;
+
+/// The lanes of a run.
+pub enum Source {
+    /// Lanes generated from a sweep file.
+    Sweep {
+        /// The sweep.
+        sweep: Sweep,
+        /// Its file, for error messages.
+        file: PathBuf,
+    },
+    /// Lanes read from a lane table; `base` and `table` come from an
+    /// optional sweep file given beside it.
+    Table {
+        /// The lane table.
+        path: PathBuf,
+        /// Defaults under the table's cells.
+        base: Spec,
+        /// Friction table for `friction = table` rows.
+        table: Option<FrictionTable>,
+        /// Number of rows (set by `validate`).
+        rows: u64,
+    },
+}
+
+impl Source {
+    /// Lanes of a sweep file.
+    pub fn sweep(file: &Path) -> Result<Source> {
+        Ok(Source::Sweep { sweep: Sweep::from_file(file)?, file: file.to_path_buf() })
+    }
+
+    /// Lanes of a lane table, over an optional sweep file's base and table.
+    pub fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
+        let (base, table) = match sweep_file {
+            Some(f) => {
+                let s = Sweep::from_file(f)?;
+                if !s.axes.is_empty() || s.study.is_some() {
+                    return Err(Error::input(
+                        f,
+                        None,
+                        None,
+                        "with --lanes the sweep file may hold only [base] and [friction_table]; \
+                         the lane table gives the lanes",
+                    ));
+                }
+                (s.base, s.table)
+            }
+            None => (Spec::default(), None),
+        };
+        let mut src = Source::Table { path: path.to_path_buf(), base, table, rows: 0 };
+        let n = src.validate()?;
+        if let Source::Table { rows, .. } = &mut src {
+            *rows = n;
+        }
+        Ok(src)
+    }
+
+    /// The friction table lanes may refer to.
+    pub fn friction_table(&self) -> Option<&FrictionTable> {
+        match self {
+            Source::Sweep { sweep, .. } => sweep.table.as_ref(),
+            Source::Table { table, .. } => table.as_ref(),
+        }
+    }
+
+    /// Number of lanes.
+    pub fn lane_count(&self) -> u64 {
+        match self {
+            Source::Sweep { sweep, .. } => sweep.lane_count(),
+            Source::Table { rows, .. } => *rows,
+        }
+    }
+
+    /// Checks every lane; returns the count. Errors name the lane or row.
+    pub fn validate(&self) -> Result<u64> {
+        let mut r = self.reader()?;
+        let mut buf = Vec::with_capacity(4096);
+        let mut n = 0;
+        loop {
+            buf.clear();
+            r.fill(4096, &mut buf)?;
+            if buf.is_empty() {
+                break;
+            }
+            n += buf.len() as u64;
+        }
+        if n == 0 {
+            if let Source::Table { path, .. } = self {
+                return Err(Error::input(path, None, None, "the lane table has no rows; give one lane a row"));
+            }
+        }
+        Ok(n)
+    }
+
+    /// A reader from the first lane.
+    pub fn reader(&self) -> Result<LaneReader<'_>> {
+        match self {
+            Source::Sweep { sweep, file } => Ok(LaneReader::Sweep {
+                sweep,
+                file,
+                next: 0,
+                total: sweep.lane_count(),
+                u: sweep.uniforms(),
+            }),
+            Source::Table { path, base, table, .. } => {
+                let f = File::open(path)
+                    .map_err(|e| Error::input(path, None, None, format!("cannot read the lane table: {e}")))?;
+                let mut rd = csv::ReaderBuilder::new().trim(csv::Trim::All).from_reader(f);
+                let header = rd
+                    .headers()
+                    .map_err(|e| Error::input(path, Some("line 1".into()), None, e.to_string()))?
+                    .clone();
+                let mut cols = Vec::with_capacity(header.len());
+                for name in header.iter() {
+                    let p = Param::from_name(name).ok_or_else(|| {
+                        Error::input(
+                            path,
+                            Some("line 1".into()),
+                            Some(name),
+                            format!("unknown column; allowed: {}", Param::all_names()),
+                        )
+                    })?;
+                    if cols.contains(&p) {
+                        return Err(Error::input(path, Some("line 1".into()), Some(name), "column appears twice"));
+                    }
+                    cols.push(p);
+                }
+                Ok(LaneReader::Table {
+                    path,
+                    base,
+                    has_table: table.is_some(),
+                    cols,
+                    rd,
+                    rec: csv::StringRecord::new(),
+                    row: 0,
+                })
+            }
+        }
+    }
+}
+
+/// Reads lanes in order, validated.
+pub enum LaneReader<'a> {
+    /// From a sweep.
+    Sweep {
+        /// The sweep.
+        sweep: &'a Sweep,
+        /// Its file.
+        file: &'a Path,
+        /// Next lane index.
+        next: u64,
+        /// Lane count.
+        total: u64,
+        /// The study's uniforms.
+        u: Uniforms,
+    },
+    /// From a lane table.
+    Table {
+        /// The table's file.
+        path: &'a Path,
+        /// Defaults under the cells.
+        base: &'a Spec,
+        /// Whether a friction table exists.
+        has_table: bool,
+        /// The column of each cell.
+        cols: Vec<Param>,
+        /// The CSV reader.
+        rd: csv::Reader<File>,
+        /// Reused record.
+        rec: csv::StringRecord,
+        /// Rows read so far.
+        row: u64,
+    },
+}
+
+impl LaneReader<'_> {
+    /// Appends up to `max` lanes to `out` (none at the end).
+    pub fn fill(&mut self, max: usize, out: &mut Vec<Params>) -> Result<()> {
+        match self {
+            LaneReader::Sweep { sweep, file, next, total, u } => {
+                let has_table = sweep.table.is_some();
+                while out.len() < max && *next < *total {
+                    let spec = sweep.lane_spec(*next, u);
+                    let p = spec.resolve(has_table).map_err(|e| {
+                        Error::input(file, Some(format!("lane {}", *next)), Some(e.param), e.msg)
+                    })?;
+                    out.push(p);
+                    *next += 1;
+                }
+            }
+            LaneReader::Table { path, base, has_table, cols, rd, rec, row } => {
+                while out.len() < max {
+                    let more = rd.read_record(rec).map_err(|e| {
+                        let at = e.position().map(|p| format!("line {}", p.line()));
+                        Error::input(path, at, None, e.to_string())
+                    })?;
+                    if !more {
+                        break;
+                    }
+                    *row += 1;
+                    let line = rec.position().map_or(0, |p| p.line());
+                    let at = || Some(format!("row {} (line {line})", *row));
+                    let mut spec = (*base).clone();
+                    for (p, cell) in cols.iter().zip(rec.iter()) {
+                        spec.set_text(*p, cell).map_err(|m| Error::input(path, at(), Some(p.name()), m))?;
+                    }
+                    let p = spec
+                        .resolve(*has_table)
+                        .map_err(|e| Error::input(path, at(), Some(e.param), e.msg))?;
+                    out.push(p);
+                }
+            }
+        }
+        Ok(())
+    }
+}
