@@ -77,20 +77,26 @@ pub struct Plan {
 impl LanesArgs {
     /// Validates the lane arguments into a plan (reads and checks every lane).
     pub fn plan(&self) -> Result<Plan> {
-        let source = match (&self.sweep, &self.lanes) {
-            (None, None) => {
-                return Err(Error::Usage("name a sweep file (tswm run SWEEP.toml) or a lane table (--lanes FILE.csv)".into()))
-            }
-            (Some(s), None) => {
-                let src = Source::sweep(s)?;
-                src.validate()?;
-                src
-            }
-            (s, Some(l)) => Source::table(l, s.as_deref())?,
-        };
+        let source =
+            match (&self.sweep, &self.lanes) {
+                (None, None) => return Err(Error::Usage(
+                    "name a sweep file (tswm run SWEEP.toml) or a lane table (--lanes FILE.csv)"
+                        .into(),
+                )),
+                (Some(s), None) => {
+                    let src = Source::sweep(s)?;
+                    src.validate()?;
+                    src
+                }
+                (s, Some(l)) => Source::table(l, s.as_deref())?,
+            };
         if self.threads == Some(0) {
             return Err(Error::Usage("--threads must be >= 1".into()));
         }
-        Ok(Plan { source, threads: self.threads.unwrap_or(0), settings: Settings::default() })
+        Ok(Plan {
+            source,
+            threads: self.threads.unwrap_or(0),
+            settings: Settings::default(),
+        })
     }
 }

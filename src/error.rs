@@ -40,13 +40,26 @@ pub enum Error {
 
 impl Error {
     /// Bad input in `file`.
-    pub fn input(file: &Path, at: Option<String>, param: Option<&str>, msg: impl Into<String>) -> Error {
-        Error::Input { file: file.to_path_buf(), at, param: param.map(str::to_string), msg: msg.into() }
+    pub fn input(
+        file: &Path,
+        at: Option<String>,
+        param: Option<&str>,
+        msg: impl Into<String>,
+    ) -> Error {
+        Error::Input {
+            file: file.to_path_buf(),
+            at,
+            param: param.map(str::to_string),
+            msg: msg.into(),
+        }
     }
 
     /// An I/O error on `path`.
     pub fn io(path: &Path, source: std::io::Error) -> Error {
-        Error::Io { path: path.to_path_buf(), source }
+        Error::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     }
 
     /// The process exit code for this error.

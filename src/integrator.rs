@@ -10,7 +10,9 @@
 //! Keep in sync with `shaders/tswm.wgsl`: `advance`, `try_step`,
 //! `locate_root`, `come_to_rest`, `set_side` read the same there.
 
-use crate::model::{efficiency, motion, phi, side_of, stick_test, FrictionTable, Lane, FRICTION_PAPER};
+use crate::model::{
+    efficiency, motion, phi, side_of, stick_test, FrictionTable, Lane, FRICTION_PAPER,
+};
 
 /// Components of the integrated state: x1, ẋ1, w_motor, w_load, w_friction.
 pub const NY: usize = 5;
@@ -31,7 +33,11 @@ impl Default for Settings {
         // tol chosen by measurement: 1e-8 keeps 3000 random user lanes
         // within 4e-7 of a 1e-13 integration (bound 1e-6); 2e-8 does not
         // keep that margin (see README, "Accuracy").
-        Settings { tol: DEFAULT_TOL, max_steps: 1_000_000, max_events: 10_000 }
+        Settings {
+            tol: DEFAULT_TOL,
+            max_steps: 1_000_000,
+            max_events: 10_000,
+        }
     }
 }
 
@@ -57,8 +63,14 @@ pub enum Status {
 
 impl Status {
     /// Every status, in code order.
-    pub const ALL: [Status; 6] =
-        [Status::Ok, Status::Inconsistent, Status::NonFinite, Status::MaxSteps, Status::MaxEvents, Status::StepUnderflow];
+    pub const ALL: [Status; 6] = [
+        Status::Ok,
+        Status::Inconsistent,
+        Status::NonFinite,
+        Status::MaxSteps,
+        Status::MaxEvents,
+        Status::StepUnderflow,
+    ];
 
     /// The status word of the results table.
     pub fn name(self) -> &'static str {
@@ -226,13 +238,31 @@ struct Trial {
 }
 
 #[inline]
-fn try_step(lane: &Lane, table: Option<&FrictionTable>, mode: Mode, y: &[f64; NY], k1: &[f64; NY], h: f64, tol: f64) -> Trial {
+fn try_step(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    mode: Mode,
+    y: &[f64; NY],
+    k1: &[f64; NY],
+    h: f64,
+    tol: f64,
+) -> Trial {
     let v0 = y[1];
     // Stages need only ẋ1: the right-hand side depends on nothing else.
     let (k2, _) = rhs(lane, table, mode, v0 + h * (A21 * k1[1]));
     let (k3, _) = rhs(lane, table, mode, v0 + h * (A31 * k1[1] + A32 * k2[1]));
-    let (k4, _) = rhs(lane, table, mode, v0 + h * (A41 * k1[1] + A42 * k2[1] + A43 * k3[1]));
-    let (k5, _) = rhs(lane, table, mode, v0 + h * (A51 * k1[1] + A52 * k2[1] + A53 * k3[1] + A54 * k4[1]));
+    let (k4, _) = rhs(
+        lane,
+        table,
+        mode,
+        v0 + h * (A41 * k1[1] + A42 * k2[1] + A43 * k3[1]),
+    );
+    let (k5, _) = rhs(
+        lane,
+        table,
+        mode,
+        v0 + h * (A51 * k1[1] + A52 * k2[1] + A53 * k3[1] + A54 * k4[1]),
+    );
     let (k6, _) = rhs(
         lane,
         table,
@@ -257,7 +287,12 @@ fn try_step(lane: &Lane, table: Option<&FrictionTable>, mode: Mode, y: &[f64; NY
     let r3 = h * k1[1] - r2;
     let r4 = r2 - h * k7[1] - r3;
     let r5 = h * (D1 * k1[1] + D3 * k3[1] + D4 * k4[1] + D5 * k5[1] + D6 * k6[1] + D7 * k7[1]);
-    Trial { y1, k7, err, dense_v: [v0, r2, r3, r4, r5] }
+    Trial {
+        y1,
+        k7,
+        err,
+        dense_v: [v0, r2, r3, r4, r5],
+    }
 }
 
 /// ẋ1 at fraction θ of the step, from the dense output.
@@ -287,7 +322,14 @@ fn event_value(lane: &Lane, mode: Mode, which: EventFn, v: f64) -> f64 {
 /// Locates θ in [0, 1] where the event function crosses from >= 0 to < 0,
 /// by the Illinois method on the dense output. Returns the bracket's left
 /// end, so the event lies at most `theta_tol` after it.
-fn locate_root(lane: &Lane, mode: Mode, which: EventFn, r: &[f64; 5], g_end: f64, theta_tol: f64) -> f64 {
+fn locate_root(
+    lane: &Lane,
+    mode: Mode,
+    which: EventFn,
+    r: &[f64; 5],
+    g_end: f64,
+    theta_tol: f64,
+) -> f64 {
     let (mut a, mut fa) = (0.0, event_value(lane, mode, which, r[0]));
     let (mut b, mut fb) = (1.0, g_end);
     if fa <= 0.0 {
@@ -376,7 +418,11 @@ fn check_mode(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) {
     if st.stuck || st.done {
         return;
     }
-    let mode = Mode { side: st.side, dir: st.dir, motor_on: st.motor_on };
+    let mode = Mode {
+        side: st.side,
+        dir: st.dir,
+        motor_on: st.motor_on,
+    };
     let (k, d) = rhs(lane, table, mode, st.y[1]);
     if !(d > 0.0) {
         st.status = Status::Inconsistent;
@@ -433,12 +479,22 @@ fn cut_motor(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) {
 
 /// Moves a lane forward by at most `budget` step attempts (accepted or
 /// rejected); returns true when the lane is done.
-pub fn advance(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &mut LaneState, budget: u32) -> bool {
+pub fn advance(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+    st: &mut LaneState,
+    budget: u32,
+) -> bool {
     let mut left = budget;
     while !st.done && left > 0 {
         left -= 1;
         // The next time event: motor cut-off, else the end of the run.
-        let t_stop = if st.motor_on && lane.motor_off < lane.t_end { lane.motor_off } else { lane.t_end };
+        let t_stop = if st.motor_on && lane.motor_off < lane.t_end {
+            lane.motor_off
+        } else {
+            lane.t_end
+        };
         if st.stuck {
             // While stuck every force is constant in time (F1 at ẋ1 = 0,
             // F2), so the stick condition can only fail at a time event.
@@ -450,7 +506,11 @@ pub fn advance(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &
             }
             continue;
         }
-        let mode = Mode { side: st.side, dir: st.dir, motor_on: st.motor_on };
+        let mode = Mode {
+            side: st.side,
+            dir: st.dir,
+            motor_on: st.motor_on,
+        };
         if !st.k1_valid {
             let (k, d) = rhs(lane, table, mode, st.y[1]);
             if !(d > 0.0) {
@@ -475,7 +535,11 @@ pub fn advance(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &
             h = remaining;
         }
         let trial = try_step(lane, table, mode, &st.y, &st.k1, h, set.tol);
-        let fac = if trial.err == 0.0 { 5.0 } else { (0.9 * trial.err.powf(-0.2)).clamp(0.2, 5.0) };
+        let fac = if trial.err == 0.0 {
+            5.0
+        } else {
+            (0.9 * trial.err.powf(-0.2)).clamp(0.2, 5.0)
+        };
         if trial.err > 1.0 {
             st.h = h * fac.min(1.0);
             if st.h < 1e-15 * st.t.max(1.0) {
@@ -501,7 +565,14 @@ pub fn advance(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &
             theta = locate_root(lane, mode, EventFn::Rest, &trial.dense_v, g_rest, theta_tol);
         }
         if g_switch < 0.0 {
-            let th = locate_root(lane, mode, EventFn::Switch, &trial.dense_v, g_switch, theta_tol);
+            let th = locate_root(
+                lane,
+                mode,
+                EventFn::Switch,
+                &trial.dense_v,
+                g_switch,
+                theta_tol,
+            );
             if th < theta {
                 theta = th;
                 which = EventFn::Switch;
@@ -611,7 +682,11 @@ mod tests {
         let mut l = paper();
         l.motor = crate::model::MOTOR_CONSTANT;
         l.f1 = 0.0;
-        let mode = Mode { side: 1, dir: 1, motor_on: true };
+        let mode = Mode {
+            side: 1,
+            dir: 1,
+            motor_on: true,
+        };
         // v(θ) = 1 − 4θ as dense coefficients: r2 = −4, r3 = h k1 − r2 = 0, ...
         let r = [1.0, -4.0, 0.0, 0.0, 0.0];
         let th = locate_root(&l, mode, EventFn::Rest, &r, -3.0, 1e-14);
@@ -623,13 +698,20 @@ mod tests {
         // Paper case 1: the switch is at 0.486653423342 s (MODEL.md 7).
         let r = simulate(&paper(), None, &Settings::default());
         assert_eq!(r.switches, 1);
-        assert!((r.t_first_switch - 0.48665342334234873).abs() < 1e-8, "{}", r.t_first_switch);
+        assert!(
+            (r.t_first_switch - 0.48665342334234873).abs() < 1e-8,
+            "{}",
+            r.t_first_switch
+        );
     }
 
     #[test]
     fn constant_force_deceleration_stops_at_the_analytic_time() {
         // Coulomb friction, constant forces: the rest time is v0 / |a|.
-        let mut s = Spec { friction: Some(crate::params::FrictionKind::Coulomb), ..Default::default() };
+        let mut s = Spec {
+            friction: Some(crate::params::FrictionKind::Coulomb),
+            ..Default::default()
+        };
         s.motor = Some(crate::params::MotorKind::Constant);
         s.set(crate::params::Num::F1, 0.0);
         s.set(crate::params::Num::F2, -4774.0);

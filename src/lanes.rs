@@ -40,7 +40,10 @@ pub enum Source {
 impl Source {
     /// Lanes of a sweep file.
     pub fn sweep(file: &Path) -> Result<Source> {
-        Ok(Source::Sweep { sweep: Sweep::from_file(file)?, file: file.to_path_buf() })
+        Ok(Source::Sweep {
+            sweep: Sweep::from_file(file)?,
+            file: file.to_path_buf(),
+        })
     }
 
     /// Lanes of a lane table, over an optional sweep file's base and table.
@@ -61,7 +64,12 @@ impl Source {
             }
             None => (Spec::default(), None),
         };
-        let mut src = Source::Table { path: path.to_path_buf(), base, table, rows: 0 };
+        let mut src = Source::Table {
+            path: path.to_path_buf(),
+            base,
+            table,
+            rows: 0,
+        };
         let n = src.validate()?;
         if let Source::Table { rows, .. } = &mut src {
             *rows = n;
@@ -100,7 +108,12 @@ impl Source {
         }
         if n == 0 {
             if let Source::Table { path, .. } = self {
-                return Err(Error::input(path, None, None, "the lane table has no rows; give one lane a row"));
+                return Err(Error::input(
+                    path,
+                    None,
+                    None,
+                    "the lane table has no rows; give one lane a row",
+                ));
             }
         }
         Ok(n)
@@ -116,10 +129,15 @@ impl Source {
                 total: sweep.lane_count(),
                 u: sweep.uniforms(),
             }),
-            Source::Table { path, base, table, .. } => {
-                let f = File::open(path)
-                    .map_err(|e| Error::input(path, None, None, format!("cannot read the lane table: {e}")))?;
-                let mut rd = csv::ReaderBuilder::new().trim(csv::Trim::All).from_reader(f);
+            Source::Table {
+                path, base, table, ..
+            } => {
+                let f = File::open(path).map_err(|e| {
+                    Error::input(path, None, None, format!("cannot read the lane table: {e}"))
+                })?;
+                let mut rd = csv::ReaderBuilder::new()
+                    .trim(csv::Trim::All)
+                    .from_reader(f);
                 let header = rd
                     .headers()
                     .map_err(|e| Error::input(path, Some("line 1".into()), None, e.to_string()))?
@@ -135,7 +153,12 @@ impl Source {
                         )
                     })?;
                     if cols.contains(&p) {
-                        return Err(Error::input(path, Some("line 1".into()), Some(name), "column appears twice"));
+                        return Err(Error::input(
+                            path,
+                            Some("line 1".into()),
+                            Some(name),
+                            "column appears twice",
+                        ));
                     }
                     cols.push(p);
                 }
@@ -191,7 +214,13 @@ impl LaneReader<'_> {
     /// Appends up to `max` lanes to `out` (none at the end).
     pub fn fill(&mut self, max: usize, out: &mut Vec<Params>) -> Result<()> {
         match self {
-            LaneReader::Sweep { sweep, file, next, total, u } => {
+            LaneReader::Sweep {
+                sweep,
+                file,
+                next,
+                total,
+                u,
+            } => {
                 let has_table = sweep.table.is_some();
                 while out.len() < max && *next < *total {
                     let spec = sweep.lane_spec(*next, u);
@@ -202,7 +231,15 @@ impl LaneReader<'_> {
                     *next += 1;
                 }
             }
-            LaneReader::Table { path, base, has_table, cols, rd, rec, row } => {
+            LaneReader::Table {
+                path,
+                base,
+                has_table,
+                cols,
+                rd,
+                rec,
+                row,
+            } => {
                 while out.len() < max {
                     let more = rd.read_record(rec).map_err(|e| {
                         let at = e.position().map(|p| format!("line {}", p.line()));
@@ -216,7 +253,8 @@ impl LaneReader<'_> {
                     let at = || Some(format!("row {} (line {line})", *row));
                     let mut spec = (*base).clone();
                     for (p, cell) in cols.iter().zip(rec.iter()) {
-                        spec.set_text(*p, cell).map_err(|m| Error::input(path, at(), Some(p.name()), m))?;
+                        spec.set_text(*p, cell)
+                            .map_err(|m| Error::input(path, at(), Some(p.name()), m))?;
                     }
                     let p = spec
                         .resolve(*has_table)

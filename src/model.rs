@@ -25,18 +25,32 @@ impl FrictionTable {
     /// Builds a table; errors say what is allowed.
     pub fn new(vs: &[f64], mu: &[f64]) -> Result<Self, String> {
         if vs.len() != mu.len() {
-            return Err(format!("vs has {} points but mu has {}; they must match", vs.len(), mu.len()));
+            return Err(format!(
+                "vs has {} points but mu has {}; they must match",
+                vs.len(),
+                mu.len()
+            ));
         }
         if vs.len() < 2 || vs.len() > MAX_TABLE_POINTS {
-            return Err(format!("needs 2 to {MAX_TABLE_POINTS} points, got {}", vs.len()));
+            return Err(format!(
+                "needs 2 to {MAX_TABLE_POINTS} points, got {}",
+                vs.len()
+            ));
         }
-        let mut t = FrictionTable { n: vs.len(), vs: [0.0; MAX_TABLE_POINTS], mu: [0.0; MAX_TABLE_POINTS] };
+        let mut t = FrictionTable {
+            n: vs.len(),
+            vs: [0.0; MAX_TABLE_POINTS],
+            mu: [0.0; MAX_TABLE_POINTS],
+        };
         for i in 0..vs.len() {
             if !vs[i].is_finite() || !mu[i].is_finite() {
                 return Err(format!("point {} is not finite", i + 1));
             }
             if vs[i] < 0.0 || (i > 0 && vs[i] <= vs[i - 1]) {
-                return Err(format!("vs must start >= 0 and increase strictly (point {})", i + 1));
+                return Err(format!(
+                    "vs must start >= 0 and increase strictly (point {})",
+                    i + 1
+                ));
             }
             if mu[i] < 0.0 {
                 return Err(format!("mu must be >= 0 (point {})", i + 1));
@@ -120,7 +134,13 @@ impl Lane {
         let (motor, v_sync, sigma_k, f_crit, f1) = match p.motor {
             MotorKind::Kloss => {
                 let vs = p.get(Num::VSync);
-                (MOTOR_KLOSS, vs, (vs - p.get(Num::VCrit)) / vs, p.get(Num::FCrit), 0.0)
+                (
+                    MOTOR_KLOSS,
+                    vs,
+                    (vs - p.get(Num::VCrit)) / vs,
+                    p.get(Num::FCrit),
+                    0.0,
+                )
             }
             MotorKind::Constant => (MOTOR_CONSTANT, 1.0, 1.0, 0.0, p.get(Num::F1)),
         };
@@ -181,7 +201,8 @@ pub fn motor_force(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
 pub fn mu_sliding(lane: &Lane, table: Option<&FrictionTable>, vs: f64) -> f64 {
     match lane.friction {
         FRICTION_PAPER => {
-            let rho = (std::f64::consts::PI / 180.0) / (lane.fric_a * vs.powf(lane.fric_b) + lane.fric_c);
+            let rho =
+                (std::f64::consts::PI / 180.0) / (lane.fric_a * vs.powf(lane.fric_b) + lane.fric_c);
             tan_small(rho)
         }
         FRICTION_COULOMB => lane.mu,
@@ -246,7 +267,14 @@ pub struct Motion {
 /// the mode is frozen, and past a rest event this keeps the right-hand side
 /// finite and continuous for root finding.
 #[inline]
-pub fn motion(lane: &Lane, table: Option<&FrictionTable>, side: i32, dir: i32, motor_on: bool, v1: f64) -> Motion {
+pub fn motion(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    side: i32,
+    dir: i32,
+    motor_on: bool,
+    v1: f64,
+) -> Motion {
     let f1 = motor_force(lane, v1, motor_on);
     let vs = (dir as f64 * v1).max(0.0) * lane.inv_cos_g;
     let t = (side * dir) as f64 * mu_sliding(lane, table, vs);
@@ -255,7 +283,13 @@ pub fn motion(lane: &Lane, table: Option<&FrictionTable>, side: i32, dir: i32, m
     // D·q = m1 q + p m2 tan γ
     let dq = lane.m1 * q + p * lane.m2 * lane.tan_g;
     let acc = (f1 * q + p * lane.f2) / dq;
-    Motion { acc, d: dq / q, f1, s1: f1 - lane.m1 * acc, s2: lane.f2 - lane.m2 * lane.tan_g * acc }
+    Motion {
+        acc,
+        d: dq / q,
+        f1,
+        s1: f1 - lane.m1 * acc,
+        s2: lane.f2 - lane.m2 * lane.tan_g * acc,
+    }
 }
 
 /// Stick test at rest (MODEL.md section 4): returns (sticks, T), where T is
@@ -307,7 +341,10 @@ mod tests {
     fn tan_small_is_exact_where_used() {
         for i in 0..=3000 {
             let x = -0.15 + 0.3 * i as f64 / 3000.0;
-            assert!((tan_small(x) - x.tan()).abs() <= 2.0 * f64::EPSILON * x.tan().abs(), "{x}");
+            assert!(
+                (tan_small(x) - x.tan()).abs() <= 2.0 * f64::EPSILON * x.tan().abs(),
+                "{x}"
+            );
         }
         assert_eq!(tan_small(0.5), 0.5f64.tan());
     }

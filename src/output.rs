@@ -40,10 +40,17 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Starts `dest`.
     pub fn create(dest: &Path) -> Result<AtomicFile> {
-        let name = dest.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = dest
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let tmp = dest.with_file_name(format!(".{name}.partial"));
         let f = File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
-        Ok(AtomicFile { tmp, dest: dest.to_path_buf(), w: Some(BufWriter::with_capacity(1 << 20, f)) })
+        Ok(AtomicFile {
+            tmp,
+            dest: dest.to_path_buf(),
+            w: Some(BufWriter::with_capacity(1 << 20, f)),
+        })
     }
 
     /// The writer.
@@ -54,7 +61,9 @@ impl AtomicFile {
     /// Flushes, syncs and renames to the final name.
     pub fn commit(mut self) -> Result<()> {
         let w = self.w.take().expect("committed twice");
-        let f = w.into_inner().map_err(|e| Error::io(&self.tmp, e.into_error()))?;
+        let f = w
+            .into_inner()
+            .map_err(|e| Error::io(&self.tmp, e.into_error()))?;
         f.sync_all().map_err(|e| Error::io(&self.tmp, e))?;
         std::fs::rename(&self.tmp, &self.dest).map_err(|e| Error::io(&self.dest, e))
     }
@@ -71,7 +80,9 @@ impl Drop for AtomicFile {
 /// Writes a whole small file atomically.
 pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<()> {
     let mut f = AtomicFile::create(dest)?;
-    f.writer().write_all(bytes).map_err(|e| Error::io(dest, e))?;
+    f.writer()
+        .write_all(bytes)
+        .map_err(|e| Error::io(dest, e))?;
     f.commit()
 }
 
@@ -93,9 +104,16 @@ fn push_f64(s: &mut String, v: f64) {
 impl LanesCsv {
     /// Starts `path` and writes the header.
     pub fn create(path: &Path) -> Result<LanesCsv> {
-        let mut w = LanesCsv { file: AtomicFile::create(path)?, line: String::with_capacity(512), path: path.into() };
-        let header: Vec<&str> =
-            Param::COLUMNS.iter().map(|p| p.name()).chain(RESULT_COLUMNS.iter().copied()).collect();
+        let mut w = LanesCsv {
+            file: AtomicFile::create(path)?,
+            line: String::with_capacity(512),
+            path: path.into(),
+        };
+        let header: Vec<&str> = Param::COLUMNS
+            .iter()
+            .map(|p| p.name())
+            .chain(RESULT_COLUMNS.iter().copied())
+            .collect();
         w.line.push_str(&header.join(","));
         w.line.push('\n');
         w.flush_line()?;
@@ -119,17 +137,19 @@ impl LanesCsv {
             }
             s.push(',');
         }
-        let _ = write!(
-            s,
-            "{lane},{},{},",
-            r.status.name(),
-            r.switches
-        );
+        let _ = write!(s, "{lane},{},{},", r.status.name(), r.switches);
         push_f64(s, r.t_first_switch);
         let _ = write!(s, ",{},{},{},", r.reversals, r.sticks, r.contact_end.name());
         let ok = r.status == crate::integrator::Status::Ok;
         // A lane that could not be finished reports no numbers.
-        for v in [r.x1_end, r.v1_end, r.w_motor, r.w_load, r.w_friction, r.eta_end] {
+        for v in [
+            r.x1_end,
+            r.v1_end,
+            r.w_motor,
+            r.w_load,
+            r.w_friction,
+            r.eta_end,
+        ] {
             push_f64(s, if ok { v } else { f64::NAN });
             s.push(',');
         }

@@ -195,7 +195,11 @@ impl Param {
 
     /// All names, comma separated, for error messages.
     pub fn all_names() -> String {
-        Param::COLUMNS.iter().map(|p| p.name()).collect::<Vec<_>>().join(", ")
+        Param::COLUMNS
+            .iter()
+            .map(|p| p.name())
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -225,10 +229,9 @@ impl Spec {
         }
         match p {
             Param::Motor => {
-                self.motor = Some(
-                    MotorKind::parse(text)
-                        .ok_or_else(|| format!("`{text}` is not a motor law; allowed: kloss, constant"))?,
-                )
+                self.motor = Some(MotorKind::parse(text).ok_or_else(|| {
+                    format!("`{text}` is not a motor law; allowed: kloss, constant")
+                })?)
             }
             Param::Friction => {
                 self.friction = Some(FrictionKind::parse(text).ok_or_else(|| {
@@ -240,7 +243,9 @@ impl Spec {
                     .parse()
                     .map_err(|_| format!("`{text}` is not a number"))?;
                 if !v.is_finite() {
-                    return Err(format!("`{text}` is not finite; a finite number is required"));
+                    return Err(format!(
+                        "`{text}` is not finite; a finite number is required"
+                    ));
                 }
                 self.set(n, v);
             }
@@ -326,7 +331,10 @@ pub fn default_of(p: Num) -> Option<f64> {
 }
 
 fn err(param: Num, msg: impl Into<String>) -> ParamError {
-    ParamError { param: param.name(), msg: msg.into() }
+    ParamError {
+        param: param.name(),
+        msg: msg.into(),
+    }
 }
 
 fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
@@ -337,19 +345,26 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
         let set = spec.num[p as usize];
         if let Some(v) = set {
             if !v.is_finite() {
-                return Err(err(p, format!("{v} is not finite; a finite number is required")));
+                return Err(err(
+                    p,
+                    format!("{v} is not finite; a finite number is required"),
+                ));
             }
         }
         // A value the chosen law does not use is refused rather than
         // ignored: a user who sets `mu` but forgets `friction = "coulomb"`
         // would otherwise get the paper law without noticing.
         let owner: Option<(&str, bool)> = match p {
-            Num::VSync | Num::VCrit | Num::FCrit => Some(("motor = kloss", motor == MotorKind::Kloss)),
+            Num::VSync | Num::VCrit | Num::FCrit => {
+                Some(("motor = kloss", motor == MotorKind::Kloss))
+            }
             Num::F1 => Some(("motor = constant", motor == MotorKind::Constant)),
             Num::FricA | Num::FricB | Num::FricC => {
                 Some(("friction = paper", friction == FrictionKind::Paper))
             }
-            Num::Mu | Num::MuStatic => Some(("friction = coulomb", friction == FrictionKind::Coulomb)),
+            Num::Mu | Num::MuStatic => {
+                Some(("friction = coulomb", friction == FrictionKind::Coulomb))
+            }
             _ => None,
         };
         let applies = owner.map_or(true, |(_, used)| used);
@@ -367,7 +382,11 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
             }
             continue;
         }
-        let default = if p == Num::MuStatic { spec.num[Num::Mu as usize] } else { default_of(p) };
+        let default = if p == Num::MuStatic {
+            spec.num[Num::Mu as usize]
+        } else {
+            default_of(p)
+        };
         num[p as usize] = set.or(default).unwrap_or(f64::NAN);
     }
     let g = |p: Num| num[p as usize];
@@ -382,26 +401,38 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
     positive(Num::M2)?;
     let gamma = g(Num::GammaDeg);
     if !(gamma > 0.0 && gamma < 90.0) {
-        return Err(err(Num::GammaDeg, format!("must be in (0, 90) deg, got {gamma}")));
+        return Err(err(
+            Num::GammaDeg,
+            format!("must be in (0, 90) deg, got {gamma}"),
+        ));
     }
     match motor {
         MotorKind::Kloss => {
             positive(Num::VSync)?;
             let (vs, vc) = (g(Num::VSync), g(Num::VCrit));
             if !(vc >= 0.0 && vc < vs) {
-                return Err(err(Num::VCrit, format!("must be >= 0 and < v_sync = {vs}, got {vc}")));
+                return Err(err(
+                    Num::VCrit,
+                    format!("must be >= 0 and < v_sync = {vs}, got {vc}"),
+                ));
             }
             positive(Num::FCrit)?;
         }
         MotorKind::Constant => {
             if g(Num::F1).is_nan() {
-                return Err(err(Num::F1, "is required by motor = constant (a force in N)"));
+                return Err(err(
+                    Num::F1,
+                    "is required by motor = constant (a force in N)",
+                ));
             }
         }
     }
     let off = g(Num::MotorOff);
     if off < 0.0 {
-        return Err(err(Num::MotorOff, format!("must be >= 0 s (or unset for never), got {off}")));
+        return Err(err(
+            Num::MotorOff,
+            format!("must be >= 0 s (or unset for never), got {off}"),
+        ));
     }
     match friction {
         FrictionKind::Paper => {
@@ -414,13 +445,19 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
             }
             // rho(0) = 1/c degrees must stay below 90 deg.
             if !(c > 1.0 / 90.0) {
-                return Err(err(Num::FricC, format!("must be > 1/90 (rho(0) = 1/c deg < 90 deg), got {c}")));
+                return Err(err(
+                    Num::FricC,
+                    format!("must be > 1/90 (rho(0) = 1/c deg < 90 deg), got {c}"),
+                ));
             }
         }
         FrictionKind::Coulomb => {
             let mu = g(Num::Mu);
             if mu.is_nan() {
-                return Err(err(Num::Mu, "is required by friction = coulomb (a coefficient >= 0)"));
+                return Err(err(
+                    Num::Mu,
+                    "is required by friction = coulomb (a coefficient >= 0)",
+                ));
             }
             if mu < 0.0 {
                 return Err(err(Num::Mu, format!("must be >= 0, got {mu}")));
@@ -429,7 +466,10 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
             // Static friction below sliding friction would make a lane that
             // leaves rest decelerate at once and stop again, forever.
             if mus < mu {
-                return Err(err(Num::MuStatic, format!("must be >= mu = {mu}, got {mus}")));
+                return Err(err(
+                    Num::MuStatic,
+                    format!("must be >= mu = {mu}, got {mus}"),
+                ));
             }
         }
         FrictionKind::Table => {
@@ -445,7 +485,11 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
     if !(t_end > 0.0) {
         return Err(err(Num::TEnd, format!("must be > 0 s, got {t_end}")));
     }
-    Ok(Params { num, motor, friction })
+    Ok(Params {
+        num,
+        motor,
+        friction,
+    })
 }
 
 #[cfg(test)]
@@ -479,7 +523,10 @@ mod tests {
 
     #[test]
     fn coulomb_static_defaults_to_mu() {
-        let mut s = Spec { friction: Some(FrictionKind::Coulomb), ..Default::default() };
+        let mut s = Spec {
+            friction: Some(FrictionKind::Coulomb),
+            ..Default::default()
+        };
         s.set(Num::Mu, 0.05);
         let p = s.resolve(false).unwrap();
         assert_eq!(p.get(Num::MuStatic), 0.05);

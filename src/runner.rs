@@ -23,8 +23,13 @@ pub trait Backend {
     /// Lanes a chunk should hold for this backend.
     fn chunk_lanes(&self) -> usize;
     /// Computes one chunk; `first` is the lane index of `lanes[0]`.
-    fn run_chunk(&mut self, first: u64, lanes: &[Params], table: Option<&FrictionTable>, out: &mut Vec<LaneResult>)
-        -> Result<()>;
+    fn run_chunk(
+        &mut self,
+        first: u64,
+        lanes: &[Params],
+        table: Option<&FrictionTable>,
+        out: &mut Vec<LaneResult>,
+    ) -> Result<()>;
 }
 
 /// The f64 reference path: rayon over lanes, one `simulate` each.
@@ -74,7 +79,13 @@ impl Backend for CpuBackend {
     fn chunk_lanes(&self) -> usize {
         16384
     }
-    fn run_chunk(&mut self, _first: u64, lanes: &[Params], table: Option<&FrictionTable>, out: &mut Vec<LaneResult>) -> Result<()> {
+    fn run_chunk(
+        &mut self,
+        _first: u64,
+        lanes: &[Params],
+        table: Option<&FrictionTable>,
+        out: &mut Vec<LaneResult>,
+    ) -> Result<()> {
         run_cpu_lanes(&self.pool, &self.settings, lanes, table, out);
         Ok(())
     }
@@ -104,8 +115,16 @@ impl Summary {
 
     /// The one-line summary.
     pub fn line(&self, backend: &str, out: &Path) -> String {
-        let status: Vec<String> = self.by_status.iter().map(|(s, n)| format!("{} {n}", s.name())).collect();
-        let contact: Vec<String> = self.by_contact.iter().map(|(c, n)| format!("{} {n}", c.name())).collect();
+        let status: Vec<String> = self
+            .by_status
+            .iter()
+            .map(|(s, n)| format!("{} {n}", s.name()))
+            .collect();
+        let contact: Vec<String> = self
+            .by_contact
+            .iter()
+            .map(|(c, n)| format!("{} {n}", c.name()))
+            .collect();
         format!(
             "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}; wrote {}",
             self.lanes,
@@ -120,12 +139,20 @@ impl Summary {
 
 /// Runs every lane of `source` on `backend`, writing `out_csv` (complete or
 /// not at all). `progress` shows a bar on stderr when it is a terminal.
-pub fn run(source: &Source, backend: &mut dyn Backend, out_csv: &Path, progress: bool) -> Result<Summary> {
+pub fn run(
+    source: &Source,
+    backend: &mut dyn Backend,
+    out_csv: &Path,
+    progress: bool,
+) -> Result<Summary> {
     let start = Instant::now();
     let total = source.lane_count();
     let table = source.friction_table().copied();
     let bar = if progress {
-        indicatif::ProgressBar::with_draw_target(Some(total), indicatif::ProgressDrawTarget::stderr())
+        indicatif::ProgressBar::with_draw_target(
+            Some(total),
+            indicatif::ProgressDrawTarget::stderr(),
+        )
     } else {
         indicatif::ProgressBar::hidden()
     };
@@ -157,8 +184,9 @@ pub fn run(source: &Source, backend: &mut dyn Backend, out_csv: &Path, progress:
     let mut first = 0u64;
     let mut failure = None;
     loop {
-        let (_, mut params, mut results) =
-            recycled.try_recv().unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
+        let (_, mut params, mut results) = recycled
+            .try_recv()
+            .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
         params.clear();
         if let Err(e) = reader.fill(chunk, &mut params) {
             failure = Some(e);
@@ -179,7 +207,9 @@ pub fn run(source: &Source, backend: &mut dyn Backend, out_csv: &Path, progress:
         bar.set_position(first);
     }
     drop(to_writer);
-    let written = writer.join().map_err(|_| Error::Gpu("the writer thread panicked".into()))?;
+    let written = writer
+        .join()
+        .map_err(|_| Error::Gpu("the writer thread panicked".into()))?;
     bar.finish_and_clear();
     if let Some(e) = failure {
         return Err(e); // `written`'s partial file is dropped and removed

@@ -22,13 +22,16 @@ impl Uniforms {
         let mut key = [0u8; 32];
         key[..8].copy_from_slice(&seed.to_le_bytes());
         key[8..16].copy_from_slice(b"tswm-v1\0");
-        Uniforms { rng: ChaCha8Rng::from_seed(key) }
+        Uniforms {
+            rng: ChaCha8Rng::from_seed(key),
+        }
     }
 
     /// Positions the stream at the block of sample `k`, `per_sample`
     /// uniforms a block.
     pub fn seek(&mut self, k: u64, per_sample: u64) {
-        self.rng.set_word_pos(u128::from(k) * u128::from(per_sample) * 2);
+        self.rng
+            .set_word_pos(u128::from(k) * u128::from(per_sample) * 2);
     }
 
     /// The next uniform, strictly inside (0, 1).
@@ -88,8 +91,13 @@ pub fn norm_ppf(p: f64) -> f64 {
         -3.066479806614716e+01,
         2.506628277459239e+00,
     ];
-    const B: [f64; 5] =
-        [-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02, 6.680131188771972e+01, -1.328068155288572e+01];
+    const B: [f64; 5] = [
+        -5.447609879822406e+01,
+        1.615858368580409e+02,
+        -1.556989798598866e+02,
+        6.680131188771972e+01,
+        -1.328068155288572e+01,
+    ];
     const C: [f64; 6] = [
         -7.784894002430293e-03,
         -3.223964580411365e-01,
@@ -98,7 +106,12 @@ pub fn norm_ppf(p: f64) -> f64 {
         4.374664141464968e+00,
         2.938163982698783e+00,
     ];
-    const D: [f64; 4] = [7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00, 3.754408661907416e+00];
+    const D: [f64; 4] = [
+        7.784695709041462e-03,
+        3.224671290700398e-01,
+        2.445134137142996e+00,
+        3.754408661907416e+00,
+    ];
     let pl = 0.02425;
     let x = if p < pl {
         let q = (-2.0 * p.ln()).sqrt();
@@ -133,11 +146,16 @@ impl Permutation {
     /// The permutation of [0, n) for `key`.
     pub fn new(n: u64, key: u64) -> Self {
         let bits = 64 - (n.max(2) - 1).leading_zeros();
-        Permutation { n, half_bits: bits.div_ceil(2).max(1), key }
+        Permutation {
+            n,
+            half_bits: bits.div_ceil(2).max(1),
+            key,
+        }
     }
 
     fn round(&self, r: u64, x: u64) -> u64 {
-        let mut z = x ^ self.key.rotate_left(17 * r as u32 + 5) ^ (r.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let mut z =
+            x ^ self.key.rotate_left(17 * r as u32 + 5) ^ (r.wrapping_mul(0x9E37_79B9_7F4A_7C15));
         // splitmix64 finaliser
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -187,13 +205,15 @@ mod tests {
 
     #[test]
     fn chacha_stream_is_pinned() {
-        // The first uniforms of seed 1: if a crate upgrade changes them,
-        // every tolerance study's lanes change, so this must fail loudly.
+        // The first uniforms of seed 1, computed independently from the
+        // ChaCha8 block function (RFC 7539 with 8 rounds, 64-bit counter
+        // and stream words) in a few lines of Python. If a crate upgrade
+        // changes them, every tolerance study's lanes change: fail loudly.
         let mut u = Uniforms::new(1);
         let got: Vec<u64> = (0..3).map(|_| (u.next() * 1e9) as u64).collect();
         assert_eq!(got, PINNED_SEED1);
     }
-    const PINNED_SEED1: [u64; 3] = [0, 0, 0];
+    const PINNED_SEED1: [u64; 3] = [960306885, 884786948, 124374106];
 
     #[test]
     fn normal_quantile_matches_known_values() {

@@ -129,7 +129,10 @@ pub struct Sweep {
 }
 
 fn line_of(text: &str, pos: usize) -> String {
-    format!("line {}", text[..pos.min(text.len())].matches('\n').count() + 1)
+    format!(
+        "line {}",
+        text[..pos.min(text.len())].matches('\n').count() + 1
+    )
 }
 
 impl Sweep {
@@ -155,18 +158,33 @@ impl Sweep {
         for (key, val) in &file.base {
             let span = val.span();
             let p = Param::from_name(key).ok_or_else(|| {
-                bad(span.clone(), key, format!("unknown parameter; allowed: {}", Param::all_names()))
+                bad(
+                    span.clone(),
+                    key,
+                    format!("unknown parameter; allowed: {}", Param::all_names()),
+                )
             })?;
             let text_form = match (p, val.get_ref()) {
                 (Param::Num(_), toml::Value::Float(f)) => format!("{f:?}"),
                 (Param::Num(_), toml::Value::Integer(i)) => i.to_string(),
                 (Param::Num(_), v) => {
-                    return Err(bad(span, key, format!("expected a number, found {}", v.type_str())))
+                    return Err(bad(
+                        span,
+                        key,
+                        format!("expected a number, found {}", v.type_str()),
+                    ))
                 }
                 (_, toml::Value::String(s)) => s.clone(),
-                (_, v) => return Err(bad(span, key, format!("expected a string, found {}", v.type_str()))),
+                (_, v) => {
+                    return Err(bad(
+                        span,
+                        key,
+                        format!("expected a string, found {}", v.type_str()),
+                    ))
+                }
             };
-            base.set_text(p, &text_form).map_err(|m| bad(span, key, m))?;
+            base.set_text(p, &text_form)
+                .map_err(|m| bad(span, key, m))?;
         }
 
         let mut axes = Vec::new();
@@ -199,7 +217,11 @@ impl Sweep {
                 ))
             }
             (Some(s), true) => {
-                return Err(bad(s.span(), "sampling", "[sampling] needs at least one [[tolerance]] entry".into()))
+                return Err(bad(
+                    s.span(),
+                    "sampling",
+                    "[sampling] needs at least one [[tolerance]] entry".into(),
+                ))
             }
             (Some(s), false) => {
                 let sd = s.get_ref();
@@ -210,17 +232,32 @@ impl Sweep {
                 for t in &file.tolerance {
                     let span = t.span();
                     let td = t.get_ref();
-                    let param = numeric_param(&td.param).map_err(|m| bad(span.clone(), &td.param, m))?;
+                    let param =
+                        numeric_param(&td.param).map_err(|m| bad(span.clone(), &td.param, m))?;
                     let (tol, relative) = match (td.tol, td.tol_rel) {
                         (Some(t), None) => (t, false),
                         (None, Some(t)) => (t, true),
-                        _ => return Err(bad(span, &td.param, "give exactly one of tol or tol_rel".into())),
+                        _ => {
+                            return Err(bad(
+                                span,
+                                &td.param,
+                                "give exactly one of tol or tol_rel".into(),
+                            ))
+                        }
                     };
                     if !(tol.is_finite() && tol >= 0.0) {
-                        return Err(bad(span, &td.param, format!("tol must be finite and >= 0, got {tol}")));
+                        return Err(bad(
+                            span,
+                            &td.param,
+                            format!("tol must be finite and >= 0, got {tol}"),
+                        ));
                     }
                     if params.iter().any(|x| x.param == param) {
-                        return Err(bad(span, &td.param, "appears in two [[tolerance]] entries".into()));
+                        return Err(bad(
+                            span,
+                            &td.param,
+                            "appears in two [[tolerance]] entries".into(),
+                        ));
                     }
                     if base.num[param as usize].is_none()
                         && default_of(param).is_none()
@@ -232,24 +269,44 @@ impl Sweep {
                             "has no nominal value: set it in [base] or on a grid axis".into(),
                         ));
                     }
-                    params.push(Tolerance { param, dist: td.dist, tol, relative });
+                    params.push(Tolerance {
+                        param,
+                        dist: td.dist,
+                        tol,
+                        relative,
+                    });
                 }
                 let n = sd.n as u64;
                 let perms = (0..params.len() as u64)
                     .map(|d| Permutation::new(n, sd.seed ^ (0xA5A5_0000_0000_0000 | d)))
                     .collect();
-                Some(Study { method: sd.method, n, seed: sd.seed, params, perms })
+                Some(Study {
+                    method: sd.method,
+                    n,
+                    seed: sd.seed,
+                    params,
+                    perms,
+                })
             }
         };
-        let sweep = Sweep { base, axes, study, table };
-        sweep.lane_count_checked().map_err(|m| Error::input(path, None, None, m))?;
+        let sweep = Sweep {
+            base,
+            axes,
+            study,
+            table,
+        };
+        sweep
+            .lane_count_checked()
+            .map_err(|m| Error::input(path, None, None, m))?;
         Ok(sweep)
     }
 
     fn lane_count_checked(&self) -> std::result::Result<u64, String> {
         let mut n: u64 = self.study.as_ref().map_or(1, |s| s.n);
         for a in &self.axes {
-            n = n.checked_mul(a.values.len() as u64).ok_or("the sweep has more than 2^64 lanes")?;
+            n = n
+                .checked_mul(a.values.len() as u64)
+                .ok_or("the sweep has more than 2^64 lanes")?;
         }
         Ok(n)
     }
@@ -283,8 +340,14 @@ impl Sweep {
                     Method::MonteCarlo => r,
                     Method::LatinHypercube => (st.perms[d].apply(k) as f64 + r) / n as f64,
                 };
-                let nominal = spec.num[t.param as usize].or_else(|| default_of(t.param)).unwrap_or(f64::NAN);
-                let half = if t.relative { t.tol * nominal.abs() } else { t.tol };
+                let nominal = spec.num[t.param as usize]
+                    .or_else(|| default_of(t.param))
+                    .unwrap_or(f64::NAN);
+                let half = if t.relative {
+                    t.tol * nominal.abs()
+                } else {
+                    t.tol
+                };
                 spec.set(t.param, nominal + half * t.dist.quantile(q));
             }
         }
@@ -324,7 +387,14 @@ impl Sweep {
             .map(|a| {
                 let mut x = toml::Table::new();
                 x.insert("param".into(), a.param.name().into());
-                x.insert("values".into(), a.values.iter().map(|&v| toml::Value::from(v)).collect::<Vec<_>>().into());
+                x.insert(
+                    "values".into(),
+                    a.values
+                        .iter()
+                        .map(|&v| toml::Value::from(v))
+                        .collect::<Vec<_>>()
+                        .into(),
+                );
                 x.into()
             })
             .collect();
@@ -359,7 +429,10 @@ impl Sweep {
                         }
                         .into(),
                     );
-                    x.insert(if p.relative { "tol_rel" } else { "tol" }.into(), p.tol.into());
+                    x.insert(
+                        if p.relative { "tol_rel" } else { "tol" }.into(),
+                        p.tol.into(),
+                    );
                     x.into()
                 })
                 .collect();
@@ -367,8 +440,22 @@ impl Sweep {
         }
         if let Some(tb) = &self.table {
             let mut x = toml::Table::new();
-            x.insert("vs".into(), tb.vs[..tb.n].iter().map(|&v| toml::Value::from(v)).collect::<Vec<_>>().into());
-            x.insert("mu".into(), tb.mu[..tb.n].iter().map(|&v| toml::Value::from(v)).collect::<Vec<_>>().into());
+            x.insert(
+                "vs".into(),
+                tb.vs[..tb.n]
+                    .iter()
+                    .map(|&v| toml::Value::from(v))
+                    .collect::<Vec<_>>()
+                    .into(),
+            );
+            x.insert(
+                "mu".into(),
+                tb.mu[..tb.n]
+                    .iter()
+                    .map(|&v| toml::Value::from(v))
+                    .collect::<Vec<_>>()
+                    .into(),
+            );
             t.insert("friction_table".into(), x.into());
         }
         t
@@ -379,7 +466,10 @@ fn numeric_param(name: &str) -> std::result::Result<Num, String> {
     match Param::from_name(name) {
         Some(Param::Num(n)) => Ok(n),
         Some(_) => Err("is a law selector, not a number; only numeric parameters can vary".into()),
-        None => Err(format!("unknown parameter; allowed: {}", Param::all_names())),
+        None => Err(format!(
+            "unknown parameter; allowed: {}",
+            Param::all_names()
+        )),
     }
 }
 
@@ -402,19 +492,29 @@ fn axis_values(a: &AxisDef) -> std::result::Result<Vec<f64>, String> {
                 return Err("from and to must be finite".into());
             }
             let n = n as usize;
-            let frac = |i: usize| if n == 1 { 0.0 } else { i as f64 / (n - 1) as f64 };
+            let frac = |i: usize| {
+                if n == 1 {
+                    0.0
+                } else {
+                    i as f64 / (n - 1) as f64
+                }
+            };
             match a.scale.as_deref().unwrap_or("linear") {
                 "linear" => (0..n).map(|i| from + (to - from) * frac(i)).collect(),
                 "log" => {
                     if !(from > 0.0 && to > 0.0) {
                         return Err("scale = \"log\" needs from > 0 and to > 0".into());
                     }
-                    (0..n).map(|i| (from.ln() + (to.ln() - from.ln()) * frac(i)).exp()).collect()
+                    (0..n)
+                        .map(|i| (from.ln() + (to.ln() - from.ln()) * frac(i)).exp())
+                        .collect()
                 }
                 s => return Err(format!("scale `{s}` is unknown; allowed: linear, log")),
             }
         }
-        _ => return Err("give either values = [...] or from, to and n (with optional scale)".into()),
+        _ => {
+            return Err("give either values = [...] or from, to and n (with optional scale)".into())
+        }
     };
     if let Some(x) = v.iter().find(|x| !x.is_finite()) {
         return Err(format!("value {x} is not finite"));
@@ -441,17 +541,33 @@ mod tests {
         let got: Vec<(f64, f64)> = (0..6)
             .map(|i| {
                 let sp = s.lane_spec(i, &mut u);
-                (sp.num[Num::F2 as usize].unwrap(), sp.num[Num::GammaDeg as usize].unwrap())
+                (
+                    sp.num[Num::F2 as usize].unwrap(),
+                    sp.num[Num::GammaDeg as usize].unwrap(),
+                )
             })
             .collect();
-        assert_eq!(got, vec![(1.0, 5.0), (1.0, 10.0), (1.0, 15.0), (2.0, 5.0), (2.0, 10.0), (2.0, 15.0)]);
+        assert_eq!(
+            got,
+            vec![
+                (1.0, 5.0),
+                (1.0, 10.0),
+                (1.0, 15.0),
+                (2.0, 5.0),
+                (2.0, 10.0),
+                (2.0, 15.0)
+            ]
+        );
     }
 
     #[test]
     fn log_axis_hits_its_ends() {
-        let s = parse("[[grid]]\nparam = \"mu\"\nfrom = 0.01\nto = 1\nn = 3\nscale = \"log\"\n").unwrap();
+        let s = parse("[[grid]]\nparam = \"mu\"\nfrom = 0.01\nto = 1\nn = 3\nscale = \"log\"\n")
+            .unwrap();
         let v = &s.axes[0].values;
-        assert!((v[0] - 0.01).abs() < 1e-15 && (v[1] - 0.1).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-14);
+        assert!(
+            (v[0] - 0.01).abs() < 1e-15 && (v[1] - 0.1).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-14
+        );
     }
 
     #[test]

@@ -1,0 +1,7 @@
+//! Integration tests, built as one binary.
+
+mod accuracy;
+mod bad_input;
+mod cli;
+mod common;
+mod fixtures;
