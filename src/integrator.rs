@@ -202,9 +202,9 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
-/// Step size of the first step, s. The friction law's derivative is
-/// unbounded at rest, so the controller shrinks it there as it must.
-const H_INITIAL: f64 = 1e-6;
+/// First step after every start from rest, s: the friction law's
+/// derivative is unbounded at rest and the error estimate reads low there.
+pub const H_INITIAL: f64 = 1e-6;
 /// Root-location tolerance for events, s.
 const T_ROOT_TOL: f64 = 1e-13;
 

@@ -7,8 +7,10 @@
 //! and [`lanes`] (where lanes come from), [`runner`] and [`output`]
 //! (chunked runs streamed to `lanes.csv`), [`cli`].
 
+pub mod check;
 pub mod cli;
 pub mod error;
+pub mod gpu;
 pub mod integrator;
 pub mod lanes;
 pub mod model;

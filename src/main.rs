@@ -4,8 +4,11 @@ use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use clap::Parser;
-use tswm::cli::{BackendChoice, Cli, Command};
+use tswm::check::Report;
+use tswm::cli::{BackendChoice, Cli, Command, Plan};
 use tswm::error::{Error, Result};
+use tswm::gpu::{Gpu, GpuBackend};
+use tswm::lanes::Source;
 use tswm::runner::{self, Backend, CpuBackend};
 
 fn main() -> ExitCode {
@@ -19,32 +22,34 @@ fn main() -> ExitCode {
     }
 }
 
+/// `auto`: a hardware GPU when there is one, else the CPU path, which on
+/// every machine measured outruns a software Vulkan adapter (README, "Backends").
+fn backend(choice: BackendChoice, plan: &Plan) -> Result<Box<dyn Backend>> {
+    Ok(match choice {
+        BackendChoice::Cpu => Box::new(CpuBackend::new(plan.threads, plan.settings)?),
+        BackendChoice::Gpu => Box::new(GpuBackend::new(Gpu::new(false)?, plan.settings)),
+        BackendChoice::Auto => match Gpu::new(true) {
+            Ok(gpu) => Box::new(GpuBackend::new(gpu, plan.settings)),
+            Err(_) => Box::new(CpuBackend::new(plan.threads, plan.settings)?),
+        },
+    })
+}
+
 fn real_main(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run {
             lanes,
             out,
-            backend,
+            backend: choice,
         } => {
             let plan = lanes.plan()?;
-            let mut be: Box<dyn Backend> = match backend {
-                BackendChoice::Cpu | BackendChoice::Auto => {
-                    Box::new(CpuBackend::new(plan.threads, plan.settings)?)
-                }
-                BackendChoice::Gpu => {
-                    return Err(Error::Gpu(
-                        "the GPU backend is not built yet; use --backend cpu".into(),
-                    ))
-                }
-            };
+            let mut be = backend(choice, &plan)?;
             std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
             let resolved = match &plan.source {
-                tswm::lanes::Source::Sweep { sweep, .. } => {
+                Source::Sweep { sweep, .. } => {
                     toml::to_string(&sweep.resolved_toml()).unwrap_or_default()
                 }
-                tswm::lanes::Source::Table { path, .. } => {
-                    format!("# lanes from {}\n", path.display())
-                }
+                Source::Table { path, .. } => format!("# lanes from {}\n", path.display()),
             };
             let header = format!(
                 "# tswm {} resolved sweep: every lane of lanes.csv follows from this file\n# backend: {}, tol: {:e}, lanes: {}\n",
@@ -67,9 +72,66 @@ fn real_main(cli: Cli) -> Result<()> {
             println!("{}", summary.line(&be.name(), &csv));
             Ok(())
         }
-        Command::Check { .. } => Err(Error::Gpu(
-            "tswm check needs the GPU backend, which is not built yet".into(),
-        )),
-        Command::Devices => Err(Error::Gpu("the GPU backend is not built yet".into())),
+        Command::Check { lanes } => {
+            let plan = lanes.plan()?;
+            let mut cpu = CpuBackend::new(plan.threads, plan.settings)?;
+            let mut gpu = GpuBackend::new(Gpu::new(false)?, plan.settings);
+            let table = plan.source.friction_table().copied();
+            let mut reader = plan.source.reader()?;
+            let (mut params, mut rc, mut rg) = (Vec::new(), Vec::new(), Vec::new());
+            let mut report = Report::default();
+            let mut first = 0;
+            loop {
+                params.clear();
+                reader.fill(gpu.chunk_lanes(), &mut params)?;
+                if params.is_empty() {
+                    break;
+                }
+                cpu.run_chunk(first, &params, table.as_ref(), &mut rc)?;
+                gpu.run_chunk(first, &params, table.as_ref(), &mut rg)?;
+                report.add(first, &rc, &rg);
+                first += params.len() as u64;
+            }
+            println!(
+                "tswm check: {} lanes, {} against {}",
+                report.lanes,
+                gpu.name(),
+                cpu.name()
+            );
+            print!("{}", report.text());
+            if report.passes() {
+                println!("PASS");
+                Ok(())
+            } else {
+                Err(Error::CheckFailed(
+                    "a bound was missed (see the table above)".into(),
+                ))
+            }
+        }
+        Command::Devices => {
+            let list = tswm::gpu::adapters();
+            if list.is_empty() {
+                println!(
+                    "no GPU adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)"
+                );
+            }
+            for a in list {
+                let l = &a.limits;
+                println!(
+                    "{} ({:?}, {:?}, driver {} {})\n  max_storage_buffer_binding_size {} B, max_buffer_size {} B, \
+                     max_compute_workgroups_per_dimension {}, max_compute_invocations_per_workgroup {}",
+                    a.info.name,
+                    a.info.device_type,
+                    a.info.backend,
+                    a.info.driver,
+                    a.info.driver_info,
+                    l.max_storage_buffer_binding_size,
+                    l.max_buffer_size,
+                    l.max_compute_workgroups_per_dimension,
+                    l.max_compute_invocations_per_workgroup
+                );
+            }
+            Ok(())
+        }
     }
 }

@@ -1,0 +1,461 @@
+// tswm: the TSWM hybrid integrator, one lane per invocation, in f32.
+//
+// The same algorithm as the f64 CPU path, function for function:
+//   physics     <-> src/model.rs       (motor_force, mu_sliding, phi, motion, stick_test)
+//   integrator  <-> src/integrator.rs  (rhs, try_step, locate_root, init, set_side,
+//                                       check_mode, come_to_rest, depart, cut_motor, advance)
+// Differences forced by f32: x1, the works and the time are compensated
+// (Kahan) sums; event roots are located to a relative step fraction of 1e-6
+// rather than 1e-13 s; "never" is 3e38 rather than infinity.
+
+// Keep in sync with `GpuLane` in src/gpu/layout.rs.
+struct Lane {
+    m1: f32, m2: f32, tan_g: f32, sin_g: f32,
+    cos_g: f32, inv_cos_g: f32, f2: f32, motor: u32,
+    v_sync: f32, sigma_k: f32, f_crit: f32, f1: f32,
+    motor_off: f32, friction: u32, fric_a: f32, fric_b: f32,
+    fric_c: f32, mu: f32, mu_s: f32, x1_0: f32,
+    v1_0: f32, t_end: f32, pad0: f32, pad1: f32,
+}
+
+// Keep in sync with `GpuState` in src/gpu/layout.rs.
+struct State {
+    t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
+    y: array<f32, 5>,
+    yc: array<f32, 5>,
+    k1: array<f32, 5>,
+    side: i32, dir: i32, flags: u32, status: u32,
+    switches: u32, reversals: u32, sticks: u32, steps: u32,
+    events: u32, pad0: u32, pad1: u32, pad2: u32,
+    pad3: u32,
+}
+
+// Keep in sync with `GpuGlobals` in src/gpu/layout.rs.
+struct Globals {
+    n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
+    tol: f32, h_initial: f32, table_n: u32, row_lanes: u32,
+    table_vs: array<vec4<f32>, 8>,
+    table_mu: array<vec4<f32>, 8>,
+}
+
+@group(0) @binding(0) var<uniform> g: Globals;
+@group(0) @binding(1) var<storage, read> lanes: array<Lane>;
+@group(0) @binding(2) var<storage, read_write> states: array<State>;
+@group(0) @binding(3) var<storage, read_write> n_active: atomic<u32>;
+
+const MOTOR_CONSTANT: u32 = 1u;
+const FRICTION_PAPER: u32 = 0u;
+const FRICTION_COULOMB: u32 = 1u;
+
+const F_STUCK: u32 = 1u;
+const F_MOTOR_ON: u32 = 2u;
+const F_DONE: u32 = 4u;
+const F_K1_VALID: u32 = 8u;
+const F_STARTED: u32 = 16u;
+
+// Status codes: keep in sync with `Status` in src/integrator.rs.
+const S_OK: u32 = 0u;
+const S_INCONSISTENT: u32 = 1u;
+const S_NONFINITE: u32 = 2u;
+const S_MAX_STEPS: u32 = 3u;
+const S_MAX_EVENTS: u32 = 4u;
+const S_STEP_UNDERFLOW: u32 = 5u;
+
+const PI: f32 = 3.14159265358979;
+const THETA_TOL: f32 = 1e-6;
+const NO_FIRST_SWITCH: f32 = -1.0;
+
+// ---- physics (src/model.rs) ----
+
+fn motor_force(l: Lane, v1: f32, motor_on: bool) -> f32 {
+    if (!motor_on) { return 0.0; }
+    if (l.motor == MOTOR_CONSTANT) { return l.f1; }
+    let sigma = (l.v_sync - v1) / l.v_sync;
+    let sk = l.sigma_k;
+    return 2.0 * l.f_crit * sigma * sk / (sigma * sigma + sk * sk);
+}
+
+fn tan_small(x: f32) -> f32 {
+    if (abs(x) > 0.15) { return tan(x); }
+    let x2 = x * x;
+    var p = 62.0 / 2835.0;
+    p = p * x2 + 17.0 / 315.0;
+    p = p * x2 + 2.0 / 15.0;
+    p = p * x2 + 1.0 / 3.0;
+    return x + x * x2 * p;
+}
+
+fn table_at(i: u32) -> vec2<f32> {
+    return vec2<f32>(g.table_vs[i / 4u][i % 4u], g.table_mu[i / 4u][i % 4u]);
+}
+
+fn mu_sliding(l: Lane, vs: f32) -> f32 {
+    if (l.friction == FRICTION_PAPER) {
+        var pw = 0.0;
+        if (vs > 0.0) { pw = pow(vs, l.fric_b); }
+        let rho = (PI / 180.0) / (l.fric_a * pw + l.fric_c);
+        return tan_small(rho);
+    }
+    if (l.friction == FRICTION_COULOMB) { return l.mu; }
+    // table: linear between points, flat past the ends
+    var prev = table_at(0u);
+    if (vs <= prev.x) { return prev.y; }
+    for (var i = 1u; i < g.table_n; i++) {
+        let cur = table_at(i);
+        if (vs < cur.x) {
+            let w = (vs - prev.x) / (cur.x - prev.x);
+            return prev.y + w * (cur.y - prev.y);
+        }
+        prev = cur;
+    }
+    return prev.y;
+}
+
+fn phi(l: Lane, v1: f32, motor_on: bool) -> f32 {
+    return motor_force(l, v1, motor_on) / l.m1 - l.f2 / (l.m2 * l.tan_g);
+}
+
+fn side_of(p: f32) -> i32 {
+    if (p >= 0.0) { return 1; }
+    return -1;
+}
+
+struct Motion { acc: f32, d: f32, f1: f32, s1: f32, s2: f32 }
+
+fn motion(l: Lane, side: i32, dir: i32, motor_on: bool, v1: f32) -> Motion {
+    let f1 = motor_force(l, v1, motor_on);
+    let vs = max(f32(dir) * v1, 0.0) * l.inv_cos_g;
+    let t = f32(side * dir) * mu_sliding(l, vs);
+    let p = l.tan_g + t;
+    let q = 1.0 - l.tan_g * t;
+    let dq = l.m1 * q + p * l.m2 * l.tan_g;
+    let acc = (f1 * q + p * l.f2) / dq;
+    return Motion(acc, dq / q, f1, f1 - l.m1 * acc, l.f2 - l.m2 * l.tan_g * acc);
+}
+
+// x: sticks, y: T
+fn stick_test(l: Lane, motor_on: bool) -> vec2<f32> {
+    let f1 = motor_force(l, 0.0, motor_on);
+    let n = abs(l.f2 * l.cos_g - f1 * l.sin_g);
+    let t = f1 * l.cos_g + l.f2 * l.sin_g;
+    return vec2<f32>(select(0.0, 1.0, abs(t) <= l.mu_s * n), t);
+}
+
+// ---- integrator (src/integrator.rs) ----
+
+struct Mode { side: i32, dir: i32, motor_on: bool }
+
+struct Deriv { k: array<f32, 5>, d: f32 }
+
+fn rhs(l: Lane, m: Mode, v: f32) -> Deriv {
+    let mo = motion(l, m.side, m.dir, m.motor_on, v);
+    let v2 = v * l.tan_g;
+    return Deriv(array<f32, 5>(v, mo.acc, mo.f1 * v, l.f2 * v2, mo.s1 * v + mo.s2 * v2), mo.d);
+}
+
+// Dormand-Prince 5(4)
+const A21: f32 = 1.0 / 5.0;
+const A31: f32 = 3.0 / 40.0;
+const A32: f32 = 9.0 / 40.0;
+const A41: f32 = 44.0 / 45.0;
+const A42: f32 = -56.0 / 15.0;
+const A43: f32 = 32.0 / 9.0;
+const A51: f32 = 19372.0 / 6561.0;
+const A52: f32 = -25360.0 / 2187.0;
+const A53: f32 = 64448.0 / 6561.0;
+const A54: f32 = -212.0 / 729.0;
+const A61: f32 = 9017.0 / 3168.0;
+const A62: f32 = -355.0 / 33.0;
+const A63: f32 = 46732.0 / 5247.0;
+const A64: f32 = 49.0 / 176.0;
+const A65: f32 = -5103.0 / 18656.0;
+const A71: f32 = 35.0 / 384.0;
+const A73: f32 = 500.0 / 1113.0;
+const A74: f32 = 125.0 / 192.0;
+const A75: f32 = -2187.0 / 6784.0;
+const A76: f32 = 11.0 / 84.0;
+const E1: f32 = 71.0 / 57600.0;
+const E3: f32 = -71.0 / 16695.0;
+const E4: f32 = 71.0 / 1920.0;
+const E5: f32 = -17253.0 / 339200.0;
+const E6: f32 = 22.0 / 525.0;
+const E7: f32 = -1.0 / 40.0;
+const D1: f32 = -12715105075.0 / 11282082432.0;
+const D3: f32 = 87487479700.0 / 32700410799.0;
+const D4: f32 = -10690763975.0 / 1880347072.0;
+const D5: f32 = 701980252875.0 / 199316789632.0;
+const D6: f32 = -1453857185.0 / 822651844.0;
+const D7: f32 = 69997945.0 / 29380423.0;
+
+struct Trial {
+    y1: array<f32, 5>,
+    y1c: array<f32, 5>,
+    k7: array<f32, 5>,
+    err: f32,
+    dense: array<f32, 5>,
+}
+
+fn try_step(l: Lane, m: Mode, y: array<f32, 5>, yc: array<f32, 5>, k1: array<f32, 5>, h: f32, tol: f32) -> Trial {
+    let v0 = y[1];
+    let k2 = rhs(l, m, v0 + h * (A21 * k1[1])).k;
+    let k3 = rhs(l, m, v0 + h * (A31 * k1[1] + A32 * k2[1])).k;
+    let k4 = rhs(l, m, v0 + h * (A41 * k1[1] + A42 * k2[1] + A43 * k3[1])).k;
+    let k5 = rhs(l, m, v0 + h * (A51 * k1[1] + A52 * k2[1] + A53 * k3[1] + A54 * k4[1])).k;
+    let k6 = rhs(l, m, v0 + h * (A61 * k1[1] + A62 * k2[1] + A63 * k3[1] + A64 * k4[1] + A65 * k5[1])).k;
+    var tr: Trial;
+    for (var i = 0; i < 5; i++) {
+        // compensated y1 = y + dy
+        let dy = h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+        let yy = dy - yc[i];
+        let s = y[i] + yy;
+        tr.y1c[i] = (s - y[i]) - yy;
+        tr.y1[i] = s;
+    }
+    tr.k7 = rhs(l, m, tr.y1[1]).k;
+    var err = 0.0;
+    for (var i = 0; i < 5; i++) {
+        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * tr.k7[i]);
+        let sc = tol * (1.0 + max(abs(y[i]), abs(tr.y1[i])));
+        err = max(err, abs(e) / sc);
+    }
+    // NaN and infinity fail this test: the step is rejected.
+    if (!(err <= 3.0e38)) { err = 3.0e38; }
+    tr.err = err;
+    let r2 = tr.y1[1] - v0;
+    let r3 = h * k1[1] - r2;
+    let r4 = r2 - h * tr.k7[1] - r3;
+    let r5 = h * (D1 * k1[1] + D3 * k3[1] + D4 * k4[1] + D5 * k5[1] + D6 * k6[1] + D7 * tr.k7[1]);
+    tr.dense = array<f32, 5>(v0, r2, r3, r4, r5);
+    return tr;
+}
+
+fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
+    let th1 = 1.0 - th;
+    return r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])));
+}
+
+const EV_SWITCH: u32 = 0u;
+const EV_REST: u32 = 1u;
+
+fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
+    if (which == EV_SWITCH) { return f32(m.side) * phi(l, v, m.motor_on); }
+    return f32(m.dir) * v;
+}
+
+fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f32 {
+    var a = 0.0;
+    var fa = event_value(l, m, which, r[0]);
+    var b = 1.0;
+    var fb = g_end;
+    if (fa <= 0.0) { return 0.0; }
+    var side = 0;
+    for (var it = 0; it < 100; it++) {
+        if (b - a <= THETA_TOL) { break; }
+        var c = (a * fb - b * fa) / (fb - fa);
+        if (!(c > a && c < b)) { c = 0.5 * (a + b); }
+        let fc = event_value(l, m, which, dense_v(r, c));
+        if (fc >= 0.0) {
+            a = c; fa = fc;
+            if (side == -1) { fb *= 0.5; }
+            side = -1;
+        } else {
+            b = c; fb = fc;
+            if (side == 1) { fa *= 0.5; }
+            side = 1;
+        }
+    }
+    return a;
+}
+
+fn has(st: ptr<function, State>, f: u32) -> bool { return ((*st).flags & f) != 0u; }
+fn set_flag(st: ptr<function, State>, f: u32, on: bool) {
+    if (on) { (*st).flags |= f; } else { (*st).flags &= ~f; }
+}
+
+fn time_of(st: ptr<function, State>) -> f32 { return (*st).t_hi - (*st).t_lo; }
+
+fn time_add(st: ptr<function, State>, h: f32) {
+    let y = h - (*st).t_lo;
+    let t = (*st).t_hi + y;
+    (*st).t_lo = (t - (*st).t_hi) - y;
+    (*st).t_hi = t;
+}
+
+fn time_set(st: ptr<function, State>, t: f32) {
+    (*st).t_hi = t;
+    (*st).t_lo = 0.0;
+}
+
+fn mode_of(st: ptr<function, State>) -> Mode {
+    return Mode((*st).side, (*st).dir, has(st, F_MOTOR_ON));
+}
+
+fn finish(st: ptr<function, State>, status: u32) {
+    (*st).status = status;
+    set_flag(st, F_DONE, true);
+}
+
+fn set_side(st: ptr<function, State>, side: i32) {
+    if (side != (*st).side) {
+        (*st).switches += 1u;
+        if ((*st).t_first_switch < 0.0) { (*st).t_first_switch = time_of(st); }
+        (*st).side = side;
+    }
+}
+
+fn check_mode(l: Lane, st: ptr<function, State>) {
+    if (has(st, F_STUCK) || has(st, F_DONE)) { return; }
+    let dv = rhs(l, mode_of(st), (*st).y[1]);
+    if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); }
+    (*st).k1 = dv.k;
+    set_flag(st, F_K1_VALID, true);
+}
+
+fn depart(l: Lane, st: ptr<function, State>, tf: f32) {
+    let dir = select(-1, 1, tf > 0.0);
+    if ((*st).dir != 0 && dir != (*st).dir) { (*st).reversals += 1u; }
+    (*st).dir = dir;
+    set_flag(st, F_STUCK, false);
+    (*st).h = g.h_initial;
+    set_side(st, side_of(phi(l, 0.0, has(st, F_MOTOR_ON))));
+    check_mode(l, st);
+}
+
+fn come_to_rest(l: Lane, st: ptr<function, State>) {
+    (*st).y[1] = 0.0;
+    (*st).yc[1] = 0.0;
+    let s = stick_test(l, has(st, F_MOTOR_ON));
+    if (s.x > 0.5) {
+        set_flag(st, F_STUCK, true);
+        (*st).sticks += 1u;
+        set_flag(st, F_K1_VALID, false);
+        return;
+    }
+    depart(l, st, s.y);
+}
+
+fn cut_motor(l: Lane, st: ptr<function, State>) {
+    set_flag(st, F_MOTOR_ON, false);
+    (*st).events += 1u;
+    set_flag(st, F_K1_VALID, false);
+    if (has(st, F_STUCK)) {
+        let s = stick_test(l, false);
+        if (s.x < 0.5) { depart(l, st, s.y); }
+    } else {
+        set_side(st, side_of(phi(l, (*st).y[1], false)));
+        check_mode(l, st);
+    }
+}
+
+fn init(l: Lane, st: ptr<function, State>) {
+    let motor_on = !(l.motor_off <= 0.0);
+    let v = l.v1_0;
+    (*st).t_hi = 0.0;
+    (*st).t_lo = 0.0;
+    (*st).y = array<f32, 5>(l.x1_0, v, 0.0, 0.0, 0.0);
+    (*st).yc = array<f32, 5>(0.0, 0.0, 0.0, 0.0, 0.0);
+    (*st).h = min(g.h_initial, l.t_end);
+    (*st).side = side_of(phi(l, v, motor_on));
+    (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
+    (*st).flags = F_STARTED;
+    set_flag(st, F_MOTOR_ON, motor_on);
+    (*st).status = S_OK;
+    (*st).switches = 0u;
+    (*st).reversals = 0u;
+    (*st).sticks = 0u;
+    (*st).t_first_switch = NO_FIRST_SWITCH;
+    (*st).steps = 0u;
+    (*st).events = 0u;
+    if (v == 0.0) { come_to_rest(l, st); } else { check_mode(l, st); }
+}
+
+fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
+    var left = budget;
+    loop {
+        if (has(st, F_DONE) || left == 0u) { break; }
+        left -= 1u;
+        var t_stop = l.t_end;
+        if (has(st, F_MOTOR_ON) && l.motor_off < l.t_end) { t_stop = l.motor_off; }
+        if (has(st, F_STUCK)) {
+            time_set(st, t_stop);
+            if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+            continue;
+        }
+        let m = mode_of(st);
+        if (!has(st, F_K1_VALID)) {
+            let dv = rhs(l, m, (*st).y[1]);
+            if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); break; }
+            (*st).k1 = dv.k;
+            set_flag(st, F_K1_VALID, true);
+        }
+        var h = (*st).h;
+        if (l.friction == FRICTION_PAPER && (*st).k1[1] * f32((*st).dir) <= 0.0) {
+            let t_rest = -(*st).y[1] / (*st).k1[1];
+            h = min(h, max(0.5 * t_rest, g.h_initial));
+        }
+        let remaining = (t_stop - (*st).t_hi) + (*st).t_lo;
+        let landing = h >= remaining;
+        if (landing) { h = remaining; }
+        let tr = try_step(l, m, (*st).y, (*st).yc, (*st).k1, h, g.tol);
+        var fac = 5.0;
+        if (tr.err > 0.0) { fac = clamp(0.9 * pow(tr.err, -0.2), 0.2, 5.0); }
+        if (tr.err > 1.0) {
+            (*st).h = h * min(fac, 1.0);
+            if ((*st).h < 1e-7 * max(time_of(st), 1.0)) { finish(st, S_STEP_UNDERFLOW); }
+            continue;
+        }
+        let h_next = h * fac;
+        (*st).steps += 1u;
+        if ((*st).steps > g.max_steps) { finish(st, S_MAX_STEPS); break; }
+        let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
+        let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
+        var theta = 2.0;
+        var which = EV_REST;
+        if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
+        if (g_switch < 0.0) {
+            let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
+            if (th < theta) { theta = th; which = EV_SWITCH; }
+        }
+        if (theta <= 1.0) {
+            let h_ev = theta * h;
+            let ev = try_step(l, m, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
+            time_add(st, h_ev);
+            (*st).y = ev.y1;
+            (*st).yc = ev.y1c;
+            set_flag(st, F_K1_VALID, false);
+            (*st).events += 1u;
+            (*st).h = max(h_next, h_ev);
+            if (which == EV_REST) { come_to_rest(l, st); } else { set_side(st, -(*st).side); check_mode(l, st); }
+            if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
+        } else {
+            (*st).y = tr.y1;
+            (*st).yc = tr.y1c;
+            (*st).k1 = tr.k7;
+            (*st).h = h_next;
+            if (landing) {
+                time_set(st, t_stop);
+                if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+            } else {
+                time_add(st, h);
+            }
+        }
+        var finite = true;
+        for (var i = 0; i < 5; i++) {
+            if (!(abs((*st).y[i]) <= 3.0e38)) { finite = false; }
+        }
+        if (!finite) { finish(st, S_NONFINITE); }
+    }
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let idx = gid.x + gid.y * g.row_lanes;
+    if (idx >= g.n_lanes) { return; }
+    var st = states[idx];
+    if (((st.flags & F_DONE) != 0u)) { return; }
+    let l = lanes[idx];
+    if ((st.flags & F_STARTED) == 0u) { init(l, &st); }
+    advance(l, &st, g.budget);
+    states[idx] = st;
+    if ((st.flags & F_DONE) == 0u) { atomicAdd(&n_active, 1u); }
+}

@@ -1,0 +1,214 @@
+//! The structs shared with `shaders/tswm.wgsl`, byte for byte. A test parses
+//! the shader with naga and fails when sizes or offsets drift.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::integrator::{Contact, LaneResult, Settings, Status};
+use crate::model::{efficiency, motion, FrictionTable, Lane, MAX_TABLE_POINTS};
+
+/// "Never" for f32 times: WGSL may assume there are no infinities.
+pub const NEVER: f32 = 3.0e38;
+
+/// A lane's constants, f32. Keep in sync with `Lane` in shaders/tswm.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuLane {
+    pub m1: f32,
+    pub m2: f32,
+    pub tan_g: f32,
+    pub sin_g: f32,
+    pub cos_g: f32,
+    pub inv_cos_g: f32,
+    pub f2: f32,
+    pub motor: u32,
+    pub v_sync: f32,
+    pub sigma_k: f32,
+    pub f_crit: f32,
+    pub f1: f32,
+    pub motor_off: f32,
+    pub friction: u32,
+    pub fric_a: f32,
+    pub fric_b: f32,
+    pub fric_c: f32,
+    pub mu: f32,
+    pub mu_s: f32,
+    pub x1_0: f32,
+    pub v1_0: f32,
+    pub t_end: f32,
+    pub pad0: f32,
+    pub pad1: f32,
+}
+
+impl From<&Lane> for GpuLane {
+    fn from(l: &Lane) -> Self {
+        GpuLane {
+            m1: l.m1 as f32,
+            m2: l.m2 as f32,
+            tan_g: l.tan_g as f32,
+            sin_g: l.sin_g as f32,
+            cos_g: l.cos_g as f32,
+            inv_cos_g: l.inv_cos_g as f32,
+            f2: l.f2 as f32,
+            motor: l.motor,
+            v_sync: l.v_sync as f32,
+            sigma_k: l.sigma_k as f32,
+            f_crit: l.f_crit as f32,
+            f1: l.f1 as f32,
+            motor_off: if l.motor_off.is_finite() {
+                l.motor_off as f32
+            } else {
+                NEVER
+            },
+            friction: l.friction,
+            fric_a: l.fric_a as f32,
+            fric_b: l.fric_b as f32,
+            fric_c: l.fric_c as f32,
+            mu: l.mu as f32,
+            mu_s: l.mu_s as f32,
+            x1_0: l.x1_0 as f32,
+            v1_0: l.v1_0 as f32,
+            t_end: l.t_end as f32,
+            pad0: 0.0,
+            pad1: 0.0,
+        }
+    }
+}
+
+/// Flag bits of `GpuState::flags` (as in the shader).
+pub mod flags {
+    /// At rest, held.
+    pub const STUCK: u32 = 1;
+    /// Motor force on.
+    pub const MOTOR_ON: u32 = 2;
+    /// Finished or abandoned.
+    pub const DONE: u32 = 4;
+    /// k1 holds the derivative at the current state.
+    pub const K1_VALID: u32 = 8;
+    /// `init` has run.
+    pub const STARTED: u32 = 16;
+}
+
+/// A lane's integration state between dispatches. Keep in sync with
+/// `State` in shaders/tswm.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuState {
+    pub t_hi: f32,
+    pub t_lo: f32,
+    pub h: f32,
+    /// < 0 until the first switch.
+    pub t_first_switch: f32,
+    pub y: [f32; 5],
+    /// Kahan compensations of `y`: the value is y − yc.
+    pub yc: [f32; 5],
+    pub k1: [f32; 5],
+    pub side: i32,
+    pub dir: i32,
+    pub flags: u32,
+    pub status: u32,
+    pub switches: u32,
+    pub reversals: u32,
+    pub sticks: u32,
+    pub steps: u32,
+    pub events: u32,
+    pub pad: [u32; 4],
+}
+
+impl GpuState {
+    /// The lane's results, in f64 (compensated sums folded in); the end
+    /// efficiency is evaluated on the host from the final mode and speed.
+    pub fn result(&self, lane: &Lane, table: Option<&FrictionTable>) -> LaneResult {
+        let val = |i: usize| self.y[i] as f64 - self.yc[i] as f64;
+        let stuck = self.flags & flags::STUCK != 0;
+        let status = Status::from_code(self.status);
+        let v = val(1);
+        let eta_end = if stuck || v == 0.0 || status != Status::Ok {
+            f64::NAN
+        } else {
+            let m = motion(
+                lane,
+                table,
+                self.side,
+                self.dir,
+                self.flags & flags::MOTOR_ON != 0,
+                v,
+            );
+            efficiency(lane, &m, self.side, self.dir, v)
+        };
+        LaneResult {
+            status,
+            switches: self.switches,
+            t_first_switch: if self.t_first_switch < 0.0 {
+                f64::NAN
+            } else {
+                self.t_first_switch as f64
+            },
+            reversals: self.reversals,
+            sticks: self.sticks,
+            contact_end: if stuck {
+                Contact::Stick
+            } else if self.side > 0 {
+                Contact::Aa
+            } else {
+                Contact::Bb
+            },
+            x1_end: val(0),
+            v1_end: v,
+            w_motor: val(2),
+            w_load: val(3),
+            w_friction: val(4),
+            eta_end,
+            steps: self.steps,
+        }
+    }
+}
+
+/// Run-wide values and the friction table. Keep in sync with `Globals` in
+/// shaders/tswm.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuGlobals {
+    pub n_lanes: u32,
+    /// Step attempts per lane per dispatch.
+    pub budget: u32,
+    pub max_steps: u32,
+    pub max_events: u32,
+    pub tol: f32,
+    pub h_initial: f32,
+    pub table_n: u32,
+    /// Lanes per row of a 2-D dispatch.
+    pub row_lanes: u32,
+    pub table_vs: [[f32; 4]; MAX_TABLE_POINTS / 4],
+    pub table_mu: [[f32; 4]; MAX_TABLE_POINTS / 4],
+}
+
+/// Per-step tolerance of the f32 path: the tightest at which f32 rounding
+/// stays well below the error being controlled (see README, "GPU").
+pub const GPU_TOL: f32 = 1e-6;
+
+impl GpuGlobals {
+    /// Globals for a run with `settings` (its tolerance is the f64 path's
+    /// and is replaced by [`GPU_TOL`]) and an optional table.
+    pub fn new(settings: &Settings, table: Option<&FrictionTable>) -> GpuGlobals {
+        let mut g = GpuGlobals {
+            n_lanes: 0,
+            budget: 0,
+            max_steps: settings.max_steps,
+            max_events: settings.max_events,
+            tol: GPU_TOL,
+            h_initial: crate::integrator::H_INITIAL as f32,
+            table_n: 0,
+            row_lanes: 0,
+            table_vs: [[0.0; 4]; MAX_TABLE_POINTS / 4],
+            table_mu: [[0.0; 4]; MAX_TABLE_POINTS / 4],
+        };
+        if let Some(t) = table {
+            g.table_n = t.n as u32;
+            for i in 0..t.n {
+                g.table_vs[i / 4][i % 4] = t.vs[i] as f32;
+                g.table_mu[i / 4][i % 4] = t.mu[i] as f32;
+            }
+        }
+        g
+    }
+}

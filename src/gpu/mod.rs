@@ -1,0 +1,427 @@
+//! The GPU path: `shaders/tswm.wgsl` on wgpu, one lane per invocation.
+//!
+//! Getting a device ([`Gpu::new`]) is separate from running work on it
+//! ([`Gpu::run`]), so tests and benchmarks share one device. A chunk of
+//! lanes is uploaded once; its states stay on the GPU while dispatches of
+//! at most `budget` step attempts per lane run until every lane is done, so
+//! no single dispatch runs long enough to trip a driver watchdog.
+
+pub mod layout;
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::{Error, Result};
+use crate::integrator::{LaneResult, Settings};
+use crate::model::{FrictionTable, Lane};
+use crate::params::Params;
+use crate::runner::Backend;
+use layout::{GpuGlobals, GpuLane, GpuState};
+
+/// The shader source.
+pub const SHADER: &str = include_str!("../../shaders/tswm.wgsl");
+
+/// Invocations per workgroup (`@workgroup_size` in the shader).
+pub const WORKGROUP: u32 = 64;
+
+/// Step attempts per lane per dispatch. Paper-like lanes need about 80, so
+/// most finish in two dispatches; a dispatch stays far below a second even
+/// on a software adapter at the default chunk size.
+pub const BUDGET: u32 = 64;
+
+/// Longest wait for one submission before the run is called hung.
+const POLL_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// What `tswm devices` shows of an adapter.
+#[derive(Clone, Debug)]
+pub struct AdapterSummary {
+    /// Name, type, backend, driver.
+    pub info: wgpu::AdapterInfo,
+    /// Its limits.
+    pub limits: wgpu::Limits,
+}
+
+fn instance() -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    // Compute needs no GL; leaving it out also keeps EGL's probing quiet.
+    desc.backends = wgpu::Backends::PRIMARY;
+    wgpu::Instance::new(desc)
+}
+
+/// Rank for choosing the best adapter: discrete, integrated, virtual, then software.
+fn rank(t: wgpu::DeviceType) -> u8 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+/// Whether an adapter is real hardware (not a software rasteriser).
+pub fn is_hardware(info: &wgpu::AdapterInfo) -> bool {
+    rank(info.device_type) <= 2
+}
+
+/// Every adapter wgpu finds, best first.
+pub fn adapters() -> Vec<AdapterSummary> {
+    let mut v: Vec<AdapterSummary> =
+        pollster::block_on(instance().enumerate_adapters(wgpu::Backends::PRIMARY))
+            .into_iter()
+            .map(|a| AdapterSummary {
+                info: a.get_info(),
+                limits: a.limits(),
+            })
+            .collect();
+    v.sort_by_key(|a| rank(a.info.device_type));
+    v
+}
+
+/// A device with the TSWM pipeline, ready to run chunks.
+pub struct Gpu {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter it runs on.
+    pub info: wgpu::AdapterInfo,
+    /// The device's limits.
+    pub limits: wgpu::Limits,
+    pipeline: wgpu::ComputePipeline,
+    lost: Arc<Mutex<Option<String>>>,
+}
+
+fn gpu_err(chunk: u64, what: impl std::fmt::Display) -> Error {
+    Error::Gpu(format!("chunk {chunk}: {what}; no lanes.csv was written"))
+}
+
+impl Gpu {
+    /// Opens the best adapter (discrete, integrated, virtual, software);
+    /// with `hardware_only`, software adapters do not count.
+    pub fn new(hardware_only: bool) -> Result<Gpu> {
+        let inst = instance();
+        let mut list = pollster::block_on(inst.enumerate_adapters(wgpu::Backends::PRIMARY));
+        list.sort_by_key(|a| rank(a.get_info().device_type));
+        let adapter = list
+            .into_iter()
+            .find(|a| !hardware_only || is_hardware(&a.get_info()))
+            .ok_or_else(|| {
+                Error::Gpu(if hardware_only {
+                    "no hardware GPU adapter found".into()
+                } else {
+                    "no GPU adapter found (no Vulkan, Metal, DX12 or GL driver); install one \
+                     (on Debian: apt-get install mesa-vulkan-drivers) or use --backend cpu"
+                        .into()
+                })
+            })?;
+        let info = adapter.get_info();
+        let alimits = adapter.limits();
+        // Ask for the adapter's own storage limits: chunks are sized from them.
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: alimits.max_storage_buffer_binding_size,
+            max_buffer_size: alimits.max_buffer_size,
+            max_compute_workgroups_per_dimension: alimits.max_compute_workgroups_per_dimension,
+            ..wgpu::Limits::downlevel_defaults()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("tswm"),
+            required_features: wgpu::Features::empty(),
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Gpu(format!("{}: cannot open the device: {e}", info.name)))?;
+        let lost = Arc::new(Mutex::new(None));
+        let l2 = lost.clone();
+        device.set_device_lost_callback(move |reason, msg| {
+            *l2.lock().unwrap() = Some(format!("device lost ({reason:?}): {msg}"));
+        });
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("tswm.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tswm"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(format!(
+                "{}: the shader does not compile: {e}",
+                info.name
+            )));
+        }
+        Ok(Gpu {
+            device,
+            queue,
+            info,
+            limits,
+            pipeline,
+            lost,
+        })
+    }
+
+    /// Short description: "NAME (type, backend)".
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {:?})",
+            self.info.name, self.info.device_type, self.info.backend
+        )
+    }
+
+    /// Most lanes one chunk may hold on this device: the state buffer must
+    /// fit one storage binding and the dispatch the workgroup-count limits.
+    pub fn max_chunk_lanes(&self) -> usize {
+        let by_binding = self.limits.max_storage_buffer_binding_size as u64
+            / std::mem::size_of::<GpuState>() as u64;
+        let by_buffer = self.limits.max_buffer_size / std::mem::size_of::<GpuState>() as u64;
+        let per_dim = self.limits.max_compute_workgroups_per_dimension as u64;
+        let by_dispatch = per_dim * per_dim * WORKGROUP as u64;
+        by_binding
+            .min(by_buffer)
+            .min(by_dispatch)
+            .min(u32::MAX as u64) as usize
+    }
+
+    fn check_lost(&self, chunk: u64) -> Result<()> {
+        match self.lost.lock().unwrap().take() {
+            Some(m) => Err(gpu_err(chunk, m)),
+            None => Ok(()),
+        }
+    }
+
+    fn wait(&self, chunk: u64) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: Some(POLL_TIMEOUT),
+            })
+            .map_err(|e| gpu_err(chunk, format!("the GPU did not finish ({e})")))?;
+        self.check_lost(chunk)
+    }
+
+    fn read_back(&self, chunk: u64, buf: &wgpu::Buffer, out: &mut Vec<u8>) -> Result<()> {
+        let res = Arc::new(Mutex::new(None));
+        let r2 = res.clone();
+        buf.slice(..)
+            .map_async(wgpu::MapMode::Read, move |r| *r2.lock().unwrap() = Some(r));
+        self.wait(chunk)?;
+        match res.lock().unwrap().take() {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(gpu_err(chunk, format!("read-back failed: {e}"))),
+            None => return Err(gpu_err(chunk, "read-back did not complete")),
+        }
+        out.clear();
+        {
+            let view = buf
+                .slice(..)
+                .get_mapped_range()
+                .map_err(|e| gpu_err(chunk, format!("read-back failed: {e:?}")))?;
+            out.extend_from_slice(&view);
+        }
+        buf.unmap();
+        Ok(())
+    }
+
+    /// Integrates `lanes` to their ends; `out` gets one state per lane.
+    /// `chunk` names the chunk in errors.
+    pub fn run(
+        &self,
+        chunk: u64,
+        lanes: &[GpuLane],
+        mut globals: GpuGlobals,
+        out: &mut Vec<GpuState>,
+    ) -> Result<()> {
+        out.clear();
+        if lanes.is_empty() {
+            return Ok(());
+        }
+        let n = lanes.len() as u32;
+        let groups = n.div_ceil(WORKGROUP);
+        let gx = groups.min(self.limits.max_compute_workgroups_per_dimension);
+        let gy = groups.div_ceil(gx);
+        globals.n_lanes = n;
+        globals.budget = BUDGET;
+        globals.row_lanes = gx * WORKGROUP;
+        let state_bytes = (lanes.len() * std::mem::size_of::<GpuState>()) as u64;
+
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let vscope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let dev = &self.device;
+        let globals_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("globals"),
+            contents: bytemuck::bytes_of(&globals),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let lanes_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("lanes"),
+            contents: bytemuck::cast_slice(lanes),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        // New buffers are zeroed: every lane starts "not started".
+        let states_buf = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("states"),
+            size: state_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let active_buf = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("active"),
+            size: 4,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let active_read = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("active read-back"),
+            size: 4,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let states_read = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("states read-back"),
+            size: state_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tswm"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: lanes_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: states_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: active_buf.as_entire_binding(),
+                },
+            ],
+        });
+        if let Some(e) = pollster::block_on(vscope.pop()) {
+            return Err(gpu_err(chunk, format!("invalid GPU work: {e}")));
+        }
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(gpu_err(
+                chunk,
+                format!("out of GPU memory for {n} lanes ({e})"),
+            ));
+        }
+
+        let mut bytes = Vec::new();
+        // Enough rounds for max_steps accepted steps plus as many rejections.
+        let max_rounds = (2 * globals.max_steps as u64).div_ceil(BUDGET as u64) + 2;
+        for _round in 0..max_rounds {
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("round"),
+            });
+            enc.clear_buffer(&active_buf, 0, None);
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("advance"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(gx, gy, 1);
+            }
+            enc.copy_buffer_to_buffer(&active_buf, 0, &active_read, 0, 4);
+            self.queue.submit([enc.finish()]);
+            self.read_back(chunk, &active_read, &mut bytes)?;
+            let active = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+            if active == 0 {
+                break;
+            }
+        }
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("read states"),
+        });
+        enc.copy_buffer_to_buffer(&states_buf, 0, &states_read, 0, state_bytes);
+        self.queue.submit([enc.finish()]);
+        self.read_back(chunk, &states_read, &mut bytes)?;
+        out.extend_from_slice(bytemuck::cast_slice(&bytes));
+        Ok(())
+    }
+}
+
+/// The GPU as a [`Backend`] of the runner.
+pub struct GpuBackend {
+    gpu: Gpu,
+    settings: Settings,
+    chunk: usize,
+    lanes64: Vec<Lane>,
+    lanes32: Vec<GpuLane>,
+    states: Vec<GpuState>,
+}
+
+/// Default lanes per chunk (capped by the device's limits).
+pub const CHUNK_LANES: usize = 1 << 17;
+
+impl GpuBackend {
+    /// A backend on an opened device.
+    pub fn new(gpu: Gpu, settings: Settings) -> GpuBackend {
+        let chunk = CHUNK_LANES.min(gpu.max_chunk_lanes()).max(1);
+        GpuBackend {
+            gpu,
+            settings,
+            chunk,
+            lanes64: Vec::new(),
+            lanes32: Vec::new(),
+            states: Vec::new(),
+        }
+    }
+
+    /// The device.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+}
+
+impl Backend for GpuBackend {
+    fn name(&self) -> String {
+        format!("gpu: {}", self.gpu.describe())
+    }
+    fn chunk_lanes(&self) -> usize {
+        self.chunk
+    }
+    fn run_chunk(
+        &mut self,
+        first: u64,
+        lanes: &[Params],
+        table: Option<&FrictionTable>,
+        out: &mut Vec<LaneResult>,
+    ) -> Result<()> {
+        let chunk = first / self.chunk as u64;
+        self.lanes64.clear();
+        self.lanes64
+            .extend(lanes.iter().map(|p| Lane::new(p, table)));
+        self.lanes32.clear();
+        self.lanes32.extend(self.lanes64.iter().map(GpuLane::from));
+        let globals = GpuGlobals::new(&self.settings, table);
+        self.gpu
+            .run(chunk, &self.lanes32, globals, &mut self.states)?;
+        out.clear();
+        out.extend(
+            self.states
+                .iter()
+                .zip(&self.lanes64)
+                .map(|(s, l)| s.result(l, table)),
+        );
+        Ok(())
+    }
+}
