@@ -389,7 +389,7 @@ fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
             set_flag(st, F_K1_VALID, true);
         }
         var h = (*st).h;
-        if (l.friction == FRICTION_PAPER && (*st).k1[1] * f32((*st).dir) <= 0.0) {
+        if (l.friction == FRICTION_PAPER && (*st).k1[1] * f32((*st).dir) < 0.0) {
             let t_rest = -(*st).y[1] / (*st).k1[1];
             h = min(h, max(0.5 * t_rest, g.h_initial));
         }

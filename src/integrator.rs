@@ -525,7 +525,7 @@ pub fn advance(
         // Approaching rest under the paper law, ρ(Vs) has an unbounded
         // derivative at the stop, as it has at a start, and the error
         // estimate reads low there: grade the steps into the stop.
-        if lane.friction == FRICTION_PAPER && st.k1[1] * st.dir as f64 <= 0.0 {
+        if lane.friction == FRICTION_PAPER && st.k1[1] * (st.dir as f64) < 0.0 {
             let t_rest = -st.y[1] / st.k1[1];
             h = h.min((0.5 * t_rest).max(H_INITIAL));
         }

@@ -111,7 +111,10 @@ pub struct GpuState {
     pub sticks: u32,
     pub steps: u32,
     pub events: u32,
-    pub pad: [u32; 4],
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+    pub pad3: u32,
 }
 
 impl GpuState {

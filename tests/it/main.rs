@@ -5,3 +5,5 @@ mod bad_input;
 mod cli;
 mod common;
 mod fixtures;
+mod gpu;
+mod shader;
