@@ -5,8 +5,10 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use crate::error::{Error, Result};
+use crate::gpu::{Gpu, GpuBackend};
 use crate::integrator::Settings;
 use crate::lanes::Source;
+use crate::runner::{Backend, CpuBackend};
 
 /// Simulate thousands to millions of worm-drive (TSWM) variants.
 #[derive(Parser, Debug)]
@@ -98,5 +100,91 @@ impl LanesArgs {
             threads: self.threads.unwrap_or(0),
             settings: Settings::default(),
         })
+    }
+}
+
+/// Below this many lanes `auto` runs on the CPU without a trial: opening a
+/// software adapter and compiling its pipeline costs more than it can save.
+pub const AUTO_TRIAL_MIN_LANES: u64 = 20_000;
+
+/// Lanes of the `auto` trial.
+const AUTO_TRIAL_LANES: usize = 4096;
+
+/// Opens the backend a run asked for.
+///
+/// `auto`: a hardware GPU when there is one; else, for sweeps of at least
+/// [`AUTO_TRIAL_MIN_LANES`] lanes with a software adapter present, the
+/// faster of the CPU path and that adapter on a trial of 4096 paper-like
+/// lanes run on both; else the CPU path.
+pub fn open_backend(choice: BackendChoice, plan: &Plan) -> Result<Box<dyn Backend>> {
+    let cpu = || -> Result<Box<dyn Backend>> {
+        Ok(Box::new(CpuBackend::new(plan.threads, plan.settings)?))
+    };
+    match choice {
+        BackendChoice::Cpu => cpu(),
+        BackendChoice::Gpu => Ok(Box::new(GpuBackend::new(Gpu::new(false)?, plan.settings))),
+        BackendChoice::Auto => {
+            if let Ok(gpu) = Gpu::new(true) {
+                return Ok(Box::new(GpuBackend::new(gpu, plan.settings)));
+            }
+            if plan.source.lane_count() < AUTO_TRIAL_MIN_LANES {
+                return cpu();
+            }
+            let Ok(soft) = Gpu::new(false) else {
+                return cpu();
+            };
+            let mut c = CpuBackend::new(plan.threads, plan.settings)?;
+            let mut g = GpuBackend::new(soft, plan.settings);
+            let trial: Vec<_> = crate::testmodels::paper_like(AUTO_TRIAL_LANES, 7)
+                .iter()
+                .map(|s| s.resolve(false).expect("paper-like lanes are valid"))
+                .collect();
+            let mut out = Vec::new();
+            let rate = |b: &mut dyn Backend, out: &mut Vec<_>| -> Result<f64> {
+                let t = std::time::Instant::now();
+                b.run_chunk(0, &trial, None, out)?;
+                Ok(trial.len() as f64 / t.elapsed().as_secs_f64())
+            };
+            let rc = rate(&mut c, &mut out)?;
+            let rg = match rate(&mut g, &mut out) {
+                Ok(r) => r,
+                Err(_) => return Ok(Box::new(c)),
+            };
+            Ok(if rg > rc {
+                Box::new(Auto {
+                    inner: Box::new(g),
+                    why: format!("auto: {rg:.0} vs cpu {rc:.0} lanes/s in a trial"),
+                })
+            } else {
+                Box::new(Auto {
+                    inner: Box::new(c),
+                    why: format!("auto: {rc:.0} vs software gpu {rg:.0} lanes/s in a trial"),
+                })
+            })
+        }
+    }
+}
+
+/// A backend chosen by the `auto` trial, named with the trial's figures.
+struct Auto {
+    inner: Box<dyn Backend>,
+    why: String,
+}
+
+impl Backend for Auto {
+    fn name(&self) -> String {
+        format!("{} [{}]", self.inner.name(), self.why)
+    }
+    fn chunk_lanes(&self) -> usize {
+        self.inner.chunk_lanes()
+    }
+    fn run_chunk(
+        &mut self,
+        first: u64,
+        lanes: &[crate::params::Params],
+        table: Option<&crate::model::FrictionTable>,
+        out: &mut Vec<crate::integrator::LaneResult>,
+    ) -> Result<()> {
+        self.inner.run_chunk(first, lanes, table, out)
     }
 }

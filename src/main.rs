@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tswm::check::Report;
-use tswm::cli::{BackendChoice, Cli, Command, Plan};
+use tswm::cli::{open_backend, Cli, Command};
 use tswm::error::{Error, Result};
 use tswm::gpu::{Gpu, GpuBackend};
 use tswm::lanes::Source;
@@ -22,19 +22,6 @@ fn main() -> ExitCode {
     }
 }
 
-/// `auto`: a hardware GPU when there is one, else the CPU path, which on
-/// every machine measured outruns a software Vulkan adapter (README, "Backends").
-fn backend(choice: BackendChoice, plan: &Plan) -> Result<Box<dyn Backend>> {
-    Ok(match choice {
-        BackendChoice::Cpu => Box::new(CpuBackend::new(plan.threads, plan.settings)?),
-        BackendChoice::Gpu => Box::new(GpuBackend::new(Gpu::new(false)?, plan.settings)),
-        BackendChoice::Auto => match Gpu::new(true) {
-            Ok(gpu) => Box::new(GpuBackend::new(gpu, plan.settings)),
-            Err(_) => Box::new(CpuBackend::new(plan.threads, plan.settings)?),
-        },
-    })
-}
-
 fn real_main(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run {
@@ -43,7 +30,7 @@ fn real_main(cli: Cli) -> Result<()> {
             backend: choice,
         } => {
             let plan = lanes.plan()?;
-            let mut be = backend(choice, &plan)?;
+            let mut be = open_backend(choice, &plan)?;
             std::fs::create_dir_all(&out).map_err(|e| Error::io(&out, e))?;
             let resolved = match &plan.source {
                 Source::Sweep { sweep, .. } => {

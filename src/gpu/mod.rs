@@ -44,6 +44,11 @@ pub struct AdapterSummary {
 }
 
 fn instance() -> wgpu::Instance {
+    // Without XDG_RUNTIME_DIR, Mesa's Vulkan drivers print an error line
+    // while probing for a Wayland display that compute never needs.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     // Compute needs no GL; leaving it out also keeps EGL's probing quiet.
     desc.backends = wgpu::Backends::PRIMARY;
@@ -92,6 +97,8 @@ pub struct Gpu {
     pub limits: wgpu::Limits,
     pipeline: wgpu::ComputePipeline,
     lost: Arc<Mutex<Option<String>>>,
+    /// Step attempts per lane per dispatch (default [`BUDGET`]).
+    pub budget: u32,
 }
 
 fn gpu_err(chunk: u64, what: impl std::fmt::Display) -> Error {
@@ -164,6 +171,7 @@ impl Gpu {
             limits,
             pipeline,
             lost,
+            budget: BUDGET,
         })
     }
 
@@ -247,7 +255,7 @@ impl Gpu {
         let gx = groups.min(self.limits.max_compute_workgroups_per_dimension);
         let gy = groups.div_ceil(gx);
         globals.n_lanes = n;
-        globals.budget = BUDGET;
+        globals.budget = self.budget;
         globals.row_lanes = gx * WORKGROUP;
         let state_bytes = (lanes.len() * std::mem::size_of::<GpuState>()) as u64;
 
@@ -325,7 +333,7 @@ impl Gpu {
 
         let mut bytes = Vec::new();
         // Enough rounds for max_steps accepted steps plus as many rejections.
-        let max_rounds = (2 * globals.max_steps as u64).div_ceil(BUDGET as u64) + 2;
+        let max_rounds = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
         for _round in 0..max_rounds {
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("round"),
@@ -389,6 +397,11 @@ impl GpuBackend {
     /// The device.
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
+    }
+
+    /// The device, mutably (to set its dispatch budget).
+    pub fn gpu_mut(&mut self) -> &mut Gpu {
+        &mut self.gpu
     }
 }
 

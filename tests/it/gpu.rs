@@ -27,7 +27,9 @@ fn gpu(test: &str) -> Option<MutexGuard<'static, GpuBackend>> {
             if std::env::var("TSWM_REQUIRE_GPU").as_deref() == Ok("1") {
                 panic!("{test}: TSWM_REQUIRE_GPU=1 but there is no GPU adapter: {e}");
             }
-            eprintln!("skipped GPU test {test}: {e}");
+            // Straight to stderr: libtest captures eprintln! of passing tests.
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "skipped GPU test {test}: {e}");
             None
         }
     }
