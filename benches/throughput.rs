@@ -1,13 +1,26 @@
 //! Throughput in lanes per second (criterion reports "elem/s").
 //!
-//! `cpu/1-thread` and `cpu/all-threads`: the f64 path on paper-like lanes
-//! (`testmodels::paper_like`: the paper's design, load uniform in ±6 kN,
-//! start at rest, 2 s), lanes made once outside the timing.
+//! Lanes: `testmodels::paper_like` (the paper's design, load uniform in
+//! ±6 kN, start at rest, 2 s), made once outside the timing.
+//!
+//! - `cpu/1-thread`, `cpu/all-threads`: the f64 path, 4096 lanes (issue 2).
+//! - `kernel/{cpu,gpu}/N`: integration only, N = 10^3..10^6 lanes; for the
+//!   GPU this is upload, all dispatches and read-back of the states.
+//! - `end_to_end/{cpu,gpu}/N`: `runner::run` on a sweep file of N lanes:
+//!   lane generation, integration and `lanes.csv` written to disk.
+//!
+//! GPU benchmarks use the best adapter (`Gpu::new(false)`) and are skipped,
+//! with a message, when there is none. Set TSWM_BENCH_MAX=100000 to stop
+//! below 10^6 lanes.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use tswm::gpu::layout::{GpuGlobals, GpuLane};
+use tswm::gpu::{Gpu, GpuBackend};
 use tswm::integrator::Settings;
+use tswm::lanes::Source;
+use tswm::model::Lane;
 use tswm::params::Params;
-use tswm::runner::run_cpu_lanes;
+use tswm::runner::{run_cpu_lanes, Backend, CpuBackend};
 use tswm::testmodels::paper_like;
 
 fn lanes(n: usize) -> Vec<Params> {
@@ -17,7 +30,31 @@ fn lanes(n: usize) -> Vec<Params> {
         .collect()
 }
 
-fn cpu(c: &mut Criterion) {
+fn sizes() -> Vec<usize> {
+    let max: usize = std::env::var("TSWM_BENCH_MAX")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1_000_000);
+    [1_000, 10_000, 100_000, 1_000_000]
+        .into_iter()
+        .filter(|&n| n <= max)
+        .collect()
+}
+
+fn gpu() -> Option<Gpu> {
+    match Gpu::new(false) {
+        Ok(g) => {
+            eprintln!("GPU benchmarks on {}", g.describe());
+            Some(g)
+        }
+        Err(e) => {
+            eprintln!("GPU benchmarks skipped: {e}");
+            None
+        }
+    }
+}
+
+fn cpu_threads(c: &mut Criterion) {
     let n = 4096;
     let lanes = lanes(n);
     let mut g = c.benchmark_group("cpu");
@@ -37,5 +74,65 @@ fn cpu(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, cpu);
+fn kernel(c: &mut Criterion) {
+    let mut g = c.benchmark_group("kernel");
+    g.sample_size(10);
+    let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
+    let device = gpu();
+    for n in sizes() {
+        let params = lanes(n);
+        g.throughput(Throughput::Elements(n as u64));
+        let mut out = Vec::with_capacity(n);
+        g.bench_with_input(BenchmarkId::new("cpu", n), &params, |b, p| {
+            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), p, None, &mut out))
+        });
+        if let Some(dev) = &device {
+            let l32: Vec<GpuLane> = params
+                .iter()
+                .map(|p| GpuLane::from(&Lane::new(p, None)))
+                .collect();
+            let globals = GpuGlobals::new(&Settings::default(), None);
+            let chunk = tswm::gpu::CHUNK_LANES.min(dev.max_chunk_lanes());
+            let mut states = Vec::new();
+            g.bench_with_input(BenchmarkId::new("gpu", n), &l32, |b, l| {
+                b.iter(|| {
+                    for (k, part) in l.chunks(chunk).enumerate() {
+                        dev.run(k as u64, part, globals, &mut states).unwrap();
+                    }
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+fn end_to_end(c: &mut Criterion) {
+    let mut g = c.benchmark_group("end_to_end");
+    g.sample_size(10);
+    let dir = tempfile::tempdir().unwrap();
+    let mut cpu = CpuBackend::new(0, Settings::default()).unwrap();
+    let mut gpu = gpu().map(|d| GpuBackend::new(d, Settings::default()));
+    for n in sizes() {
+        let sweep = dir.path().join(format!("s{n}.toml"));
+        std::fs::write(
+            &sweep,
+            format!("[[grid]]\nparam = \"f2\"\nfrom = -6000.0\nto = 6000.0\nn = {n}\n"),
+        )
+        .unwrap();
+        let src = Source::sweep(&sweep).unwrap();
+        let csv = dir.path().join("lanes.csv");
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_function(BenchmarkId::new("cpu", n), |b| {
+            b.iter(|| tswm::runner::run(&src, &mut cpu as &mut dyn Backend, &csv, false).unwrap())
+        });
+        if let Some(be) = gpu.as_mut() {
+            g.bench_function(BenchmarkId::new("gpu", n), |b| {
+                b.iter(|| tswm::runner::run(&src, be as &mut dyn Backend, &csv, false).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, cpu_threads, kernel, end_to_end);
 criterion_main!(benches);

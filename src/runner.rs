@@ -10,7 +10,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::integrator::{simulate, Contact, LaneResult, Settings, Status};
+use crate::integrator::{simulate_batch, Contact, LaneResult, Settings, Status};
 use crate::lanes::Source;
 use crate::model::{FrictionTable, Lane};
 use crate::output::LanesCsv;
@@ -55,7 +55,8 @@ impl CpuBackend {
     }
 }
 
-/// Runs lanes on the CPU into `out` (cleared first).
+/// Runs lanes on the CPU into `out` (cleared first): rayon over blocks of
+/// lanes, each block interleaved on its thread (`simulate_batch`).
 pub fn run_cpu_lanes(
     pool: &rayon::ThreadPool,
     settings: &Settings,
@@ -63,14 +64,39 @@ pub fn run_cpu_lanes(
     table: Option<&FrictionTable>,
     out: &mut Vec<LaneResult>,
 ) {
+    const BLOCK: usize = 64;
+    out.clear();
+    out.resize(lanes.len(), PLACEHOLDER);
     pool.install(|| {
         lanes
-            .par_iter()
-            .with_min_len(64)
-            .map(|p| simulate(&Lane::new(p, table), table, settings))
-            .collect_into_vec(out)
+            .par_chunks(BLOCK)
+            .zip(out.par_chunks_mut(BLOCK))
+            .for_each(|(p, o)| {
+                let mut l = [Lane::new(&p[0], table); BLOCK];
+                for (d, s) in l.iter_mut().zip(p) {
+                    *d = Lane::new(s, table);
+                }
+                simulate_batch(&l[..p.len()], table, settings, o);
+            })
     });
 }
+
+/// Filler overwritten by every lane's result.
+const PLACEHOLDER: LaneResult = LaneResult {
+    status: Status::NonFinite,
+    switches: 0,
+    t_first_switch: f64::NAN,
+    reversals: 0,
+    sticks: 0,
+    contact_end: Contact::Stick,
+    x1_end: f64::NAN,
+    v1_end: f64::NAN,
+    w_motor: f64::NAN,
+    w_load: f64::NAN,
+    w_friction: f64::NAN,
+    eta_end: f64::NAN,
+    steps: 0,
+};
 
 impl Backend for CpuBackend {
     fn name(&self) -> String {
