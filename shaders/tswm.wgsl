@@ -3,7 +3,8 @@
 // The same algorithm as the f64 CPU path, function for function:
 //   physics     <-> src/model.rs       (motor_force, mu_sliding, phi, motion, stick_test)
 //   integrator  <-> src/integrator.rs  (rhs, try_step, locate_root, init, set_side,
-//                                       check_mode, come_to_rest, depart, cut_motor, advance)
+//                                       check_mode, come_to_rest, depart, cut_motor,
+//                                       prepare, finish_step, advance)
 // Differences forced by f32: x1, the works and the time are compensated
 // (Kahan) sums; event roots are located to a relative step fraction of 1e-6
 // rather than 1e-13 s; "never" is 3e38 rather than infinity.
@@ -369,81 +370,98 @@ fn init(l: Lane, st: ptr<function, State>) {
     if (v == 0.0) { come_to_rest(l, st); } else { check_mode(l, st); }
 }
 
+struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
+
+fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
+    var plan: StepPlan;
+    plan.ok = false;
+    var t_stop = l.t_end;
+    if (has(st, F_MOTOR_ON) && l.motor_off < l.t_end) { t_stop = l.motor_off; }
+    if (has(st, F_STUCK)) {
+        time_set(st, t_stop);
+        if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+        return plan;
+    }
+    let m = mode_of(st);
+    if (!has(st, F_K1_VALID)) {
+        let dv = rhs(l, m, (*st).y[1]);
+        if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); return plan; }
+        (*st).k1 = dv.k;
+        set_flag(st, F_K1_VALID, true);
+    }
+    var h = (*st).h;
+    if (l.friction == FRICTION_PAPER && (*st).k1[1] * f32((*st).dir) < 0.0) {
+        let t_rest = -(*st).y[1] / (*st).k1[1];
+        h = min(h, max(0.5 * t_rest, g.h_initial));
+    }
+    let remaining = (t_stop - (*st).t_hi) + (*st).t_lo;
+    let landing = h >= remaining;
+    if (landing) { h = remaining; }
+    return StepPlan(true, m, h, t_stop, landing);
+}
+
+fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
+    let m = plan.mode;
+    let h = plan.h;
+    var fac = 5.0;
+    if (tr.err > 0.0) { fac = clamp(0.9 * pow(tr.err, -0.2), 0.2, 5.0); }
+    if (tr.err > 1.0) {
+        (*st).h = h * min(fac, 1.0);
+        if ((*st).h < 1e-7 * max(time_of(st), 1.0)) { finish(st, S_STEP_UNDERFLOW); }
+        return;
+    }
+    let h_next = h * fac;
+    (*st).steps += 1u;
+    if ((*st).steps > g.max_steps) { finish(st, S_MAX_STEPS); return; }
+    let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
+    let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
+    var theta = 2.0;
+    var which = EV_REST;
+    if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
+    if (g_switch < 0.0) {
+        let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
+        if (th < theta) { theta = th; which = EV_SWITCH; }
+    }
+    if (theta <= 1.0) {
+        let h_ev = theta * h;
+        let ev = try_step(l, m, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
+        time_add(st, h_ev);
+        (*st).y = ev.y1;
+        (*st).yc = ev.y1c;
+        set_flag(st, F_K1_VALID, false);
+        (*st).events += 1u;
+        (*st).h = max(h_next, h_ev);
+        if (which == EV_REST) { come_to_rest(l, st); } else { set_side(st, -(*st).side); check_mode(l, st); }
+        if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
+    } else {
+        (*st).y = tr.y1;
+        (*st).yc = tr.y1c;
+        (*st).k1 = tr.k7;
+        (*st).h = h_next;
+        if (plan.landing) {
+            time_set(st, plan.t_stop);
+            if (plan.t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+        } else {
+            time_add(st, h);
+        }
+    }
+    var finite = true;
+    for (var i = 0; i < 5; i++) {
+        if (!(abs((*st).y[i]) <= 3.0e38)) { finite = false; }
+    }
+    if (!finite) { finish(st, S_NONFINITE); }
+}
+
 fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
     var left = budget;
     loop {
         if (has(st, F_DONE) || left == 0u) { break; }
         left -= 1u;
-        var t_stop = l.t_end;
-        if (has(st, F_MOTOR_ON) && l.motor_off < l.t_end) { t_stop = l.motor_off; }
-        if (has(st, F_STUCK)) {
-            time_set(st, t_stop);
-            if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
-            continue;
+        let plan = prepare(l, st);
+        if (plan.ok) {
+            let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol);
+            finish_step(l, st, plan, tr);
         }
-        let m = mode_of(st);
-        if (!has(st, F_K1_VALID)) {
-            let dv = rhs(l, m, (*st).y[1]);
-            if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); break; }
-            (*st).k1 = dv.k;
-            set_flag(st, F_K1_VALID, true);
-        }
-        var h = (*st).h;
-        if (l.friction == FRICTION_PAPER && (*st).k1[1] * f32((*st).dir) < 0.0) {
-            let t_rest = -(*st).y[1] / (*st).k1[1];
-            h = min(h, max(0.5 * t_rest, g.h_initial));
-        }
-        let remaining = (t_stop - (*st).t_hi) + (*st).t_lo;
-        let landing = h >= remaining;
-        if (landing) { h = remaining; }
-        let tr = try_step(l, m, (*st).y, (*st).yc, (*st).k1, h, g.tol);
-        var fac = 5.0;
-        if (tr.err > 0.0) { fac = clamp(0.9 * pow(tr.err, -0.2), 0.2, 5.0); }
-        if (tr.err > 1.0) {
-            (*st).h = h * min(fac, 1.0);
-            if ((*st).h < 1e-7 * max(time_of(st), 1.0)) { finish(st, S_STEP_UNDERFLOW); }
-            continue;
-        }
-        let h_next = h * fac;
-        (*st).steps += 1u;
-        if ((*st).steps > g.max_steps) { finish(st, S_MAX_STEPS); break; }
-        let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
-        let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
-        var theta = 2.0;
-        var which = EV_REST;
-        if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
-        if (g_switch < 0.0) {
-            let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
-            if (th < theta) { theta = th; which = EV_SWITCH; }
-        }
-        if (theta <= 1.0) {
-            let h_ev = theta * h;
-            let ev = try_step(l, m, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
-            time_add(st, h_ev);
-            (*st).y = ev.y1;
-            (*st).yc = ev.y1c;
-            set_flag(st, F_K1_VALID, false);
-            (*st).events += 1u;
-            (*st).h = max(h_next, h_ev);
-            if (which == EV_REST) { come_to_rest(l, st); } else { set_side(st, -(*st).side); check_mode(l, st); }
-            if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
-        } else {
-            (*st).y = tr.y1;
-            (*st).yc = tr.y1c;
-            (*st).k1 = tr.k7;
-            (*st).h = h_next;
-            if (landing) {
-                time_set(st, t_stop);
-                if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
-            } else {
-                time_add(st, h);
-            }
-        }
-        var finite = true;
-        for (var i = 0; i < 5; i++) {
-            if (!(abs((*st).y[i]) <= 3.0e38)) { finite = false; }
-        }
-        if (!finite) { finish(st, S_NONFINITE); }
     }
 }
 

@@ -165,6 +165,12 @@ impl Summary {
 
 /// Runs every lane of `source` on `backend`, writing `out_csv` (complete or
 /// not at all). `progress` shows a bar on stderr when it is a terminal.
+///
+/// Three stages overlap: a producer thread generates and validates the
+/// next chunk of lanes, this thread runs the backend on the current one,
+/// and a writer thread streams the previous one to disk. Chunk buffers
+/// circulate between them, so after the first few chunks nothing is
+/// allocated and memory stays bounded whatever the sweep's size.
 pub fn run(
     source: &Source,
     backend: &mut dyn Backend,
@@ -190,58 +196,79 @@ pub fn run(
     let mut reader = source.reader()?;
     let mut csv = LanesCsv::create(out_csv)?;
 
-    // Two chunks in flight to the writer; buffers come back for reuse, so
-    // no chunk-sized allocation happens after the first few.
     type Batch = (u64, Vec<Params>, Vec<LaneResult>);
-    let (to_writer, from_main) = crossbeam_channel::bounded::<Batch>(2);
-    let (back_to_main, recycled) = crossbeam_channel::bounded::<Batch>(4);
-    let writer = std::thread::spawn(move || -> Result<(LanesCsv, Summary)> {
-        let mut summary = Summary::default();
-        for (first, params, results) in from_main {
-            for (i, (p, r)) in params.iter().zip(&results).enumerate() {
-                csv.write(first + i as u64, p, r)?;
-                summary.add(r);
-            }
-            let _ = back_to_main.send((0, params, results));
-        }
-        Ok((csv, summary))
-    });
+    const IN_FLIGHT: usize = 2;
+    let (to_backend, from_producer) = crossbeam_channel::bounded::<Result<Batch>>(IN_FLIGHT);
+    let (to_writer, from_backend) = crossbeam_channel::bounded::<Batch>(IN_FLIGHT);
+    let (recycle, recycled) = crossbeam_channel::bounded::<Batch>(2 * IN_FLIGHT + 2);
 
-    let mut first = 0u64;
-    let mut failure = None;
-    loop {
-        let (_, mut params, mut results) = recycled
-            .try_recv()
-            .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
-        params.clear();
-        if let Err(e) = reader.fill(chunk, &mut params) {
-            failure = Some(e);
-            break;
+    let outcome = std::thread::scope(|scope| -> Result<Summary> {
+        scope.spawn(move || {
+            let mut first = 0u64;
+            loop {
+                let (_, mut params, results) = recycled
+                    .try_recv()
+                    .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
+                params.clear();
+                if let Err(e) = reader.fill(chunk, &mut params) {
+                    let _ = to_backend.send(Err(e));
+                    return;
+                }
+                if params.is_empty() {
+                    return;
+                }
+                let n = params.len() as u64;
+                if to_backend.send(Ok((first, params, results))).is_err() {
+                    return; // the run stopped
+                }
+                first += n;
+            }
+        });
+        let writer = scope.spawn(move || -> Result<(LanesCsv, Summary)> {
+            let mut summary = Summary::default();
+            for (first, params, results) in from_backend {
+                for (i, (p, r)) in params.iter().zip(&results).enumerate() {
+                    csv.write(first + i as u64, p, r)?;
+                    summary.add(r);
+                }
+                let _ = recycle.send((0, params, results));
+            }
+            Ok((csv, summary))
+        });
+        let mut failure = None;
+        for batch in &from_producer {
+            let (first, params, mut results) = match batch {
+                Ok(b) => b,
+                Err(e) => {
+                    failure = Some(e);
+                    break;
+                }
+            };
+            if let Err(e) = backend.run_chunk(first, &params, table.as_ref(), &mut results) {
+                failure = Some(e);
+                break;
+            }
+            let n = params.len() as u64;
+            if to_writer.send((first, params, results)).is_err() {
+                break; // the writer failed; its error is reported below
+            }
+            bar.set_position(first + n);
         }
-        if params.is_empty() {
-            break;
+        // Stop the producer (it sees the closed channel) and the writer.
+        drop(from_producer);
+        drop(to_writer);
+        let written = writer
+            .join()
+            .map_err(|_| Error::Gpu("the writer thread panicked".into()))?;
+        if let Some(e) = failure {
+            return Err(e); // `written`'s partial file is dropped and removed
         }
-        if let Err(e) = backend.run_chunk(first, &params, table.as_ref(), &mut results) {
-            failure = Some(e);
-            break;
-        }
-        let n = params.len() as u64;
-        if to_writer.send((first, params, results)).is_err() {
-            break; // the writer failed; its error is reported below
-        }
-        first += n;
-        bar.set_position(first);
-    }
-    drop(to_writer);
-    let written = writer
-        .join()
-        .map_err(|_| Error::Gpu("the writer thread panicked".into()))?;
+        let (csv, summary) = written?;
+        csv.commit()?;
+        Ok(summary)
+    });
     bar.finish_and_clear();
-    if let Some(e) = failure {
-        return Err(e); // `written`'s partial file is dropped and removed
-    }
-    let (csv, mut summary) = written?;
-    csv.commit()?;
+    let mut summary = outcome?;
     summary.seconds = start.elapsed().as_secs_f64();
     Ok(summary)
 }
