@@ -197,7 +197,7 @@ pub fn run(
     let mut csv = LanesCsv::create(out_csv)?;
 
     type Batch = (u64, Vec<Params>, Vec<LaneResult>);
-    const IN_FLIGHT: usize = 2;
+    const IN_FLIGHT: usize = 1;
     let (to_backend, from_producer) = crossbeam_channel::bounded::<Result<Batch>>(IN_FLIGHT);
     let (to_writer, from_backend) = crossbeam_channel::bounded::<Batch>(IN_FLIGHT);
     let (recycle, recycled) = crossbeam_channel::bounded::<Batch>(2 * IN_FLIGHT + 2);

@@ -18,7 +18,7 @@ use toml::Spanned;
 
 use crate::error::{Error, Result};
 use crate::model::FrictionTable;
-use crate::params::{default_of, Num, Param, Spec};
+use crate::params::{default_of, FrictionKind, MotorKind, Num, Param, Spec};
 use crate::sampling::{Dist, Permutation, Uniforms};
 
 #[derive(Deserialize)]
@@ -86,6 +86,9 @@ pub struct Axis {
     pub param: Num,
     /// Its values, in order.
     pub values: Vec<f64>,
+    /// The range it was given as (from, to, log scale), if not a list:
+    /// provenance keeps that form rather than a million numbers.
+    pub range: Option<(f64, f64, bool)>,
 }
 
 /// One parameter of a tolerance study.
@@ -196,7 +199,15 @@ impl Sweep {
             if axes.iter().any(|x: &Axis| x.param == param) {
                 return Err(bad(span, &a.param, "appears on two grid axes".into()));
             }
-            axes.push(Axis { param, values });
+            let range = match (a.from, a.to) {
+                (Some(f), Some(t)) => Some((f, t, a.scale.as_deref() == Some("log"))),
+                _ => None,
+            };
+            axes.push(Axis {
+                param,
+                values,
+                range,
+            });
         }
 
         let table = match &file.friction_table {
@@ -363,21 +374,22 @@ impl Sweep {
     /// defaults resolved, axes as value lists, the study and the table.
     pub fn resolved_toml(&self) -> toml::Table {
         let mut t = toml::Table::new();
+        // The base as set, plus the defaults of the laws it chooses; not
+        // validated, since axes and samples may supply what it lacks.
         let mut base = toml::Table::new();
-        if let Ok(p) = self.base.resolve(self.table.is_some()) {
-            for c in Param::COLUMNS {
-                match c {
-                    Param::Motor => {
-                        base.insert("motor".into(), p.motor.name().into());
-                    }
-                    Param::Friction => {
-                        base.insert("friction".into(), p.friction.name().into());
-                    }
-                    Param::Num(n) if !p.get(n).is_nan() => {
-                        base.insert(n.name().into(), p.get(n).into());
-                    }
-                    Param::Num(_) => {}
-                }
+        let motor = self.base.motor.unwrap_or(MotorKind::Kloss);
+        let friction = self.base.friction.unwrap_or(FrictionKind::Paper);
+        base.insert("motor".into(), motor.name().into());
+        base.insert("friction".into(), friction.name().into());
+        for n in Num::ALL {
+            let law_default = match n {
+                Num::VSync | Num::VCrit | Num::FCrit => motor == MotorKind::Kloss,
+                Num::FricA | Num::FricB | Num::FricC => friction == FrictionKind::Paper,
+                _ => true,
+            };
+            let v = self.base.num[n as usize].or(if law_default { default_of(n) } else { None });
+            if let Some(v) = v {
+                base.insert(n.name().into(), v.into());
             }
         }
         t.insert("base".into(), base.into());
@@ -387,14 +399,18 @@ impl Sweep {
             .map(|a| {
                 let mut x = toml::Table::new();
                 x.insert("param".into(), a.param.name().into());
-                x.insert(
-                    "values".into(),
-                    a.values
-                        .iter()
-                        .map(|&v| toml::Value::from(v))
-                        .collect::<Vec<_>>()
-                        .into(),
-                );
+                match a.range {
+                    Some((from, to, log)) => {
+                        x.insert("from".into(), from.into());
+                        x.insert("to".into(), to.into());
+                        x.insert("n".into(), (a.values.len() as i64).into());
+                        x.insert("scale".into(), if log { "log" } else { "linear" }.into());
+                    }
+                    None => {
+                        let v: Vec<toml::Value> = a.values.iter().map(|&v| v.into()).collect();
+                        x.insert("values".into(), v.into());
+                    }
+                }
                 x.into()
             })
             .collect();
@@ -558,6 +574,31 @@ mod tests {
                 (2.0, 15.0)
             ]
         );
+    }
+
+    /// sweep.resolved.toml stands for exactly the same lanes.
+    #[test]
+    fn resolved_sweep_gives_the_same_lanes() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
+        for f in [
+            "paper.toml",
+            "efficiency_map.toml",
+            "tolerance.toml",
+            "million.toml",
+        ] {
+            let a = Sweep::from_file(&root.join(f)).unwrap();
+            let text = toml::to_string(&a.resolved_toml()).unwrap();
+            let b = Sweep::parse(Path::new("resolved"), &text)
+                .unwrap_or_else(|e| panic!("{f}: {e}\n{text}"));
+            assert_eq!(a.lane_count(), b.lane_count(), "{f}");
+            let (mut ua, mut ub) = (a.uniforms(), b.uniforms());
+            let n = a.lane_count();
+            for i in (0..n).step_by((n / 500).max(1) as usize) {
+                let pa = a.lane_spec(i, &mut ua).resolve(a.table.is_some()).unwrap();
+                let pb = b.lane_spec(i, &mut ub).resolve(b.table.is_some()).unwrap();
+                assert_eq!(format!("{pa:?}"), format!("{pb:?}"), "{f} lane {i}");
+            }
+        }
     }
 
     #[test]

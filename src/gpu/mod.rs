@@ -378,7 +378,7 @@ pub struct GpuBackend {
 }
 
 /// Default lanes per chunk (capped by the device's limits).
-pub const CHUNK_LANES: usize = 1 << 17;
+pub const CHUNK_LANES: usize = 1 << 16;
 
 impl GpuBackend {
     /// A backend on an opened device.

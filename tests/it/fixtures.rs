@@ -16,6 +16,7 @@ fn model_md_reference_cases_on_cpu() {
     let (h, expected) = read_csv(&fixture("paper_expected.csv"));
     assert_eq!(params.len(), 5);
     assert_eq!(expected.len(), 5);
+    let (mut worst, mut worst_t) = (0.0f64, 0.0f64);
     for (p, e) in params.iter().zip(&expected) {
         let r = simulate(&Lane::new(p, None), None, &Settings::default());
         let lane = col(&h, e, "lane");
@@ -40,6 +41,7 @@ fn model_md_reference_cases_on_cpu() {
             "" => assert!(r.t_first_switch.is_nan(), "lane {lane}"),
             t => {
                 let t: f64 = t.parse().unwrap();
+                worst_t = worst_t.max((r.t_first_switch - t).abs());
                 assert!(
                     (r.t_first_switch - t).abs() <= 1e-6,
                     "lane {lane}: {} vs {t}",
@@ -57,12 +59,14 @@ fn model_md_reference_cases_on_cpu() {
             ("w_friction", r.w_friction),
         ] {
             let want: f64 = col(&h, e, name).parse().unwrap();
+            worst = worst.max(rel1(got, want));
             assert!(
                 rel1(got, want) <= 1e-6,
                 "lane {lane} {name}: {got} vs {want}"
             );
         }
     }
+    eprintln!("CPU, MODEL.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
 /// The copies under tests/fixtures are the shared fixtures, unchanged.
