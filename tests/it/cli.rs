@@ -72,7 +72,7 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
 fn fixture_lane_table_end_to_end() {
     let dir = tempfile::tempdir().unwrap();
     let lanes = fixture("paper_lanes.csv");
-    let out = tswm(
+    let (_, h, rows) = run_ok(
         &[
             "run",
             "--lanes",
@@ -84,12 +84,6 @@ fn fixture_lane_table_end_to_end() {
         ],
         dir.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (h, rows) = read_csv(&dir.path().join("o/lanes.csv"));
     let (eh, expected) = read_csv(&fixture("paper_expected.csv"));
     assert_eq!(rows.len(), 5);
     for (row, e) in rows.iter().zip(&expected) {
@@ -122,7 +116,7 @@ fn lane_table_over_a_sweep_base_with_a_friction_table() {
     )
     .unwrap();
     std::fs::write(dir.path().join("l.csv"), "gamma_deg,t_end\n10,1\n20,\n").unwrap();
-    let out = tswm(
+    let (_, h, rows) = run_ok(
         &[
             "run",
             "s.toml",
@@ -135,12 +129,6 @@ fn lane_table_over_a_sweep_base_with_a_friction_table() {
         ],
         dir.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (h, rows) = read_csv(&dir.path().join("o/lanes.csv"));
     assert_eq!(col(&h, &rows[0], "friction"), "table");
     assert_eq!(col(&h, &rows[0], "f2"), "-3000.0");
     assert_eq!(col(&h, &rows[0], "t_end"), "1.0");

@@ -46,3 +46,80 @@ pub fn col<'a>(header: &[String], row: &'a [String], name: &str) -> &'a str {
 pub fn rel1(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1.0)
 }
+
+/// Runs `tswm`, asserts success (showing its stderr otherwise) and reads
+/// DIR/o/lanes.csv.
+pub fn run_ok(args: &[&str], dir: &Path) -> (Output, Vec<String>, Vec<Vec<String>>) {
+    let out = tswm(args, dir);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (h, rows) = read_csv(&dir.join("o/lanes.csv"));
+    (out, h, rows)
+}
+
+/// Checks results of the five MODEL.md section 7 cases against the
+/// fixture: identical discrete fields, first switch within `t_bound` s,
+/// x1, v1 and the works within `v_bound` of max(1, |value|). Returns the
+/// worst value deviation and the worst switch-time deviation.
+pub fn check_reference_cases(
+    res: &[tswm::integrator::LaneResult],
+    t_bound: f64,
+    v_bound: f64,
+) -> (f64, f64) {
+    let (h, expected) = read_csv(&fixture("paper_expected.csv"));
+    assert_eq!(res.len(), 5);
+    assert_eq!(expected.len(), 5);
+    let (mut worst, mut worst_t) = (0.0f64, 0.0f64);
+    for (r, e) in res.iter().zip(&expected) {
+        let lane = col(&h, e, "lane");
+        assert_eq!(r.status.name(), col(&h, e, "status"), "lane {lane}");
+        assert_eq!(
+            r.switches.to_string(),
+            col(&h, e, "switches"),
+            "lane {lane}"
+        );
+        assert_eq!(
+            r.reversals.to_string(),
+            col(&h, e, "reversals"),
+            "lane {lane}"
+        );
+        assert_eq!(r.sticks.to_string(), col(&h, e, "sticks"), "lane {lane}");
+        assert_eq!(
+            r.contact_end.name(),
+            col(&h, e, "contact_end"),
+            "lane {lane}"
+        );
+        match col(&h, e, "t_first_switch") {
+            "" => assert!(r.t_first_switch.is_nan(), "lane {lane}"),
+            t => {
+                let t: f64 = t.parse().unwrap();
+                worst_t = worst_t.max((r.t_first_switch - t).abs());
+                assert!(
+                    (r.t_first_switch - t).abs() <= t_bound,
+                    "lane {lane}: {} vs {t}",
+                    r.t_first_switch
+                );
+                // The paper's own figure: the first switch at 0.486 s.
+                assert!((r.t_first_switch - 0.486).abs() < 0.001);
+            }
+        }
+        for (name, got) in [
+            ("x1_end", r.x1_end),
+            ("v1_end", r.v1_end),
+            ("w_motor", r.w_motor),
+            ("w_load", r.w_load),
+            ("w_friction", r.w_friction),
+        ] {
+            let want: f64 = col(&h, e, name).parse().unwrap();
+            worst = worst.max(rel1(got, want));
+            assert!(
+                rel1(got, want) <= v_bound,
+                "lane {lane} {name}: {got} vs {want}"
+            );
+        }
+    }
+    (worst, worst_t)
+}

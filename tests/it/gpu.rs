@@ -64,52 +64,7 @@ fn model_md_reference_cases_on_gpu() {
     src.reader().unwrap().fill(100, &mut params).unwrap();
     let mut res = Vec::new();
     g.run_chunk(0, &params, None, &mut res).unwrap();
-    let (h, expected) = read_csv(&fixture("paper_expected.csv"));
-    let (mut worst, mut worst_t) = (0.0f64, 0.0f64);
-    for (r, e) in res.iter().zip(&expected) {
-        let lane = col(&h, e, "lane");
-        assert_eq!(r.status.name(), col(&h, e, "status"), "lane {lane}");
-        assert_eq!(
-            r.switches.to_string(),
-            col(&h, e, "switches"),
-            "lane {lane}"
-        );
-        assert_eq!(
-            r.reversals.to_string(),
-            col(&h, e, "reversals"),
-            "lane {lane}"
-        );
-        assert_eq!(r.sticks.to_string(), col(&h, e, "sticks"), "lane {lane}");
-        assert_eq!(
-            r.contact_end.name(),
-            col(&h, e, "contact_end"),
-            "lane {lane}"
-        );
-        if let Ok(t) = col(&h, e, "t_first_switch").parse::<f64>() {
-            worst_t = worst_t.max((r.t_first_switch - t).abs());
-            assert!(
-                (r.t_first_switch - t).abs() <= 2e-5,
-                "lane {lane}: {} vs {t}",
-                r.t_first_switch
-            );
-        } else {
-            assert!(r.t_first_switch.is_nan());
-        }
-        for (name, got) in [
-            ("x1_end", r.x1_end),
-            ("v1_end", r.v1_end),
-            ("w_motor", r.w_motor),
-            ("w_load", r.w_load),
-            ("w_friction", r.w_friction),
-        ] {
-            let want: f64 = col(&h, e, name).parse().unwrap();
-            worst = worst.max(rel1(got, want));
-            assert!(
-                rel1(got, want) <= 5e-5,
-                "lane {lane} {name}: {got} vs {want}"
-            );
-        }
-    }
+    let (worst, worst_t) = check_reference_cases(&res, 2e-5, 5e-5);
     eprintln!("GPU, MODEL.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
@@ -160,7 +115,7 @@ fn gpu_backend_writes_the_same_table() {
     };
     let dir = tempfile::tempdir().unwrap();
     let lanes = fixture("paper_lanes.csv");
-    let out = tswm(
+    let (out, h, rows) = run_ok(
         &[
             "run",
             "--lanes",
@@ -172,12 +127,6 @@ fn gpu_backend_writes_the_same_table() {
         ],
         dir.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (h, rows) = read_csv(&dir.path().join("o/lanes.csv"));
     let (eh, expected) = read_csv(&fixture("paper_expected.csv"));
     for (row, e) in rows.iter().zip(&expected) {
         assert_eq!(col(&h, row, "contact_end"), col(&eh, e, "contact_end"));
