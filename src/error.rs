@@ -33,6 +33,9 @@ pub enum Error {
     /// The GPU backend failed (no adapter, device lost, out of memory).
     #[error("GPU: {0}")]
     Gpu(String),
+    /// A worker thread died: a bug, never bad input.
+    #[error("internal error: {0}")]
+    Internal(String),
     /// `tswm check` found deviations beyond the bounds.
     #[error("check failed: {0}")]
     CheckFailed(String),

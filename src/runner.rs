@@ -259,7 +259,7 @@ pub fn run(
         drop(to_writer);
         let written = writer
             .join()
-            .map_err(|_| Error::Gpu("the writer thread panicked".into()))?;
+            .map_err(|_| Error::Internal("the writer thread panicked".into()))?;
         if let Some(e) = failure {
             return Err(e); // `written`'s partial file is dropped and removed
         }

@@ -84,11 +84,56 @@ struct TableDef {
 pub struct Axis {
     /// The parameter.
     pub param: Num,
-    /// Its values, in order.
-    pub values: Vec<f64>,
-    /// The range it was given as (from, to, log scale), if not a list:
-    /// provenance keeps that form rather than a million numbers.
-    pub range: Option<(f64, f64, bool)>,
+    /// Its values.
+    pub values: AxisValues,
+}
+
+/// An axis's values: a list, or a range computed value by value (so an
+/// axis of 10^9 points costs no memory, and provenance keeps its form).
+#[derive(Clone, Debug)]
+pub enum AxisValues {
+    /// `values = [...]`
+    List(Vec<f64>),
+    /// `from`, `to`, `n`, `scale`
+    Range {
+        /// First value.
+        from: f64,
+        /// Last value.
+        to: f64,
+        /// Number of values, >= 1.
+        n: u64,
+        /// Log-spaced.
+        log: bool,
+    },
+}
+
+impl Axis {
+    /// Number of values.
+    pub fn len(&self) -> u64 {
+        match &self.values {
+            AxisValues::List(v) => v.len() as u64,
+            AxisValues::Range { n, .. } => *n,
+        }
+    }
+
+    /// Value `i` (< len).
+    pub fn value(&self, i: u64) -> f64 {
+        match &self.values {
+            AxisValues::List(v) => v[i as usize],
+            &AxisValues::Range { from, to, n, log } => {
+                let frac = if n == 1 {
+                    0.0
+                } else {
+                    i as f64 / (n - 1) as f64
+                };
+                if log {
+                    (from.ln() + (to.ln() - from.ln()) * frac).exp()
+                } else {
+                    from + (to - from) * frac
+                }
+            }
+        }
+    }
 }
 
 /// One parameter of a tolerance study.
@@ -199,15 +244,7 @@ impl Sweep {
             if axes.iter().any(|x: &Axis| x.param == param) {
                 return Err(bad(span, &a.param, "appears on two grid axes".into()));
             }
-            let range = match (a.from, a.to) {
-                (Some(f), Some(t)) => Some((f, t, a.scale.as_deref() == Some("log"))),
-                _ => None,
-            };
-            axes.push(Axis {
-                param,
-                values,
-                range,
-            });
+            axes.push(Axis { param, values });
         }
 
         let table = match &file.friction_table {
@@ -316,7 +353,7 @@ impl Sweep {
         let mut n: u64 = self.study.as_ref().map_or(1, |s| s.n);
         for a in &self.axes {
             n = n
-                .checked_mul(a.values.len() as u64)
+                .checked_mul(a.len())
                 .ok_or("the sweep has more than 2^64 lanes")?;
         }
         Ok(n)
@@ -338,8 +375,8 @@ impl Sweep {
         let n = self.samples();
         let (mut g, k) = (i / n, i % n);
         for a in self.axes.iter().rev() {
-            let len = a.values.len() as u64;
-            spec.set(a.param, a.values[(g % len) as usize]);
+            let len = a.len();
+            spec.set(a.param, a.value(g % len));
             g /= len;
         }
         if let Some(st) = &self.study {
@@ -399,15 +436,15 @@ impl Sweep {
             .map(|a| {
                 let mut x = toml::Table::new();
                 x.insert("param".into(), a.param.name().into());
-                match a.range {
-                    Some((from, to, log)) => {
+                match &a.values {
+                    &AxisValues::Range { from, to, n, log } => {
                         x.insert("from".into(), from.into());
                         x.insert("to".into(), to.into());
-                        x.insert("n".into(), (a.values.len() as i64).into());
+                        x.insert("n".into(), (n as i64).into());
                         x.insert("scale".into(), if log { "log" } else { "linear" }.into());
                     }
-                    None => {
-                        let v: Vec<toml::Value> = a.values.iter().map(|&v| v.into()).collect();
+                    AxisValues::List(v) => {
+                        let v: Vec<toml::Value> = v.iter().map(|&v| v.into()).collect();
                         x.insert("values".into(), v.into());
                     }
                 }
@@ -489,8 +526,8 @@ fn numeric_param(name: &str) -> std::result::Result<Num, String> {
     }
 }
 
-fn axis_values(a: &AxisDef) -> std::result::Result<Vec<f64>, String> {
-    let v = match (&a.values, a.from, a.to, a.n) {
+fn axis_values(a: &AxisDef) -> std::result::Result<AxisValues, String> {
+    match (&a.values, a.from, a.to, a.n) {
         (Some(v), None, None, None) => {
             if a.scale.is_some() {
                 return Err("scale applies to from/to/n, not to values".into());
@@ -498,7 +535,10 @@ fn axis_values(a: &AxisDef) -> std::result::Result<Vec<f64>, String> {
             if v.is_empty() {
                 return Err("values is empty; give at least one value".into());
             }
-            v.clone()
+            if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+                return Err(format!("value {x} is not finite"));
+            }
+            Ok(AxisValues::List(v.clone()))
         }
         (None, Some(from), Some(to), Some(n)) => {
             if n < 1 {
@@ -507,35 +547,23 @@ fn axis_values(a: &AxisDef) -> std::result::Result<Vec<f64>, String> {
             if !from.is_finite() || !to.is_finite() {
                 return Err("from and to must be finite".into());
             }
-            let n = n as usize;
-            let frac = |i: usize| {
-                if n == 1 {
-                    0.0
-                } else {
-                    i as f64 / (n - 1) as f64
-                }
-            };
-            match a.scale.as_deref().unwrap_or("linear") {
-                "linear" => (0..n).map(|i| from + (to - from) * frac(i)).collect(),
-                "log" => {
-                    if !(from > 0.0 && to > 0.0) {
-                        return Err("scale = \"log\" needs from > 0 and to > 0".into());
-                    }
-                    (0..n)
-                        .map(|i| (from.ln() + (to.ln() - from.ln()) * frac(i)).exp())
-                        .collect()
-                }
+            let log = match a.scale.as_deref().unwrap_or("linear") {
+                "linear" => false,
+                "log" => true,
                 s => return Err(format!("scale `{s}` is unknown; allowed: linear, log")),
+            };
+            if log && !(from > 0.0 && to > 0.0) {
+                return Err("scale = \"log\" needs from > 0 and to > 0".into());
             }
+            Ok(AxisValues::Range {
+                from,
+                to,
+                n: n as u64,
+                log,
+            })
         }
-        _ => {
-            return Err("give either values = [...] or from, to and n (with optional scale)".into())
-        }
-    };
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-        return Err(format!("value {x} is not finite"));
+        _ => Err("give either values = [...] or from, to and n (with optional scale)".into()),
     }
-    Ok(v)
 }
 
 #[cfg(test)]
@@ -605,7 +633,7 @@ mod tests {
     fn log_axis_hits_its_ends() {
         let s = parse("[[grid]]\nparam = \"mu\"\nfrom = 0.01\nto = 1\nn = 3\nscale = \"log\"\n")
             .unwrap();
-        let v = &s.axes[0].values;
+        let v: Vec<f64> = (0..3).map(|i| s.axes[0].value(i)).collect();
         assert!(
             (v[0] - 0.01).abs() < 1e-15 && (v[1] - 0.1).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-14
         );

@@ -26,9 +26,9 @@ pub const SHADER: &str = include_str!("../../shaders/tswm.wgsl");
 /// Invocations per workgroup (`@workgroup_size` in the shader).
 pub const WORKGROUP: u32 = 64;
 
-/// Step attempts per lane per dispatch. Paper-like lanes need about 80, so
-/// most finish in two dispatches; a dispatch stays far below a second even
-/// on a software adapter at the default chunk size.
+/// Step attempts per lane per dispatch. A paper-like lane needs about 40
+/// f32 steps, so most finish in one dispatch; a dispatch stays well under a
+/// second even on a software adapter at the default chunk size.
 pub const BUDGET: u32 = 64;
 
 /// Longest wait for one submission before the run is called hung.
