@@ -367,7 +367,7 @@ fn resolve(spec: &Spec, has_table: bool) -> Result<Params, ParamError> {
             }
             _ => None,
         };
-        let applies = owner.map_or(true, |(_, used)| used);
+        let applies = owner.is_none_or(|(_, used)| used);
         if !applies {
             if set.is_some() {
                 let (who, _) = owner.unwrap();

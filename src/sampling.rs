@@ -35,6 +35,7 @@ impl Uniforms {
     }
 
     /// The next uniform, strictly inside (0, 1).
+    #[allow(clippy::should_implement_trait)]
     pub fn next(&mut self) -> f64 {
         ((self.rng.next_u64() >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
     }
@@ -81,7 +82,9 @@ pub fn norm_cdf(x: f64) -> f64 {
 }
 
 /// Standard normal quantile: Acklam's rational approximation refined by
-/// one Halley step on the exact CDF (full double precision).
+/// one Halley step on the exact CDF (full double precision). The
+/// coefficients are kept as published.
+#[allow(clippy::excessive_precision)]
 pub fn norm_ppf(p: f64) -> f64 {
     const A: [f64; 6] = [
         -3.969683028665376e+01,

@@ -108,7 +108,8 @@ pub enum AxisValues {
 }
 
 impl Axis {
-    /// Number of values.
+    /// Number of values (never 0: validation refuses empty axes).
+    #[allow(clippy::len_without_is_empty)]
     pub fn len(&self) -> u64 {
         match &self.values {
             AxisValues::List(v) => v.len() as u64,

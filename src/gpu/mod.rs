@@ -186,8 +186,8 @@ impl Gpu {
     /// Most lanes one chunk may hold on this device: the state buffer must
     /// fit one storage binding and the dispatch the workgroup-count limits.
     pub fn max_chunk_lanes(&self) -> usize {
-        let by_binding = self.limits.max_storage_buffer_binding_size as u64
-            / std::mem::size_of::<GpuState>() as u64;
+        let by_binding =
+            self.limits.max_storage_buffer_binding_size / std::mem::size_of::<GpuState>() as u64;
         let by_buffer = self.limits.max_buffer_size / std::mem::size_of::<GpuState>() as u64;
         let per_dim = self.limits.max_compute_workgroups_per_dimension as u64;
         let by_dispatch = per_dim * per_dim * WORKGROUP as u64;
