@@ -11,7 +11,7 @@ w_load,w_friction,eta_end,steps";
 fn paper_sweep_writes_lanes_csv_and_provenance() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/paper.toml");
-    let out = tswm(
+    let (out, h, rows) = run_ok(
         &[
             "run",
             sweep.to_str().unwrap(),
@@ -21,11 +21,6 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
             "cpu",
         ],
         dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(stdout.lines().count(), 1, "{stdout}");
@@ -42,7 +37,6 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
             .unwrap(),
         HEADER
     );
-    let (h, rows) = read_csv(&csv);
     let (eh, expected) = read_csv(&fixture("paper_expected.csv"));
     for (row, e) in rows.iter().zip(&expected[..2]) {
         assert_eq!(col(&h, row, "contact_end"), col(&eh, e, "contact_end"));
