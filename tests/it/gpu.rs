@@ -179,3 +179,26 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
         "nothing may be left behind"
     );
 }
+
+/// `auto` without a hardware GPU: sweeps under the trial threshold run on
+/// the CPU path, without opening a software device.
+#[test]
+fn auto_runs_small_sweeps_on_the_cpu_without_a_hardware_gpu() {
+    if let Some(hw) = tswm::gpu::adapters()
+        .iter()
+        .find(|a| tswm::gpu::is_hardware(&a.info))
+    {
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped auto test: hardware GPU {} present",
+            hw.info.name
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = root().join("sweeps/paper.toml");
+    let (out, _, rows) = run_ok(&["run", sweep.to_str().unwrap(), "--out", "o"], dir.path());
+    assert_eq!(rows.len(), 2);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("cpu ("));
+}
