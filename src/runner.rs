@@ -198,9 +198,9 @@ pub fn run(
 
     type Batch = (u64, Vec<Params>, Vec<LaneResult>);
     const IN_FLIGHT: usize = 1;
-    let (to_backend, from_producer) = crossbeam_channel::bounded::<Result<Batch>>(IN_FLIGHT);
-    let (to_writer, from_backend) = crossbeam_channel::bounded::<Batch>(IN_FLIGHT);
-    let (recycle, recycled) = crossbeam_channel::bounded::<Batch>(2 * IN_FLIGHT + 2);
+    let (to_backend, from_producer) = std::sync::mpsc::sync_channel::<Result<Batch>>(IN_FLIGHT);
+    let (to_writer, from_backend) = std::sync::mpsc::sync_channel::<Batch>(IN_FLIGHT);
+    let (recycle, recycled) = std::sync::mpsc::sync_channel::<Batch>(2 * IN_FLIGHT + 2);
 
     let outcome = std::thread::scope(|scope| -> Result<Summary> {
         scope.spawn(move || {
