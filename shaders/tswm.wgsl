@@ -6,8 +6,11 @@
 //                                       check_mode, come_to_rest, depart, cut_motor,
 //                                       prepare, finish_step, advance)
 // Differences forced by f32: x1, the works and the time are compensated
-// (Kahan) sums; event roots are located to a relative step fraction of 1e-6
-// rather than 1e-13 s; "never" is 3e38 rather than infinity.
+// (Kahan) sums; the per-step tolerance is 1e-6 rather than 1e-8 (Globals);
+// event roots are located to a relative step fraction of 1e-6 rather than
+// 1e-13 s; a step below 1e-7·max(t, 1) s, not 1e-15·max(t, 1), is an
+// underflow; tan_small's series stops at x^9, exact in f32; "never" is
+// 3e38 rather than infinity.
 
 // Keep in sync with `GpuLane` in src/gpu/layout.rs.
 struct Lane {

@@ -445,8 +445,7 @@ impl Sweep {
                         x.insert("scale".into(), if log { "log" } else { "linear" }.into());
                     }
                     AxisValues::List(v) => {
-                        let v: Vec<toml::Value> = v.iter().map(|&v| v.into()).collect();
-                        x.insert("values".into(), v.into());
+                        x.insert("values".into(), floats(v));
                     }
                 }
                 x.into()
@@ -457,14 +456,7 @@ impl Sweep {
         }
         if let Some(st) = &self.study {
             let mut s = toml::Table::new();
-            s.insert(
-                "method".into(),
-                match st.method {
-                    Method::MonteCarlo => "monte_carlo",
-                    Method::LatinHypercube => "latin_hypercube",
-                }
-                .into(),
-            );
+            s.insert("method".into(), serde_name(&st.method));
             s.insert("n".into(), (st.n as i64).into());
             s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
             t.insert("sampling".into(), s.into());
@@ -474,15 +466,7 @@ impl Sweep {
                 .map(|p| {
                     let mut x = toml::Table::new();
                     x.insert("param".into(), p.param.name().into());
-                    x.insert(
-                        "dist".into(),
-                        match p.dist {
-                            Dist::Uniform => "uniform",
-                            Dist::Triangular => "triangular",
-                            Dist::Normal => "normal",
-                        }
-                        .into(),
-                    );
+                    x.insert("dist".into(), serde_name(&p.dist));
                     x.insert(
                         if p.relative { "tol_rel" } else { "tol" }.into(),
                         p.tol.into(),
@@ -494,26 +478,23 @@ impl Sweep {
         }
         if let Some(tb) = &self.table {
             let mut x = toml::Table::new();
-            x.insert(
-                "vs".into(),
-                tb.vs[..tb.n]
-                    .iter()
-                    .map(|&v| toml::Value::from(v))
-                    .collect::<Vec<_>>()
-                    .into(),
-            );
-            x.insert(
-                "mu".into(),
-                tb.mu[..tb.n]
-                    .iter()
-                    .map(|&v| toml::Value::from(v))
-                    .collect::<Vec<_>>()
-                    .into(),
-            );
+            x.insert("vs".into(), floats(&tb.vs[..tb.n]));
+            x.insert("mu".into(), floats(&tb.mu[..tb.n]));
             t.insert("friction_table".into(), x.into());
         }
         t
     }
+}
+
+/// A list of floats as a TOML array.
+fn floats(v: &[f64]) -> toml::Value {
+    toml::Value::Array(v.iter().map(|&x| x.into()).collect())
+}
+
+/// An enum's spelling in files, as its serde derive writes it (one source
+/// of truth for the names).
+fn serde_name<T: serde::Serialize>(v: &T) -> toml::Value {
+    toml::Value::try_from(v).expect("unit enum variants serialize as strings")
 }
 
 fn numeric_param(name: &str) -> std::result::Result<Num, String> {

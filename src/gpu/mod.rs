@@ -393,16 +393,6 @@ impl GpuBackend {
             states: Vec::new(),
         }
     }
-
-    /// The device.
-    pub fn gpu(&self) -> &Gpu {
-        &self.gpu
-    }
-
-    /// The device, mutably (to set its dispatch budget).
-    pub fn gpu_mut(&mut self) -> &mut Gpu {
-        &mut self.gpu
-    }
 }
 
 impl Backend for GpuBackend {
