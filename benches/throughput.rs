@@ -3,7 +3,7 @@
 //! Lanes: `testmodels::paper_like` (the paper's design, load uniform in
 //! ±6 kN, start at rest, 2 s), made once outside the timing.
 //!
-//! - `cpu/1-thread`, `cpu/all-threads`: the f64 path, 4096 lanes (issue 2).
+//! - `cpu/1-thread`, `cpu/all-threads`: the f64 path, 4096 lanes.
 //! - `kernel/{cpu,gpu}/N`: integration only, N = 10^3..10^6 lanes; for the
 //!   GPU this is upload, all dispatches and read-back of the states.
 //! - `end_to_end/{cpu,gpu}/N`: `runner::run` on a sweep file of N lanes:
@@ -13,14 +13,14 @@
 //! with a message, when there is none. Set TSWM_BENCH_MAX=100000 to stop
 //! below 10^6 lanes.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
+use tswm::backend::{run_cpu_lanes, Backend, CpuBackend};
 use tswm::gpu::layout::{GpuGlobals, GpuLane};
 use tswm::gpu::{Gpu, GpuBackend};
 use tswm::integrator::Settings;
 use tswm::lanes::Source;
 use tswm::model::Lane;
 use tswm::params::Params;
-use tswm::runner::{run_cpu_lanes, Backend, CpuBackend};
 use tswm::testmodels::paper_like;
 
 fn lanes(n: usize) -> Vec<Params> {
@@ -119,7 +119,7 @@ fn end_to_end(c: &mut Criterion) {
             format!("[[grid]]\nparam = \"f2\"\nfrom = -6000.0\nto = 6000.0\nn = {n}\n"),
         )
         .unwrap();
-        let src = Source::sweep(&sweep).unwrap();
+        let src = Source::open(Some(&sweep), None).unwrap();
         let csv = dir.path().join("lanes.csv");
         g.throughput(Throughput::Elements(n as u64));
         g.bench_function(BenchmarkId::new("cpu", n), |b| {
@@ -135,4 +135,13 @@ fn end_to_end(c: &mut Criterion) {
 }
 
 criterion_group!(benches, cpu_threads, kernel, end_to_end);
-criterion_main!(benches);
+
+fn main() {
+    // Mesa's Vulkan drivers print an error line without XDG_RUNTIME_DIR;
+    // set it here, before criterion or rayon start a thread.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -1,16 +1,32 @@
 // tswm: the TSWM hybrid integrator, one lane per invocation, in f32.
 //
-// The same algorithm as the f64 CPU path, function for function:
-//   physics     <-> src/model.rs       (motor_force, mu_sliding, phi, motion, stick_test)
-//   integrator  <-> src/integrator.rs  (rhs, try_step, locate_root, init, set_side,
-//                                       check_mode, come_to_rest, depart, cut_motor,
-//                                       prepare, finish_step, advance)
+// Why one file of over 400 lines: WGSL has no modules or includes, and a
+// pipeline is made from one source; the sections below keep it readable.
+//
+// The same algorithm as the f64 CPU path, in the same parts and order,
+// each section headed by the Rust file it mirrors:
+//   src/model.rs                  motor_force, tan_small, mu_sliding, phi, side_of,
+//                                 motion, stick_test
+//   src/integrator/result.rs      status codes
+//   src/integrator/stepper.rs     tableau, rhs, stage*_v, increment, error_term,
+//                                 error_scale, dense_coeffs, try_step
+//   src/integrator/events.rs      dense_v, event_value, locate_root, earliest_event
+//   src/integrator/automaton.rs   State, init, set_side, check_mode, come_to_rest,
+//                                 depart, cut_motor, reach_time_event, prepare,
+//                                 step_factor, finish_step, step_to_event, advance
+//   src/integrator/batch.rs       Globals, bindings, the entry point
+// Structs and constants shared with the host are mirrored in
+// src/gpu/layout.rs and src/model.rs; tests read them from this file with
+// naga and compare.
+//
 // Differences forced by f32: x1, the works and the time are compensated
 // (Kahan) sums; the per-step tolerance is 1e-6 rather than 1e-8 (Globals);
 // event roots are located to a relative step fraction of 1e-6 rather than
 // 1e-13 s; a step below 1e-7·max(t, 1) s, not 1e-15·max(t, 1), is an
 // underflow; tan_small's series stops at x^9, exact in f32; "never" is
 // 3e38 rather than infinity.
+
+// ==== src/model.rs ====
 
 // Keep in sync with `GpuLane` in src/gpu/layout.rs.
 struct Lane {
@@ -22,54 +38,14 @@ struct Lane {
     v1_0: f32, t_end: f32, pad0: f32, pad1: f32,
 }
 
-// Keep in sync with `GpuState` in src/gpu/layout.rs.
-struct State {
-    t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
-    y: array<f32, 5>,
-    yc: array<f32, 5>,
-    k1: array<f32, 5>,
-    side: i32, dir: i32, flags: u32, status: u32,
-    switches: u32, reversals: u32, sticks: u32, steps: u32,
-    events: u32, pad0: u32, pad1: u32, pad2: u32,
-    pad3: u32,
-}
-
-// Keep in sync with `GpuGlobals` in src/gpu/layout.rs.
-struct Globals {
-    n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
-    tol: f32, h_initial: f32, table_n: u32, row_lanes: u32,
-    table_vs: array<vec4<f32>, 8>,
-    table_mu: array<vec4<f32>, 8>,
-}
-
-@group(0) @binding(0) var<uniform> g: Globals;
-@group(0) @binding(1) var<storage, read> lanes: array<Lane>;
-@group(0) @binding(2) var<storage, read_write> states: array<State>;
-@group(0) @binding(3) var<storage, read_write> n_active: atomic<u32>;
-
+// Law codes: keep in sync with src/model.rs.
+const MOTOR_KLOSS: u32 = 0u;
 const MOTOR_CONSTANT: u32 = 1u;
 const FRICTION_PAPER: u32 = 0u;
 const FRICTION_COULOMB: u32 = 1u;
-
-const F_STUCK: u32 = 1u;
-const F_MOTOR_ON: u32 = 2u;
-const F_DONE: u32 = 4u;
-const F_K1_VALID: u32 = 8u;
-const F_STARTED: u32 = 16u;
-
-// Status codes: keep in sync with `Status` in src/integrator.rs.
-const S_OK: u32 = 0u;
-const S_INCONSISTENT: u32 = 1u;
-const S_NONFINITE: u32 = 2u;
-const S_MAX_STEPS: u32 = 3u;
-const S_MAX_EVENTS: u32 = 4u;
-const S_STEP_UNDERFLOW: u32 = 5u;
+const FRICTION_TABLE: u32 = 2u;
 
 const PI: f32 = 3.14159265358979;
-const THETA_TOL: f32 = 1e-6;
-const NO_FIRST_SWITCH: f32 = -1.0;
-
-// ---- physics (src/model.rs) ----
 
 fn motor_force(l: Lane, v1: f32, motor_on: bool) -> f32 {
     if (!motor_on) { return 0.0; }
@@ -101,6 +77,10 @@ fn mu_sliding(l: Lane, vs: f32) -> f32 {
         return tan_small(rho);
     }
     if (l.friction == FRICTION_COULOMB) { return l.mu; }
+    if (l.friction != FRICTION_TABLE) {
+        // No such law: NaN makes the lane `nonfinite`, never a number.
+        return bitcast<f32>(0x7fc00000u);
+    }
     // table: linear between points, flat past the ends
     var prev = table_at(0u);
     if (vs <= prev.x) { return prev.y; }
@@ -145,19 +125,19 @@ fn stick_test(l: Lane, motor_on: bool) -> vec2<f32> {
     return vec2<f32>(select(0.0, 1.0, abs(t) <= l.mu_s * n), t);
 }
 
-// ---- integrator (src/integrator.rs) ----
+// ==== src/integrator/result.rs ====
 
-struct Mode { side: i32, dir: i32, motor_on: bool }
+// Status codes: keep in sync with `Status` in src/integrator/result.rs.
+const S_OK: u32 = 0u;
+const S_INCONSISTENT: u32 = 1u;
+const S_NONFINITE: u32 = 2u;
+const S_MAX_STEPS: u32 = 3u;
+const S_MAX_EVENTS: u32 = 4u;
+const S_STEP_UNDERFLOW: u32 = 5u;
 
-struct Deriv { k: array<f32, 5>, d: f32 }
+// ==== src/integrator/stepper.rs ====
 
-fn rhs(l: Lane, m: Mode, v: f32) -> Deriv {
-    let mo = motion(l, m.side, m.dir, m.motor_on, v);
-    let v2 = v * l.tan_g;
-    return Deriv(array<f32, 5>(v, mo.acc, mo.f1 * v, l.f2 * v2, mo.s1 * v + mo.s2 * v2), mo.d);
-}
-
-// Dormand-Prince 5(4)
+// Dormand-Prince 5(4): keep in sync with src/integrator/stepper.rs.
 const A21: f32 = 1.0 / 5.0;
 const A31: f32 = 3.0 / 40.0;
 const A32: f32 = 9.0 / 40.0;
@@ -191,6 +171,52 @@ const D5: f32 = 701980252875.0 / 199316789632.0;
 const D6: f32 = -1453857185.0 / 822651844.0;
 const D7: f32 = 69997945.0 / 29380423.0;
 
+struct Mode { side: i32, dir: i32, motor_on: bool }
+
+struct Deriv { k: array<f32, 5>, d: f32 }
+
+fn rhs(l: Lane, m: Mode, v: f32) -> Deriv {
+    let mo = motion(l, m.side, m.dir, m.motor_on, v);
+    let v2 = v * l.tan_g;
+    return Deriv(array<f32, 5>(v, mo.acc, mo.f1 * v, l.f2 * v2, mo.s1 * v + mo.s2 * v2), mo.d);
+}
+
+fn stage2_v(v0: f32, h: f32, k1: f32) -> f32 {
+    return v0 + h * (A21 * k1);
+}
+fn stage3_v(v0: f32, h: f32, k1: f32, k2: f32) -> f32 {
+    return v0 + h * (A31 * k1 + A32 * k2);
+}
+fn stage4_v(v0: f32, h: f32, k1: f32, k2: f32, k3: f32) -> f32 {
+    return v0 + h * (A41 * k1 + A42 * k2 + A43 * k3);
+}
+fn stage5_v(v0: f32, h: f32, k1: f32, k2: f32, k3: f32, k4: f32) -> f32 {
+    return v0 + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4);
+}
+fn stage6_v(v0: f32, h: f32, k1: f32, k2: f32, k3: f32, k4: f32, k5: f32) -> f32 {
+    return v0 + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5);
+}
+
+fn increment(h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32) -> f32 {
+    return h * (A71 * k1 + A73 * k3 + A74 * k4 + A75 * k5 + A76 * k6);
+}
+
+fn error_term(h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32, k7: f32) -> f32 {
+    return h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7);
+}
+
+fn error_scale(tol: f32, y0: f32, y1: f32) -> f32 {
+    return tol * (1.0 + max(abs(y0), abs(y1)));
+}
+
+fn dense_coeffs(v0: f32, v1: f32, h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32, k7: f32) -> array<f32, 5> {
+    let r2 = v1 - v0;
+    let r3 = h * k1 - r2;
+    let r4 = r2 - h * k7 - r3;
+    let r5 = h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7);
+    return array<f32, 5>(v0, r2, r3, r4, r5);
+}
+
 struct Trial {
     y1: array<f32, 5>,
     y1c: array<f32, 5>,
@@ -201,15 +227,15 @@ struct Trial {
 
 fn try_step(l: Lane, m: Mode, y: array<f32, 5>, yc: array<f32, 5>, k1: array<f32, 5>, h: f32, tol: f32) -> Trial {
     let v0 = y[1];
-    let k2 = rhs(l, m, v0 + h * (A21 * k1[1])).k;
-    let k3 = rhs(l, m, v0 + h * (A31 * k1[1] + A32 * k2[1])).k;
-    let k4 = rhs(l, m, v0 + h * (A41 * k1[1] + A42 * k2[1] + A43 * k3[1])).k;
-    let k5 = rhs(l, m, v0 + h * (A51 * k1[1] + A52 * k2[1] + A53 * k3[1] + A54 * k4[1])).k;
-    let k6 = rhs(l, m, v0 + h * (A61 * k1[1] + A62 * k2[1] + A63 * k3[1] + A64 * k4[1] + A65 * k5[1])).k;
+    let k2 = rhs(l, m, stage2_v(v0, h, k1[1])).k;
+    let k3 = rhs(l, m, stage3_v(v0, h, k1[1], k2[1])).k;
+    let k4 = rhs(l, m, stage4_v(v0, h, k1[1], k2[1], k3[1])).k;
+    let k5 = rhs(l, m, stage5_v(v0, h, k1[1], k2[1], k3[1], k4[1])).k;
+    let k6 = rhs(l, m, stage6_v(v0, h, k1[1], k2[1], k3[1], k4[1], k5[1])).k;
     var tr: Trial;
     for (var i = 0; i < 5; i++) {
-        // compensated y1 = y + dy
-        let dy = h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+        let dy = increment(h, k1[i], k3[i], k4[i], k5[i], k6[i]);
+        // compensated (Kahan) y1 = y + dy; the value is y1 - y1c
         let yy = dy - yc[i];
         let s = y[i] + yy;
         tr.y1c[i] = (s - y[i]) - yy;
@@ -218,26 +244,26 @@ fn try_step(l: Lane, m: Mode, y: array<f32, 5>, yc: array<f32, 5>, k1: array<f32
     tr.k7 = rhs(l, m, tr.y1[1]).k;
     var err = 0.0;
     for (var i = 0; i < 5; i++) {
-        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * tr.k7[i]);
-        let sc = tol * (1.0 + max(abs(y[i]), abs(tr.y1[i])));
-        err = max(err, abs(e) / sc);
+        let e = error_term(h, k1[i], k3[i], k4[i], k5[i], k6[i], tr.k7[i]);
+        err = max(err, abs(e) / error_scale(tol, y[i], tr.y1[i]));
     }
     // NaN and infinity fail this test: the step is rejected.
     if (!(err <= 3.0e38)) { err = 3.0e38; }
     tr.err = err;
-    let r2 = tr.y1[1] - v0;
-    let r3 = h * k1[1] - r2;
-    let r4 = r2 - h * tr.k7[1] - r3;
-    let r5 = h * (D1 * k1[1] + D3 * k3[1] + D4 * k4[1] + D5 * k5[1] + D6 * k6[1] + D7 * tr.k7[1]);
-    tr.dense = array<f32, 5>(v0, r2, r3, r4, r5);
+    tr.dense = dense_coeffs(v0, tr.y1[1], h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1]);
     return tr;
 }
+
+// ==== src/integrator/events.rs ====
+
+const THETA_TOL: f32 = 1e-6;
 
 fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
     let th1 = 1.0 - th;
     return r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])));
 }
 
+// Event functions: keep in sync with `EventFn` in src/integrator/events.rs.
 const EV_SWITCH: u32 = 0u;
 const EV_REST: u32 = 1u;
 
@@ -271,6 +297,43 @@ fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f3
     return a;
 }
 
+// x: θ of the earliest event (> 1: none), y: which (EV_*)
+fn earliest_event(l: Lane, m: Mode, tr: Trial) -> vec2<f32> {
+    let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
+    let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
+    var theta = 2.0;
+    var which = EV_REST;
+    if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
+    if (g_switch < 0.0) {
+        let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
+        if (th < theta) { theta = th; which = EV_SWITCH; }
+    }
+    return vec2<f32>(theta, f32(which));
+}
+
+// ==== src/integrator/automaton.rs ====
+
+// Keep in sync with `GpuState` in src/gpu/layout.rs.
+struct State {
+    t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
+    y: array<f32, 5>,
+    yc: array<f32, 5>,
+    k1: array<f32, 5>,
+    side: i32, dir: i32, flags: u32, status: u32,
+    switches: u32, reversals: u32, sticks: u32, steps: u32,
+    events: u32, pad0: u32, pad1: u32, pad2: u32,
+    pad3: u32,
+}
+
+// Flag bits of State.flags: keep in sync with `flags` in src/gpu/layout.rs.
+const F_STUCK: u32 = 1u;
+const F_MOTOR_ON: u32 = 2u;
+const F_DONE: u32 = 4u;
+const F_K1_VALID: u32 = 8u;
+const F_STARTED: u32 = 16u;
+
+const NO_FIRST_SWITCH: f32 = -1.0;
+
 fn has(st: ptr<function, State>, f: u32) -> bool { return ((*st).flags & f) != 0u; }
 fn set_flag(st: ptr<function, State>, f: u32, on: bool) {
     if (on) { (*st).flags |= f; } else { (*st).flags &= ~f; }
@@ -299,58 +362,6 @@ fn finish(st: ptr<function, State>, status: u32) {
     set_flag(st, F_DONE, true);
 }
 
-fn set_side(st: ptr<function, State>, side: i32) {
-    if (side != (*st).side) {
-        (*st).switches += 1u;
-        if ((*st).t_first_switch < 0.0) { (*st).t_first_switch = time_of(st); }
-        (*st).side = side;
-    }
-}
-
-fn check_mode(l: Lane, st: ptr<function, State>) {
-    if (has(st, F_STUCK) || has(st, F_DONE)) { return; }
-    let dv = rhs(l, mode_of(st), (*st).y[1]);
-    if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); }
-    (*st).k1 = dv.k;
-    set_flag(st, F_K1_VALID, true);
-}
-
-fn depart(l: Lane, st: ptr<function, State>, tf: f32) {
-    let dir = select(-1, 1, tf > 0.0);
-    if ((*st).dir != 0 && dir != (*st).dir) { (*st).reversals += 1u; }
-    (*st).dir = dir;
-    set_flag(st, F_STUCK, false);
-    (*st).h = g.h_initial;
-    set_side(st, side_of(phi(l, 0.0, has(st, F_MOTOR_ON))));
-    check_mode(l, st);
-}
-
-fn come_to_rest(l: Lane, st: ptr<function, State>) {
-    (*st).y[1] = 0.0;
-    (*st).yc[1] = 0.0;
-    let s = stick_test(l, has(st, F_MOTOR_ON));
-    if (s.x > 0.5) {
-        set_flag(st, F_STUCK, true);
-        (*st).sticks += 1u;
-        set_flag(st, F_K1_VALID, false);
-        return;
-    }
-    depart(l, st, s.y);
-}
-
-fn cut_motor(l: Lane, st: ptr<function, State>) {
-    set_flag(st, F_MOTOR_ON, false);
-    (*st).events += 1u;
-    set_flag(st, F_K1_VALID, false);
-    if (has(st, F_STUCK)) {
-        let s = stick_test(l, false);
-        if (s.x < 0.5) { depart(l, st, s.y); }
-    } else {
-        set_side(st, side_of(phi(l, (*st).y[1], false)));
-        check_mode(l, st);
-    }
-}
-
 fn init(l: Lane, st: ptr<function, State>) {
     let motor_on = !(l.motor_off <= 0.0);
     let v = l.v1_0;
@@ -373,6 +384,63 @@ fn init(l: Lane, st: ptr<function, State>) {
     if (v == 0.0) { come_to_rest(l, st); } else { check_mode(l, st); }
 }
 
+fn set_side(st: ptr<function, State>, side: i32) {
+    if (side != (*st).side) {
+        (*st).switches += 1u;
+        if ((*st).t_first_switch < 0.0) { (*st).t_first_switch = time_of(st); }
+        (*st).side = side;
+    }
+}
+
+fn check_mode(l: Lane, st: ptr<function, State>) {
+    if (has(st, F_STUCK) || has(st, F_DONE)) { return; }
+    let dv = rhs(l, mode_of(st), (*st).y[1]);
+    if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); }
+    (*st).k1 = dv.k;
+    set_flag(st, F_K1_VALID, true);
+}
+
+fn come_to_rest(l: Lane, st: ptr<function, State>) {
+    (*st).y[1] = 0.0;
+    (*st).yc[1] = 0.0;
+    let s = stick_test(l, has(st, F_MOTOR_ON));
+    if (s.x > 0.5) {
+        set_flag(st, F_STUCK, true);
+        (*st).sticks += 1u;
+        set_flag(st, F_K1_VALID, false);
+        return;
+    }
+    depart(l, st, s.y);
+}
+
+fn depart(l: Lane, st: ptr<function, State>, tf: f32) {
+    let dir = select(-1, 1, tf > 0.0);
+    if ((*st).dir != 0 && dir != (*st).dir) { (*st).reversals += 1u; }
+    (*st).dir = dir;
+    set_flag(st, F_STUCK, false);
+    (*st).h = g.h_initial;
+    set_side(st, side_of(phi(l, 0.0, has(st, F_MOTOR_ON))));
+    check_mode(l, st);
+}
+
+fn cut_motor(l: Lane, st: ptr<function, State>) {
+    set_flag(st, F_MOTOR_ON, false);
+    (*st).events += 1u;
+    set_flag(st, F_K1_VALID, false);
+    if (has(st, F_STUCK)) {
+        let s = stick_test(l, false);
+        if (s.x < 0.5) { depart(l, st, s.y); }
+    } else {
+        set_side(st, side_of(phi(l, (*st).y[1], false)));
+        check_mode(l, st);
+    }
+}
+
+fn reach_time_event(l: Lane, st: ptr<function, State>, t_stop: f32) {
+    time_set(st, t_stop);
+    if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+}
+
 struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
 
 fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
@@ -381,8 +449,7 @@ fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
     var t_stop = l.t_end;
     if (has(st, F_MOTOR_ON) && l.motor_off < l.t_end) { t_stop = l.motor_off; }
     if (has(st, F_STUCK)) {
-        time_set(st, t_stop);
-        if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+        reach_time_event(l, st, t_stop);
         return plan;
     }
     let m = mode_of(st);
@@ -403,11 +470,14 @@ fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
     return StepPlan(true, m, h, t_stop, landing);
 }
 
+fn step_factor(err: f32) -> f32 {
+    if (err > 0.0) { return clamp(0.9 * pow(err, -0.2), 0.2, 5.0); }
+    return 5.0;
+}
+
 fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
-    let m = plan.mode;
     let h = plan.h;
-    var fac = 5.0;
-    if (tr.err > 0.0) { fac = clamp(0.9 * pow(tr.err, -0.2), 0.2, 5.0); }
+    let fac = step_factor(tr.err);
     if (tr.err > 1.0) {
         (*st).h = h * min(fac, 1.0);
         if ((*st).h < 1e-7 * max(time_of(st), 1.0)) { finish(st, S_STEP_UNDERFLOW); }
@@ -416,34 +486,16 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
     let h_next = h * fac;
     (*st).steps += 1u;
     if ((*st).steps > g.max_steps) { finish(st, S_MAX_STEPS); return; }
-    let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
-    let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
-    var theta = 2.0;
-    var which = EV_REST;
-    if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
-    if (g_switch < 0.0) {
-        let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
-        if (th < theta) { theta = th; which = EV_SWITCH; }
-    }
-    if (theta <= 1.0) {
-        let h_ev = theta * h;
-        let ev = try_step(l, m, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
-        time_add(st, h_ev);
-        (*st).y = ev.y1;
-        (*st).yc = ev.y1c;
-        set_flag(st, F_K1_VALID, false);
-        (*st).events += 1u;
-        (*st).h = max(h_next, h_ev);
-        if (which == EV_REST) { come_to_rest(l, st); } else { set_side(st, -(*st).side); check_mode(l, st); }
-        if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
+    let ev = earliest_event(l, plan.mode, tr);
+    if (ev.x <= 1.0) {
+        step_to_event(l, st, plan, ev.x, u32(ev.y), h_next);
     } else {
         (*st).y = tr.y1;
         (*st).yc = tr.y1c;
         (*st).k1 = tr.k7;
         (*st).h = h_next;
         if (plan.landing) {
-            time_set(st, plan.t_stop);
-            if (plan.t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+            reach_time_event(l, st, plan.t_stop);
         } else {
             time_add(st, h);
         }
@@ -453,6 +505,19 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
         if (!(abs((*st).y[i]) <= 3.0e38)) { finite = false; }
     }
     if (!finite) { finish(st, S_NONFINITE); }
+}
+
+fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, which: u32, h_next: f32) {
+    let h_ev = theta * plan.h;
+    let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
+    time_add(st, h_ev);
+    (*st).y = ev.y1;
+    (*st).yc = ev.y1c;
+    set_flag(st, F_K1_VALID, false);
+    (*st).events += 1u;
+    (*st).h = max(h_next, h_ev);
+    if (which == EV_REST) { come_to_rest(l, st); } else { set_side(st, -(*st).side); check_mode(l, st); }
+    if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
 }
 
 fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
@@ -468,6 +533,23 @@ fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
     }
 }
 
+// ==== src/integrator/batch.rs ====
+
+// Keep in sync with `GpuGlobals` in src/gpu/layout.rs.
+struct Globals {
+    n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
+    tol: f32, h_initial: f32, table_n: u32, row_lanes: u32,
+    table_vs: array<vec4<f32>, 8>,
+    table_mu: array<vec4<f32>, 8>,
+}
+
+@group(0) @binding(0) var<uniform> g: Globals;
+@group(0) @binding(1) var<storage, read> lanes: array<Lane>;
+@group(0) @binding(2) var<storage, read_write> states: array<State>;
+@group(0) @binding(3) var<storage, read_write> n_active: atomic<u32>;
+
+// One lane per invocation; its state stays in `states` between
+// dispatches of at most `g.budget` step attempts.
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let idx = gid.x + gid.y * g.row_lanes;

@@ -1,4 +1,4 @@
-//! CPU against GPU on the same lanes (issue 3): a lane *agrees* when its
+//! CPU against GPU on the same lanes: a lane *agrees* when its
 //! status, switches, reversals, sticks and final contact are identical, its
 //! first switch is within 2e-5 s and x1, v1 and the three works are within
 //! 5e-5 of max(1, |value|). The check passes when at least 98 % of lanes
@@ -12,7 +12,13 @@
 
 use std::fmt::Write as _;
 
+use crate::backend::{Backend, CpuBackend};
+use crate::error::Result;
 use crate::integrator::LaneResult;
+use crate::lanes::Source;
+use crate::model::FrictionTable;
+use crate::params::Params;
+use crate::runner::{pipeline, Sink};
 
 /// Bound on first-switch times, s.
 pub const SWITCH_BOUND: f64 = 2e-5;
@@ -152,4 +158,42 @@ impl Report {
         }
         s
     }
+}
+
+/// The comparison as a sink of the runner's pipeline: each chunk the GPU
+/// returns is run again on the CPU path and compared.
+struct Compare {
+    cpu: CpuBackend,
+    table: Option<FrictionTable>,
+    cpu_results: Vec<LaneResult>,
+    report: Report,
+}
+
+impl Sink for Compare {
+    type Output = Report;
+    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+        self.cpu
+            .run_chunk(first, params, self.table.as_ref(), &mut self.cpu_results)?;
+        self.report.add(first, &self.cpu_results, results);
+        Ok(())
+    }
+    fn finish(self) -> Result<Report> {
+        Ok(self.report)
+    }
+}
+
+/// Runs every lane of `source` on `gpu` and on `cpu` and compares them.
+pub fn compare(
+    source: &Source,
+    gpu: &mut dyn Backend,
+    cpu: CpuBackend,
+    progress: bool,
+) -> Result<Report> {
+    let sink = Compare {
+        cpu,
+        table: source.friction_table().copied(),
+        cpu_results: Vec::new(),
+        report: Report::default(),
+    };
+    pipeline(source, gpu, progress, sink)
 }

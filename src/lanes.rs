@@ -32,13 +32,34 @@ pub enum Source {
         base: Spec,
         /// Friction table for `friction = table` rows.
         table: Option<FrictionTable>,
-        /// Number of rows (set by `validate`).
+        /// Number of rows (counted by [`Source::open`]).
         rows: u64,
     },
 }
 
 impl Source {
-    /// Lanes of a sweep file.
+    /// The lanes of a run: a sweep file, or a lane table over an optional
+    /// sweep file's `[base]` and `[friction_table]`. Every lane is read
+    /// and validated here, in one place for both kinds, so bad input is
+    /// reported before anything is written.
+    pub fn open(sweep: Option<&Path>, lanes: Option<&Path>) -> Result<Source> {
+        let mut src =
+            match (sweep, lanes) {
+                (None, None) => return Err(Error::Usage(
+                    "name a sweep file (tswm run SWEEP.toml) or a lane table (--lanes FILE.csv)"
+                        .into(),
+                )),
+                (Some(s), None) => Source::sweep(s)?,
+                (s, Some(l)) => Source::table(l, s)?,
+            };
+        let n = src.validate()?;
+        if let Source::Table { rows, .. } = &mut src {
+            *rows = n;
+        }
+        Ok(src)
+    }
+
+    /// Lanes of a sweep file (not yet validated lane by lane: see [`Source::open`]).
     pub fn sweep(file: &Path) -> Result<Source> {
         Ok(Source::Sweep {
             sweep: Sweep::from_file(file)?,
@@ -46,8 +67,9 @@ impl Source {
         })
     }
 
-    /// Lanes of a lane table, over an optional sweep file's base and table.
-    pub fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
+    /// Lanes of a lane table over an optional sweep file's base and table
+    /// (rows not yet read: see [`Source::open`]).
+    fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
         let (base, table) = match sweep_file {
             Some(f) => {
                 let s = Sweep::from_file(f)?;
@@ -64,17 +86,12 @@ impl Source {
             }
             None => (Spec::default(), None),
         };
-        let mut src = Source::Table {
+        Ok(Source::Table {
             path: path.to_path_buf(),
             base,
             table,
             rows: 0,
-        };
-        let n = src.validate()?;
-        if let Source::Table { rows, .. } = &mut src {
-            *rows = n;
-        }
-        Ok(src)
+        })
     }
 
     /// The friction table lanes may refer to.
@@ -94,7 +111,7 @@ impl Source {
     }
 
     /// Checks every lane; returns the count. Errors name the lane or row.
-    pub fn validate(&self) -> Result<u64> {
+    fn validate(&self) -> Result<u64> {
         let mut r = self.reader()?;
         let mut buf = Vec::with_capacity(4096);
         let mut n = 0;

@@ -2,15 +2,18 @@
 //! model of a worm drive in `MODEL.md`, over thousands to millions of
 //! parameter variants on a CPU (f64, rayon) or a GPU (f32, WGSL via wgpu).
 //!
-//! Modules: [`params`] (names, specs, validation), [`model`] (physics),
-//! [`integrator`] (DP5 with located events, the lane automaton), [`sweep`]
-//! and [`lanes`] (where lanes come from), [`runner`] and [`output`]
-//! (chunked runs streamed to `lanes.csv`), [`cli`].
+//! Modules: [`params`] (the parameter table, specs, validation), [`model`]
+//! (physics), [`integrator`] (DP5 with located events, the lane
+//! automaton), [`sweep`], [`sampling`] and [`lanes`] (where lanes come
+//! from), [`backend`] (CPU path, choosing a backend) and [`gpu`] (the
+//! WGSL path), [`runner`] and [`output`] (chunked runs streamed to
+//! `lanes.csv`), [`check`] (CPU against GPU), [`cli`].
 
 // `!(x > 0.0)` is used on purpose throughout: it also rejects NaN, which
 // `x <= 0.0` would let through.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod backend;
 pub mod check;
 pub mod cli;
 pub mod error;

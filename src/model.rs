@@ -2,7 +2,8 @@
 //! function ψ, the equation of motion, the switching function φ and the
 //! stick test. No integration here: the integrator calls these.
 //!
-//! Keep in sync with `shaders/tswm.wgsl` (functions of the same names).
+//! Keep in sync with the shader's section `src/model.rs` in
+//! `shaders/tswm.wgsl` (functions of the same names, same order).
 
 use crate::params::{FrictionKind, MotorKind, Num, Params};
 
@@ -115,7 +116,8 @@ pub struct Lane {
     pub t_end: f64,
 }
 
-/// Motor law codes shared with the shader.
+/// Motor law codes shared with the shader (a test reads the shader's
+/// constants and compares).
 pub const MOTOR_KLOSS: u32 = 0;
 /// Constant motor force.
 pub const MOTOR_CONSTANT: u32 = 1;
@@ -206,7 +208,9 @@ pub fn mu_sliding(lane: &Lane, table: Option<&FrictionTable>, vs: f64) -> f64 {
             tan_small(rho)
         }
         FRICTION_COULOMB => lane.mu,
-        _ => table.map_or(f64::NAN, |t| t.mu_at(vs)),
+        FRICTION_TABLE => table.map_or(f64::NAN, |t| t.mu_at(vs)),
+        // No such law: NaN makes the lane `nonfinite`, never a number.
+        _ => f64::NAN,
     }
 }
 

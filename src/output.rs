@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
+use crate::lanes::Source;
 use crate::params::{Param, Params};
 
 /// Result columns, after the parameter columns.
@@ -161,4 +162,19 @@ impl LanesCsv {
     pub fn commit(self) -> Result<()> {
         self.file.commit()
     }
+}
+
+/// The text of `sweep.resolved.toml`: a header naming the tool, backend
+/// and tolerance, then the sweep with every lane's source spelled out.
+pub fn provenance(source: &Source, backend: &str, tol: f64) -> String {
+    let resolved = match source {
+        Source::Sweep { sweep, .. } => toml::to_string(&sweep.resolved_toml()).unwrap_or_default(),
+        Source::Table { path, .. } => format!("# lanes from {}\n", path.display()),
+    };
+    format!(
+        "# tswm {} resolved sweep: every lane of lanes.csv follows from this file\n\
+         # backend: {backend}, tol: {tol:e}, lanes: {}\n{resolved}",
+        env!("CARGO_PKG_VERSION"),
+        source.lane_count()
+    )
 }

@@ -1,120 +1,32 @@
-//! Runs a lane source through a backend, chunk by chunk, and streams the
-//! rows to `lanes.csv` in lane order on a writer thread, so computing the
-//! next chunk overlaps writing the last one and memory stays bounded by a
-//! few chunks whatever the sweep's size.
+//! Runs a lane source through a backend, chunk by chunk, and hands each
+//! chunk's results, in lane order, to a [`Sink`] on its own thread: the
+//! results table for `tswm run`, the CPU comparison for `tswm check`.
+//!
+//! Three stages overlap: a producer thread generates and validates the
+//! next chunk of lanes, the calling thread runs the backend on the current
+//! one, and the sink's thread consumes the previous one. Chunk buffers
+//! circulate between them, so after the first few chunks nothing is
+//! allocated and memory stays bounded whatever the sweep's size.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
+use crate::backend::Backend;
 use crate::error::{Error, Result};
-use crate::integrator::{simulate_batch, Contact, LaneResult, Settings, Status};
+use crate::integrator::{Contact, LaneResult, Status};
 use crate::lanes::Source;
-use crate::model::{FrictionTable, Lane};
 use crate::output::LanesCsv;
 use crate::params::Params;
 
-/// Something that turns lane parameters into results.
-pub trait Backend {
-    /// Short name for the summary ("cpu", "gpu: <adapter>").
-    fn name(&self) -> String;
-    /// Lanes a chunk should hold for this backend.
-    fn chunk_lanes(&self) -> usize;
-    /// Computes one chunk; `first` is the lane index of `lanes[0]`.
-    fn run_chunk(
-        &mut self,
-        first: u64,
-        lanes: &[Params],
-        table: Option<&FrictionTable>,
-        out: &mut Vec<LaneResult>,
-    ) -> Result<()>;
-}
-
-/// The f64 reference path: rayon over lanes, one `simulate` each.
-pub struct CpuBackend {
-    pool: rayon::ThreadPool,
-    /// Integration settings.
-    pub settings: Settings,
-}
-
-impl CpuBackend {
-    /// A CPU backend on `threads` threads (0: all cores).
-    pub fn new(threads: usize, settings: Settings) -> Result<CpuBackend> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| Error::Usage(format!("cannot start {threads} threads: {e}")))?;
-        Ok(CpuBackend { pool, settings })
-    }
-
-    /// Threads in the pool.
-    pub fn threads(&self) -> usize {
-        self.pool.current_num_threads()
-    }
-}
-
-/// Runs lanes on the CPU into `out` (cleared first): rayon over blocks of
-/// lanes, each block interleaved on its thread (`simulate_batch`).
-pub fn run_cpu_lanes(
-    pool: &rayon::ThreadPool,
-    settings: &Settings,
-    lanes: &[Params],
-    table: Option<&FrictionTable>,
-    out: &mut Vec<LaneResult>,
-) {
-    const BLOCK: usize = 64;
-    out.clear();
-    out.resize(lanes.len(), PLACEHOLDER);
-    pool.install(|| {
-        lanes
-            .par_chunks(BLOCK)
-            .zip(out.par_chunks_mut(BLOCK))
-            .for_each(|(p, o)| {
-                let mut l = [Lane::new(&p[0], table); BLOCK];
-                for (d, s) in l.iter_mut().zip(p) {
-                    *d = Lane::new(s, table);
-                }
-                simulate_batch(&l[..p.len()], table, settings, o);
-            })
-    });
-}
-
-/// Filler overwritten by every lane's result.
-const PLACEHOLDER: LaneResult = LaneResult {
-    status: Status::NonFinite,
-    switches: 0,
-    t_first_switch: f64::NAN,
-    reversals: 0,
-    sticks: 0,
-    contact_end: Contact::Stick,
-    x1_end: f64::NAN,
-    v1_end: f64::NAN,
-    w_motor: f64::NAN,
-    w_load: f64::NAN,
-    w_friction: f64::NAN,
-    eta_end: f64::NAN,
-    steps: 0,
-};
-
-impl Backend for CpuBackend {
-    fn name(&self) -> String {
-        format!("cpu ({} threads)", self.threads())
-    }
-    fn chunk_lanes(&self) -> usize {
-        16384
-    }
-    fn run_chunk(
-        &mut self,
-        _first: u64,
-        lanes: &[Params],
-        table: Option<&FrictionTable>,
-        out: &mut Vec<LaneResult>,
-    ) -> Result<()> {
-        run_cpu_lanes(&self.pool, &self.settings, lanes, table, out);
-        Ok(())
-    }
+/// What consumes each chunk's results, in lane order.
+pub trait Sink: Send {
+    /// What the sink gives back when every chunk is in.
+    type Output: Send;
+    /// Lanes `first..first + params.len()` with their results.
+    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()>;
+    /// Called after the last chunk.
+    fn finish(self) -> Result<Self::Output>;
 }
 
 /// Counts for the end-of-run summary.
@@ -163,14 +75,29 @@ impl Summary {
     }
 }
 
+/// The results table as a sink: rows streamed to `lanes.csv`, counted for
+/// the summary.
+struct CsvSink {
+    csv: LanesCsv,
+    summary: Summary,
+}
+
+impl Sink for CsvSink {
+    type Output = (LanesCsv, Summary);
+    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+        for (i, (p, r)) in params.iter().zip(results).enumerate() {
+            self.csv.write(first + i as u64, p, r)?;
+            self.summary.add(r);
+        }
+        Ok(())
+    }
+    fn finish(self) -> Result<Self::Output> {
+        Ok((self.csv, self.summary))
+    }
+}
+
 /// Runs every lane of `source` on `backend`, writing `out_csv` (complete or
 /// not at all). `progress` shows a bar on stderr when it is a terminal.
-///
-/// Three stages overlap: a producer thread generates and validates the
-/// next chunk of lanes, this thread runs the backend on the current one,
-/// and a writer thread streams the previous one to disk. Chunk buffers
-/// circulate between them, so after the first few chunks nothing is
-/// allocated and memory stays bounded whatever the sweep's size.
 pub fn run(
     source: &Source,
     backend: &mut dyn Backend,
@@ -178,9 +105,22 @@ pub fn run(
     progress: bool,
 ) -> Result<Summary> {
     let start = Instant::now();
-    let total = source.lane_count();
-    let table = source.friction_table().copied();
-    let bar = if progress {
+    let sink = CsvSink {
+        csv: LanesCsv::create(out_csv)?,
+        summary: Summary::default(),
+    };
+    // On failure the sink's partial file is dropped, and so removed.
+    let (csv, mut summary) = pipeline(source, backend, progress, sink).map_err(|e| match e {
+        Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", out_csv.display())),
+        e => e,
+    })?;
+    csv.commit()?;
+    summary.seconds = start.elapsed().as_secs_f64();
+    Ok(summary)
+}
+
+fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {
+    let bar = if show {
         indicatif::ProgressBar::with_draw_target(
             Some(total),
             indicatif::ProgressDrawTarget::stderr(),
@@ -192,17 +132,31 @@ pub fn run(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} lanes, {per_sec}, eta {eta}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    bar
+}
+
+/// A chunk on its way: its first lane, its lanes and their results.
+type Batch = (u64, Vec<Params>, Vec<LaneResult>);
+
+/// Runs every lane of `source` through `backend` into `sink`, chunk by
+/// chunk, in lane order.
+pub fn pipeline<S: Sink>(
+    source: &Source,
+    backend: &mut dyn Backend,
+    progress: bool,
+    mut sink: S,
+) -> Result<S::Output> {
+    let table = source.friction_table().copied();
+    let bar = progress_bar(progress, source.lane_count());
     let chunk = backend.chunk_lanes().max(1);
     let mut reader = source.reader()?;
-    let mut csv = LanesCsv::create(out_csv)?;
 
-    type Batch = (u64, Vec<Params>, Vec<LaneResult>);
     const IN_FLIGHT: usize = 1;
     let (to_backend, from_producer) = std::sync::mpsc::sync_channel::<Result<Batch>>(IN_FLIGHT);
-    let (to_writer, from_backend) = std::sync::mpsc::sync_channel::<Batch>(IN_FLIGHT);
+    let (to_sink, from_backend) = std::sync::mpsc::sync_channel::<Batch>(IN_FLIGHT);
     let (recycle, recycled) = std::sync::mpsc::sync_channel::<Batch>(2 * IN_FLIGHT + 2);
 
-    let outcome = std::thread::scope(|scope| -> Result<Summary> {
+    let outcome = std::thread::scope(|scope| -> Result<S::Output> {
         scope.spawn(move || {
             let mut first = 0u64;
             loop {
@@ -214,26 +168,19 @@ pub fn run(
                     let _ = to_backend.send(Err(e));
                     return;
                 }
-                if params.is_empty() {
-                    return;
-                }
                 let n = params.len() as u64;
-                if to_backend.send(Ok((first, params, results))).is_err() {
-                    return; // the run stopped
+                if n == 0 || to_backend.send(Ok((first, params, results))).is_err() {
+                    return; // the end, or the run stopped
                 }
                 first += n;
             }
         });
-        let writer = scope.spawn(move || -> Result<(LanesCsv, Summary)> {
-            let mut summary = Summary::default();
+        let consumer = scope.spawn(move || -> Result<S::Output> {
             for (first, params, results) in from_backend {
-                for (i, (p, r)) in params.iter().zip(&results).enumerate() {
-                    csv.write(first + i as u64, p, r)?;
-                    summary.add(r);
-                }
+                sink.chunk(first, &params, &results)?;
                 let _ = recycle.send((0, params, results));
             }
-            Ok((csv, summary))
+            sink.finish()
         });
         let mut failure = None;
         for batch in &from_producer {
@@ -249,26 +196,22 @@ pub fn run(
                 break;
             }
             let n = params.len() as u64;
-            if to_writer.send((first, params, results)).is_err() {
-                break; // the writer failed; its error is reported below
+            if to_sink.send((first, params, results)).is_err() {
+                break; // the sink failed; its error is reported below
             }
             bar.set_position(first + n);
         }
-        // Stop the producer (it sees the closed channel) and the writer.
+        // Stop the producer (it sees the closed channel) and the sink.
         drop(from_producer);
-        drop(to_writer);
-        let written = writer
+        drop(to_sink);
+        let consumed = consumer
             .join()
-            .map_err(|_| Error::Internal("the writer thread panicked".into()))?;
-        if let Some(e) = failure {
-            return Err(e); // `written`'s partial file is dropped and removed
+            .map_err(|_| Error::Internal("the sink thread panicked".into()))?;
+        match failure {
+            Some(e) => Err(e),
+            None => consumed,
         }
-        let (csv, summary) = written?;
-        csv.commit()?;
-        Ok(summary)
     });
     bar.finish_and_clear();
-    let mut summary = outcome?;
-    summary.seconds = start.elapsed().as_secs_f64();
-    Ok(summary)
+    outcome
 }

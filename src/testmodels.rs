@@ -1,28 +1,15 @@
 //! Lane sets with known character, shared by tests and benchmarks: the
-//! paper's reference cases (MODEL.md section 7), paper-like lanes for
-//! throughput, and random lanes drawn as a user would for accuracy checks.
+//! paper-like lanes of the throughput figures (the same as the `auto`
+//! trial's) and random lanes drawn as a user would for accuracy checks.
 
 use crate::params::{FrictionKind, Num, Spec};
 use crate::sampling::Uniforms;
 
-/// Paper-like lanes for throughput: the paper's design (Kloss motor, paper
-/// friction, start at rest, t_end 2 s) with the load spread uniformly over
-/// ±6 kN, so lanes cover direct and inverse flow, switches and stalls.
-pub fn paper_like(n: usize, seed: u64) -> Vec<Spec> {
-    let mut u = Uniforms::new(seed);
-    (0..n)
-        .map(|i| {
-            u.seek(i as u64, 1);
-            let mut s = Spec::default();
-            s.set(Num::F2, -6000.0 + 12000.0 * u.next());
-            s
-        })
-        .collect()
-}
+pub use crate::backend::paper_like;
 
-/// Random lanes drawn as a user would (issue 2): lead angle 2 to 25 deg,
-/// loads ±9 kN, masses ±50 %, both friction laws, a motor cut-off in about
-/// a third of the lanes, t_end 1 to 4 s.
+/// Random lanes drawn as a user would: lead angle 2 to 25 deg, loads
+/// ±9 kN, masses ±50 %, both friction laws, a motor cut-off in about a
+/// third of the lanes, t_end 1 to 4 s.
 pub fn random_user_lanes(n: usize, seed: u64) -> Vec<Spec> {
     let mut u = Uniforms::new(seed);
     (0..n)

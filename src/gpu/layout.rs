@@ -1,10 +1,11 @@
-//! The structs shared with `shaders/tswm.wgsl`, byte for byte. A test parses
-//! the shader with naga and fails when sizes or offsets drift.
+//! The structs and constants shared with `shaders/tswm.wgsl`, byte for
+//! byte. Tests parse the shader with naga and fail when sizes, offsets or
+//! constant values drift.
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::integrator::{Contact, LaneResult, Settings, Status};
-use crate::model::{efficiency, motion, FrictionTable, Lane, MAX_TABLE_POINTS};
+use crate::integrator::{EndState, Settings, Status};
+use crate::model::{FrictionTable, Lane, MAX_TABLE_POINTS};
 
 /// "Never" for f32 times: WGSL may assume there are no infinities.
 pub const NEVER: f32 = 3.0e38;
@@ -74,7 +75,7 @@ impl From<&Lane> for GpuLane {
     }
 }
 
-/// Flag bits of `GpuState::flags` (as in the shader).
+/// Flag bits of `GpuState::flags`: the shader's `F_*` constants.
 pub mod flags {
     /// At rest, held.
     pub const STUCK: u32 = 1;
@@ -118,49 +119,24 @@ pub struct GpuState {
 }
 
 impl GpuState {
-    /// The lane's results, in f64 (compensated sums folded in); the end
-    /// efficiency is evaluated on the host from the final mode and speed.
-    pub fn result(&self, lane: &Lane, table: Option<&FrictionTable>) -> LaneResult {
+    /// Where the lane stopped, in f64 (compensated sums folded in).
+    pub fn end_state(&self) -> EndState {
         let val = |i: usize| self.y[i] as f64 - self.yc[i] as f64;
-        let stuck = self.flags & flags::STUCK != 0;
-        let status = Status::from_code(self.status);
-        let v = val(1);
-        let eta_end = if stuck || v == 0.0 || status != Status::Ok {
-            f64::NAN
-        } else {
-            let m = motion(
-                lane,
-                table,
-                self.side,
-                self.dir,
-                self.flags & flags::MOTOR_ON != 0,
-                v,
-            );
-            efficiency(lane, &m, self.side, self.dir, v)
-        };
-        LaneResult {
-            status,
+        EndState {
+            status: Status::from_code(self.status),
+            stuck: self.flags & flags::STUCK != 0,
+            side: self.side,
+            dir: self.dir,
+            motor_on: self.flags & flags::MOTOR_ON != 0,
+            y: std::array::from_fn(val),
             switches: self.switches,
+            reversals: self.reversals,
+            sticks: self.sticks,
             t_first_switch: if self.t_first_switch < 0.0 {
                 f64::NAN
             } else {
                 self.t_first_switch as f64
             },
-            reversals: self.reversals,
-            sticks: self.sticks,
-            contact_end: if stuck {
-                Contact::Stick
-            } else if self.side > 0 {
-                Contact::Aa
-            } else {
-                Contact::Bb
-            },
-            x1_end: val(0),
-            v1_end: v,
-            w_motor: val(2),
-            w_load: val(3),
-            w_friction: val(4),
-            eta_end,
             steps: self.steps,
         }
     }
@@ -186,8 +162,10 @@ pub struct GpuGlobals {
 }
 
 /// Per-step tolerance of the f32 path: the tightest at which f32 rounding
-/// stays well below the error being controlled (see README, "GPU").
-pub const GPU_TOL: f32 = 1e-6;
+/// stays well below the error being controlled (see README, "GPU path").
+pub const GPU_TOL_F64: f64 = 1e-6;
+/// [`GPU_TOL_F64`] as the shader gets it.
+pub const GPU_TOL: f32 = GPU_TOL_F64 as f32;
 
 impl GpuGlobals {
     /// Globals for a run with `settings` (its tolerance is the f64 path's

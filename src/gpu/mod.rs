@@ -6,7 +6,10 @@
 //! at most `budget` step attempts per lane run until every lane is done, so
 //! no single dispatch runs long enough to trip a driver watchdog.
 
+mod backend;
 pub mod layout;
+
+pub use backend::{GpuBackend, CHUNK_LANES};
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -14,10 +17,6 @@ use std::time::Duration;
 use wgpu::util::DeviceExt;
 
 use crate::error::{Error, Result};
-use crate::integrator::{LaneResult, Settings};
-use crate::model::{FrictionTable, Lane};
-use crate::params::Params;
-use crate::runner::Backend;
 use layout::{GpuGlobals, GpuLane, GpuState};
 
 /// The shader source.
@@ -44,11 +43,6 @@ pub struct AdapterSummary {
 }
 
 fn instance() -> wgpu::Instance {
-    // Without XDG_RUNTIME_DIR, Mesa's Vulkan drivers print an error line
-    // while probing for a Wayland display that compute never needs.
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
-    }
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     // Compute needs no GL; leaving it out also keeps EGL's probing quiet.
     desc.backends = wgpu::Backends::PRIMARY;
@@ -102,7 +96,7 @@ pub struct Gpu {
 }
 
 fn gpu_err(chunk: u64, what: impl std::fmt::Display) -> Error {
-    Error::Gpu(format!("chunk {chunk}: {what}; no lanes.csv was written"))
+    Error::Gpu(format!("chunk {chunk}: {what}"))
 }
 
 impl Gpu {
@@ -257,68 +251,80 @@ impl Gpu {
         globals.n_lanes = n;
         globals.budget = self.budget;
         globals.row_lanes = gx * WORKGROUP;
-        let state_bytes = (lanes.len() * std::mem::size_of::<GpuState>()) as u64;
+        let b = self.chunk_buffers(chunk, lanes, &globals)?;
+        let mut bytes = Vec::new();
+        // Enough rounds for max_steps accepted steps plus as many rejections.
+        let max_rounds = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
+        for _round in 0..max_rounds {
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            enc.clear_buffer(&b.active, 0, None);
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("advance"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &b.bind, &[]);
+                pass.dispatch_workgroups(gx, gy, 1);
+            }
+            enc.copy_buffer_to_buffer(&b.active, 0, &b.active_read, 0, 4);
+            self.queue.submit([enc.finish()]);
+            self.read_back(chunk, &b.active_read, &mut bytes)?;
+            if u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) == 0 {
+                break;
+            }
+        }
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(&b.states, 0, &b.states_read, 0, b.states.size());
+        self.queue.submit([enc.finish()]);
+        self.read_back(chunk, &b.states_read, &mut bytes)?;
+        out.extend_from_slice(bytemuck::cast_slice(&bytes));
+        Ok(())
+    }
 
+    /// The buffers of one chunk and their bind group; out-of-memory and
+    /// validation errors name the chunk.
+    fn chunk_buffers(
+        &self,
+        chunk: u64,
+        lanes: &[GpuLane],
+        globals: &GpuGlobals,
+    ) -> Result<ChunkBuffers> {
+        let state_bytes = (lanes.len() * std::mem::size_of::<GpuState>()) as u64;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let vscope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
-        let globals_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("globals"),
-            contents: bytemuck::bytes_of(&globals),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let lanes_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("lanes"),
-            contents: bytemuck::cast_slice(lanes),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let init = |label, contents: &[u8], usage| {
+            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let plain = |label, size, usage| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as U;
+        let globals_buf = init("globals", bytemuck::bytes_of(globals), U::UNIFORM);
+        let lanes_buf = init("lanes", bytemuck::cast_slice(lanes), U::STORAGE);
         // New buffers are zeroed: every lane starts "not started".
-        let states_buf = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("states"),
-            size: state_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let active_buf = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("active"),
-            size: 4,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_SRC
-                | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let active_read = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("active read-back"),
-            size: 4,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let states_read = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("states read-back"),
-            size: state_bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let states = plain("states", state_bytes, U::STORAGE | U::COPY_SRC);
+        let active = plain("active", 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
+        let active_read = plain("active read-back", 4, U::MAP_READ | U::COPY_DST);
+        let states_read = plain("states read-back", state_bytes, U::MAP_READ | U::COPY_DST);
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tswm"),
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: globals_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: lanes_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: states_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: active_buf.as_entire_binding(),
-                },
+                bind_entry(0, &globals_buf),
+                bind_entry(1, &lanes_buf),
+                bind_entry(2, &states),
+                bind_entry(3, &active),
             ],
         });
         if let Some(e) = pollster::block_on(vscope.pop()) {
@@ -327,104 +333,32 @@ impl Gpu {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(gpu_err(
                 chunk,
-                format!("out of GPU memory for {n} lanes ({e})"),
+                format!("out of GPU memory for {} lanes ({e})", lanes.len()),
             ));
         }
-
-        let mut bytes = Vec::new();
-        // Enough rounds for max_steps accepted steps plus as many rejections.
-        let max_rounds = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
-        for _round in 0..max_rounds {
-            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("round"),
-            });
-            enc.clear_buffer(&active_buf, 0, None);
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("advance"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(gx, gy, 1);
-            }
-            enc.copy_buffer_to_buffer(&active_buf, 0, &active_read, 0, 4);
-            self.queue.submit([enc.finish()]);
-            self.read_back(chunk, &active_read, &mut bytes)?;
-            let active = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
-            if active == 0 {
-                break;
-            }
-        }
-        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("read states"),
-        });
-        enc.copy_buffer_to_buffer(&states_buf, 0, &states_read, 0, state_bytes);
-        self.queue.submit([enc.finish()]);
-        self.read_back(chunk, &states_read, &mut bytes)?;
-        out.extend_from_slice(bytemuck::cast_slice(&bytes));
-        Ok(())
+        Ok(ChunkBuffers {
+            states,
+            active,
+            active_read,
+            states_read,
+            bind,
+        })
     }
 }
 
-/// The GPU as a [`Backend`] of the runner.
-pub struct GpuBackend {
-    gpu: Gpu,
-    settings: Settings,
-    chunk: usize,
-    lanes64: Vec<Lane>,
-    lanes32: Vec<GpuLane>,
-    states: Vec<GpuState>,
-}
-
-/// Default lanes per chunk (capped by the device's limits).
-pub const CHUNK_LANES: usize = 1 << 16;
-
-impl GpuBackend {
-    /// A backend on an opened device.
-    pub fn new(gpu: Gpu, settings: Settings) -> GpuBackend {
-        let chunk = CHUNK_LANES.min(gpu.max_chunk_lanes()).max(1);
-        GpuBackend {
-            gpu,
-            settings,
-            chunk,
-            lanes64: Vec::new(),
-            lanes32: Vec::new(),
-            states: Vec::new(),
-        }
+fn bind_entry(binding: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buf.as_entire_binding(),
     }
 }
 
-impl Backend for GpuBackend {
-    fn name(&self) -> String {
-        format!("gpu: {}", self.gpu.describe())
-    }
-    fn chunk_lanes(&self) -> usize {
-        self.chunk
-    }
-    fn run_chunk(
-        &mut self,
-        first: u64,
-        lanes: &[Params],
-        table: Option<&FrictionTable>,
-        out: &mut Vec<LaneResult>,
-    ) -> Result<()> {
-        let chunk = first / self.chunk as u64;
-        self.lanes64.clear();
-        self.lanes64
-            .extend(lanes.iter().map(|p| Lane::new(p, table)));
-        self.lanes32.clear();
-        self.lanes32.extend(self.lanes64.iter().map(GpuLane::from));
-        let globals = GpuGlobals::new(&self.settings, table);
-        self.gpu
-            .run(chunk, &self.lanes32, globals, &mut self.states)?;
-        out.clear();
-        out.extend(
-            self.states
-                .iter()
-                .zip(&self.lanes64)
-                .map(|(s, l)| s.result(l, table)),
-        );
-        Ok(())
-    }
+/// A chunk's buffers on the device (the globals and lanes buffers live on
+/// through the bind group).
+struct ChunkBuffers {
+    states: wgpu::Buffer,
+    active: wgpu::Buffer,
+    active_read: wgpu::Buffer,
+    states_read: wgpu::Buffer,
+    bind: wgpu::BindGroup,
 }

@@ -22,7 +22,7 @@ fn discrete(
     (r.status, r.switches, r.reversals, r.sticks, r.contact_end)
 }
 
-/// Issue 2: within 1e-6 (s for switch times; relative to max(1, |value|)
+/// within 1e-6 (s for switch times; relative to max(1, |value|)
 /// for x1, v1 and energies) of a high-accuracy integration, with identical
 /// discrete fields on at least 99 % of lanes.
 #[test]

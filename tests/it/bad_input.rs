@@ -1,4 +1,4 @@
-//! Bad input (issue 2, point 7): a one-line error naming the file, the line
+//! Bad input: a one-line error naming the file, the line
 //! or row, the parameter and what is allowed; exit code 2; nothing written.
 
 use crate::common::tswm;

@@ -7,10 +7,10 @@ use tswm::lanes::Source;
 use tswm::model::Lane;
 
 /// Discrete fields must be identical; times within 1e-6 s; x1, v1 and
-/// energies within 1e-6 relative to max(1, |value|) (issue 2).
+/// energies within 1e-6 relative to max(1, |value|) .
 #[test]
 fn model_md_reference_cases_on_cpu() {
-    let src = Source::table(&fixture("paper_lanes.csv"), None).unwrap();
+    let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut params = Vec::new();
     src.reader().unwrap().fill(100, &mut params).unwrap();
     let res: Vec<_> = params

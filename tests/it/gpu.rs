@@ -5,12 +5,12 @@
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use crate::common::*;
+use tswm::backend::{Backend, CpuBackend};
 use tswm::check::Report;
 use tswm::gpu::{Gpu, GpuBackend};
 use tswm::integrator::{LaneResult, Settings};
 use tswm::lanes::Source;
 use tswm::params::Params;
-use tswm::runner::{Backend, CpuBackend};
 
 static GPU: OnceLock<Result<Mutex<GpuBackend>, String>> = OnceLock::new();
 
@@ -50,7 +50,7 @@ fn run_both(gpu: &mut GpuBackend, params: &[Params]) -> (Vec<LaneResult>, Vec<La
     (rc, rg)
 }
 
-/// Issue 3: the MODEL.md cases on the GPU: first switch within 2e-5 s of
+/// the MODEL.md cases on the GPU: first switch within 2e-5 s of
 /// the reference; x1, v1 and energies within 5e-5 of max(1, |value|);
 /// identical discrete fields.
 #[test]
@@ -59,7 +59,7 @@ fn model_md_reference_cases_on_gpu() {
         return;
     };
     eprintln!("GPU: {}", g.name());
-    let src = Source::table(&fixture("paper_lanes.csv"), None).unwrap();
+    let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut params = Vec::new();
     src.reader().unwrap().fill(100, &mut params).unwrap();
     let mut res = Vec::new();
@@ -68,7 +68,7 @@ fn model_md_reference_cases_on_gpu() {
     eprintln!("GPU, MODEL.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
-/// Issue 3: on 10,000 random user lanes, GPU against CPU within the bounds
+/// on 10,000 random user lanes, GPU against CPU within the bounds
 /// of `tswm::check`, discrete fields identical on at least 98 % of lanes.
 #[test]
 fn random_lanes_gpu_matches_cpu() {
@@ -141,6 +141,9 @@ impl Backend for Failing {
     fn name(&self) -> String {
         "failing".into()
     }
+    fn tolerance(&self) -> f64 {
+        self.0.tolerance()
+    }
     fn chunk_lanes(&self) -> usize {
         2
     }
@@ -161,12 +164,12 @@ impl Backend for Failing {
     }
 }
 
-/// Issue 3: device loss, a timeout or running out of memory leaves no
+/// device loss, a timeout or running out of memory leaves no
 /// lanes.csv under its final name (and no partial file behind).
 #[test]
 fn a_failing_chunk_leaves_no_lanes_csv() {
     let dir = tempfile::tempdir().unwrap();
-    let src = Source::table(&fixture("paper_lanes.csv"), None).unwrap();
+    let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut be = Failing(CpuBackend::new(1, Settings::default()).unwrap());
     let csv = dir.path().join("lanes.csv");
     let err = tswm::runner::run(&src, &mut be, &csv, false)

@@ -59,19 +59,104 @@ fn host_structs_match_the_shader() {
     assert_eq!(wgsl_layout(&m, "Globals"), globals);
 }
 
-/// Status codes written by the shader decode to the CPU path's statuses.
+/// The value of the shader's module-scope `const NAME`, as naga's
+/// constant evaluator left it.
+fn shader_const(m: &naga::Module, name: &str) -> naga::Literal {
+    let c = m
+        .constants
+        .iter()
+        .map(|(_, c)| c)
+        .find(|c| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("the shader has no `const {name}`"));
+    match m.global_expressions[c.init] {
+        naga::Expression::Literal(l) => l,
+        ref e => panic!("`const {name}` is not a literal: {e:?}"),
+    }
+}
+
+fn u32_const(m: &naga::Module, name: &str) -> u32 {
+    match shader_const(m, name) {
+        naga::Literal::U32(v) => v,
+        l => panic!("`const {name}` is not a u32: {l:?}"),
+    }
+}
+
+/// Every constant the shader shares with the host: law codes, flag bits,
+/// status codes, event codes and the Dormand–Prince tableau.
 #[test]
-fn status_codes_match_the_shader() {
-    for st in tswm::integrator::Status::ALL {
-        let name = match st {
-            tswm::integrator::Status::Ok => "S_OK",
-            tswm::integrator::Status::Inconsistent => "S_INCONSISTENT",
-            tswm::integrator::Status::NonFinite => "S_NONFINITE",
-            tswm::integrator::Status::MaxSteps => "S_MAX_STEPS",
-            tswm::integrator::Status::MaxEvents => "S_MAX_EVENTS",
-            tswm::integrator::Status::StepUnderflow => "S_STEP_UNDERFLOW",
-        };
-        let want = format!("const {name}: u32 = {}u;", st.code());
-        assert!(tswm::gpu::SHADER.contains(&want), "shader lacks `{want}`");
+fn shared_constants_match_the_shader() {
+    use tswm::gpu::layout::flags;
+    use tswm::integrator::events::EventFn;
+    use tswm::integrator::stepper as dp;
+    use tswm::integrator::Status;
+    use tswm::model;
+    let m = module();
+    let codes: &[(&str, u32)] = &[
+        ("MOTOR_KLOSS", model::MOTOR_KLOSS),
+        ("MOTOR_CONSTANT", model::MOTOR_CONSTANT),
+        ("FRICTION_PAPER", model::FRICTION_PAPER),
+        ("FRICTION_COULOMB", model::FRICTION_COULOMB),
+        ("FRICTION_TABLE", model::FRICTION_TABLE),
+        ("F_STUCK", flags::STUCK),
+        ("F_MOTOR_ON", flags::MOTOR_ON),
+        ("F_DONE", flags::DONE),
+        ("F_K1_VALID", flags::K1_VALID),
+        ("F_STARTED", flags::STARTED),
+        ("S_OK", Status::Ok as u32),
+        ("S_INCONSISTENT", Status::Inconsistent as u32),
+        ("S_NONFINITE", Status::NonFinite as u32),
+        ("S_MAX_STEPS", Status::MaxSteps as u32),
+        ("S_MAX_EVENTS", Status::MaxEvents as u32),
+        ("S_STEP_UNDERFLOW", Status::StepUnderflow as u32),
+        ("EV_SWITCH", EventFn::Switch as u32),
+        ("EV_REST", EventFn::Rest as u32),
+    ];
+    for &(name, want) in codes {
+        assert_eq!(u32_const(&m, name), want, "shader `const {name}`");
+    }
+    // Every status the host knows has its code in the shader, once.
+    let mut seen: Vec<u32> = codes[10..16].iter().map(|c| c.1).collect();
+    seen.sort();
+    assert_eq!(seen, Status::ALL.map(|s| s.code()));
+
+    let tableau: &[(&str, f64)] = &[
+        ("A21", dp::A21),
+        ("A31", dp::A31),
+        ("A32", dp::A32),
+        ("A41", dp::A41),
+        ("A42", dp::A42),
+        ("A43", dp::A43),
+        ("A51", dp::A51),
+        ("A52", dp::A52),
+        ("A53", dp::A53),
+        ("A54", dp::A54),
+        ("A61", dp::A61),
+        ("A62", dp::A62),
+        ("A63", dp::A63),
+        ("A64", dp::A64),
+        ("A65", dp::A65),
+        ("A71", dp::A71),
+        ("A73", dp::A73),
+        ("A74", dp::A74),
+        ("A75", dp::A75),
+        ("A76", dp::A76),
+        ("E1", dp::E1),
+        ("E3", dp::E3),
+        ("E4", dp::E4),
+        ("E5", dp::E5),
+        ("E6", dp::E6),
+        ("E7", dp::E7),
+        ("D1", dp::D1),
+        ("D3", dp::D3),
+        ("D4", dp::D4),
+        ("D5", dp::D5),
+        ("D6", dp::D6),
+        ("D7", dp::D7),
+    ];
+    for &(name, want) in tableau {
+        match shader_const(&m, name) {
+            naga::Literal::F32(v) => assert_eq!(v, want as f32, "shader `const {name}`"),
+            l => panic!("`const {name}` is not an f32: {l:?}"),
+        }
     }
 }

@@ -1,0 +1,143 @@
+//! Events inside a step (MODEL.md section 8): the switching function's
+//! sign change (a switch) and ẋ1 reaching 0 (rest), located by the
+//! Illinois method on the step's dense output.
+
+use super::stepper::{Mode, Trial};
+use crate::model::{phi, Lane};
+
+/// Root-location tolerance for events, s.
+pub const T_ROOT_TOL: f64 = 1e-13;
+
+/// ẋ1 at fraction θ of the step, from the dense output.
+#[inline]
+pub fn dense_v(r: &[f64; 5], th: f64) -> f64 {
+    let th1 = 1.0 - th;
+    r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])))
+}
+
+/// Which event function a root is sought for. The codes are the shader's
+/// `EV_*` constants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum EventFn {
+    /// c·φ(ẋ1): leaves > 0 when the contact side flips.
+    Switch = 0,
+    /// s·ẋ1: leaves > 0 when the lane comes to rest.
+    Rest = 1,
+}
+
+/// The event function's value at speed `v`; an event is where it turns
+/// from >= 0 to < 0.
+#[inline]
+pub fn event_value(lane: &Lane, mode: Mode, which: EventFn, v: f64) -> f64 {
+    match which {
+        EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
+        EventFn::Rest => mode.dir as f64 * v,
+    }
+}
+
+/// Locates θ in [0, 1] where the event function crosses from >= 0 to < 0,
+/// by the Illinois method on the dense output. Returns the bracket's left
+/// end, so the event lies at most `theta_tol` after it.
+pub fn locate_root(
+    lane: &Lane,
+    mode: Mode,
+    which: EventFn,
+    r: &[f64; 5],
+    g_end: f64,
+    theta_tol: f64,
+) -> f64 {
+    let (mut a, mut fa) = (0.0, event_value(lane, mode, which, r[0]));
+    let (mut b, mut fb) = (1.0, g_end);
+    if fa <= 0.0 {
+        return 0.0;
+    }
+    let mut side = 0;
+    for _ in 0..100 {
+        if b - a <= theta_tol {
+            break;
+        }
+        let mut c = (a * fb - b * fa) / (fb - fa);
+        // Keep the secant point strictly inside, else bisect.
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let fc = event_value(lane, mode, which, dense_v(r, c));
+        if fc >= 0.0 {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = c;
+            fb = fc;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    a
+}
+
+/// The earliest event inside an accepted step of size `h`: its fraction θ
+/// of the step and which it is; None when the step holds no event. A rest
+/// and a switch at the same θ count as a rest.
+pub fn earliest_event(lane: &Lane, mode: Mode, trial: &Trial, h: f64) -> Option<(f64, EventFn)> {
+    let g_rest = event_value(lane, mode, EventFn::Rest, trial.y1[1]);
+    let g_switch = event_value(lane, mode, EventFn::Switch, trial.y1[1]);
+    let theta_tol = T_ROOT_TOL / h;
+    let mut theta = 2.0;
+    let mut which = EventFn::Rest;
+    if g_rest < 0.0 {
+        theta = locate_root(lane, mode, EventFn::Rest, &trial.dense_v, g_rest, theta_tol);
+    }
+    if g_switch < 0.0 {
+        let th = locate_root(
+            lane,
+            mode,
+            EventFn::Switch,
+            &trial.dense_v,
+            g_switch,
+            theta_tol,
+        );
+        if th < theta {
+            theta = th;
+            which = EventFn::Switch;
+        }
+    }
+    (theta <= 1.0).then_some((theta, which))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Spec;
+
+    #[test]
+    fn dense_output_interpolates_ends() {
+        let r = [1.0, 0.5, 0.3, -0.2, 0.1];
+        assert_eq!(dense_v(&r, 0.0), 1.0);
+        assert!((dense_v(&r, 1.0) - 1.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn locate_root_finds_a_known_crossing() {
+        // A constant-force lane: ẋ1 is linear in time, so the rest event of
+        // a decelerating lane is known exactly.
+        let mut l = Lane::new(&Spec::default().resolve(false).unwrap(), None);
+        l.motor = crate::model::MOTOR_CONSTANT;
+        l.f1 = 0.0;
+        let mode = Mode {
+            side: 1,
+            dir: 1,
+            motor_on: true,
+        };
+        // v(θ) = 1 − 4θ as dense coefficients: r2 = −4, r3 = h k1 − r2 = 0, ...
+        let r = [1.0, -4.0, 0.0, 0.0, 0.0];
+        let th = locate_root(&l, mode, EventFn::Rest, &r, -3.0, 1e-14);
+        assert!((th - 0.25).abs() < 1e-13, "{th}");
+    }
+}

@@ -1,0 +1,165 @@
+//! What a lane reports: its status, final contact and results (MODEL.md
+//! section 6), and the one conversion from a lane's end state to them,
+//! used by both backends.
+
+use super::NY;
+use crate::model::{efficiency, motion, FrictionTable, Lane};
+
+/// Why a lane ended; `Ok` unless it could not be finished.
+///
+/// The explicit values are the codes the shader writes (`S_*` in
+/// `shaders/tswm.wgsl`); a test reads them from the shader and compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(u32)]
+pub enum Status {
+    /// Ran to `t_end`.
+    Ok = 0,
+    /// The mode's D = m1 − ψ m2 tan γ is <= 0 (friction far above the lead angle).
+    Inconsistent = 1,
+    /// The state became NaN or infinite.
+    NonFinite = 2,
+    /// More than `max_steps` accepted steps.
+    MaxSteps = 3,
+    /// More than `max_events` events (chattering).
+    MaxEvents = 4,
+    /// The step size fell below what the time resolution allows.
+    StepUnderflow = 5,
+}
+
+impl Status {
+    /// Every status, in code order.
+    pub const ALL: [Status; 6] = [
+        Status::Ok,
+        Status::Inconsistent,
+        Status::NonFinite,
+        Status::MaxSteps,
+        Status::MaxEvents,
+        Status::StepUnderflow,
+    ];
+
+    /// The status word of the results table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Inconsistent => "inconsistent",
+            Status::NonFinite => "nonfinite",
+            Status::MaxSteps => "max_steps",
+            Status::MaxEvents => "max_events",
+            Status::StepUnderflow => "step_underflow",
+        }
+    }
+
+    /// Code shared with the shader.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+
+    /// Status from a shader code; an unknown code is `NonFinite` (a state
+    /// that cannot be trusted), never `Ok`.
+    pub fn from_code(c: u32) -> Status {
+        Status::ALL
+            .into_iter()
+            .find(|s| s.code() == c)
+            .unwrap_or(Status::NonFinite)
+    }
+}
+
+/// Final contact state of a lane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Contact {
+    /// a-a: the worm pushes the wheel.
+    Aa,
+    /// b-b: the wheel pushes the worm.
+    Bb,
+    /// At rest, held by static friction.
+    Stick,
+}
+
+impl Contact {
+    /// The word of the results table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Contact::Aa => "aa",
+            Contact::Bb => "bb",
+            Contact::Stick => "stick",
+        }
+    }
+}
+
+/// What a lane reports (MODEL.md section 6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneResult {
+    pub status: Status,
+    pub switches: u32,
+    /// NaN when none.
+    pub t_first_switch: f64,
+    pub reversals: u32,
+    pub sticks: u32,
+    pub contact_end: Contact,
+    pub x1_end: f64,
+    pub v1_end: f64,
+    pub w_motor: f64,
+    pub w_load: f64,
+    pub w_friction: f64,
+    /// Mesh efficiency at t_end (NaN when at rest).
+    pub eta_end: f64,
+    /// Accepted integration steps.
+    pub steps: u32,
+}
+
+/// A lane's state where it stopped, in f64, as either backend holds it:
+/// the CPU path's `LaneState`, or the shader's `State` with its
+/// compensated sums folded in.
+#[derive(Clone, Copy, Debug)]
+pub struct EndState {
+    pub status: Status,
+    pub stuck: bool,
+    /// Contact side c: +1 a-a, −1 b-b.
+    pub side: i32,
+    /// Direction of motion s.
+    pub dir: i32,
+    pub motor_on: bool,
+    /// x1, ẋ1, w_motor, w_load, w_friction.
+    pub y: [f64; NY],
+    pub switches: u32,
+    pub reversals: u32,
+    pub sticks: u32,
+    /// NaN until the first switch.
+    pub t_first_switch: f64,
+    pub steps: u32,
+}
+
+impl EndState {
+    /// The lane's row of results. The end efficiency is evaluated here, in
+    /// f64, from the final mode and speed.
+    pub fn result(&self, lane: &Lane, table: Option<&FrictionTable>) -> LaneResult {
+        let v = self.y[1];
+        let eta_end = if self.stuck || v == 0.0 || self.status != Status::Ok {
+            f64::NAN
+        } else {
+            let m = motion(lane, table, self.side, self.dir, self.motor_on, v);
+            efficiency(lane, &m, self.side, self.dir, v)
+        };
+        LaneResult {
+            status: self.status,
+            switches: self.switches,
+            t_first_switch: self.t_first_switch,
+            reversals: self.reversals,
+            sticks: self.sticks,
+            contact_end: if self.stuck {
+                Contact::Stick
+            } else if self.side > 0 {
+                Contact::Aa
+            } else {
+                Contact::Bb
+            },
+            x1_end: self.y[0],
+            v1_end: v,
+            w_motor: self.y[2],
+            w_load: self.y[3],
+            w_friction: self.y[4],
+            eta_end,
+            steps: self.steps,
+        }
+    }
+}

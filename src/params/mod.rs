@@ -1,0 +1,14 @@
+//! Lane parameters: the names of MODEL.md section 9, partial specifications
+//! (what a sweep file, an axis or a lane-table row sets) and their resolution
+//! into a validated, complete [`Params`].
+//!
+//! Every fact about a parameter (its name, unit, default, which law owns
+//! it, the values it may take) is stated once, in the table of
+//! [`table`]; the `Num` enum, the defaults, ownership, validation, the
+//! README's table and the resolved provenance are all derived from it.
+
+mod resolve;
+pub mod table;
+
+pub use resolve::{ParamError, Params, Spec};
+pub use table::{Bound, Def, Fallback, FrictionKind, MotorKind, Num, Owner, Param, N_NUM};

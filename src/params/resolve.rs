@@ -1,0 +1,239 @@
+//! Partial parameter sets ([`Spec`]) and their resolution into a complete,
+//! validated [`Params`], driven by the table of `table.rs`.
+
+use std::fmt;
+
+use super::table::{Bound, Fallback, FrictionKind, MotorKind, Num, Param, N_NUM};
+
+/// A partial parameter set: `None` means "not set, the default applies".
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Spec {
+    /// Numeric values, indexed by [`Num`].
+    pub num: [Option<f64>; N_NUM],
+    /// Motor law.
+    pub motor: Option<MotorKind>,
+    /// Friction law.
+    pub friction: Option<FrictionKind>,
+}
+
+/// A parameter that fails validation: which one, and what is allowed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// The parameter's name.
+    pub param: &'static str,
+    /// What is wrong and what is allowed.
+    pub msg: String,
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.param, self.msg)
+    }
+}
+
+/// A complete, validated parameter set. Numeric values that the chosen laws
+/// do not use are NaN (written as empty cells).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Numeric values, indexed by [`Num`].
+    pub num: [f64; N_NUM],
+    /// Motor law.
+    pub motor: MotorKind,
+    /// Friction law.
+    pub friction: FrictionKind,
+}
+
+impl Params {
+    /// A numeric value (NaN when not applicable).
+    #[inline]
+    pub fn get(&self, p: Num) -> f64 {
+        self.num[p as usize]
+    }
+}
+
+/// Parses a law selector by its serde spelling (the one source of names).
+fn parse_law<T: serde::de::DeserializeOwned>(text: &str) -> Option<T> {
+    T::deserialize(serde::de::value::StrDeserializer::<serde::de::value::Error>::new(text)).ok()
+}
+
+impl Spec {
+    /// Sets a numeric parameter.
+    pub fn set(&mut self, p: Num, v: f64) {
+        self.num[p as usize] = Some(v);
+    }
+
+    /// Sets a parameter from its text form (a lane-table cell, say).
+    /// Empty text leaves it unset. Errors say what is allowed.
+    pub fn set_text(&mut self, p: Param, text: &str) -> Result<(), String> {
+        let text = text.trim();
+        if text.is_empty() {
+            return Ok(());
+        }
+        match p {
+            Param::Motor => {
+                self.motor = Some(parse_law(text).ok_or_else(|| {
+                    format!("`{text}` is not a motor law; allowed: kloss, constant")
+                })?)
+            }
+            Param::Friction => {
+                self.friction = Some(parse_law(text).ok_or_else(|| {
+                    format!("`{text}` is not a friction law; allowed: paper, coulomb, table")
+                })?)
+            }
+            Param::Num(n) => {
+                let v: f64 = text
+                    .parse()
+                    .map_err(|_| format!("`{text}` is not a number"))?;
+                if !v.is_finite() {
+                    return Err(format!(
+                        "`{text}` is not finite; a finite number is required"
+                    ));
+                }
+                self.set(n, v);
+            }
+        }
+        Ok(())
+    }
+
+    /// `other`'s set values replace this spec's.
+    pub fn overlay(&mut self, other: &Spec) {
+        for i in 0..N_NUM {
+            if other.num[i].is_some() {
+                self.num[i] = other.num[i];
+            }
+        }
+        if other.motor.is_some() {
+            self.motor = other.motor;
+        }
+        if other.friction.is_some() {
+            self.friction = other.friction;
+        }
+    }
+
+    /// Resolves defaults and validates, row by row of the table. `has_table`
+    /// says whether the sweep carries a friction table (required by
+    /// `friction = "table"`).
+    pub fn resolve(&self, has_table: bool) -> Result<Params, ParamError> {
+        let motor = self.motor.unwrap_or(MotorKind::Kloss);
+        let friction = self.friction.unwrap_or(FrictionKind::Paper);
+        let mut num = [f64::NAN; N_NUM];
+        for p in Num::ALL {
+            num[p as usize] = self.resolve_one(p, motor, friction, &num)?;
+        }
+        if friction == FrictionKind::Table && !has_table {
+            return Err(ParamError {
+                param: "friction",
+                msg: "= table needs a [friction_table] in the sweep file".into(),
+            });
+        }
+        Ok(Params {
+            num,
+            motor,
+            friction,
+        })
+    }
+
+    /// One parameter's value (NaN when its law does not use it), given the
+    /// ones before it in table order.
+    fn resolve_one(
+        &self,
+        p: Num,
+        motor: MotorKind,
+        friction: FrictionKind,
+        num: &[f64; N_NUM],
+    ) -> Result<f64, ParamError> {
+        let def = p.def();
+        let err = |msg: String| ParamError {
+            param: def.name,
+            msg,
+        };
+        let set = self.num[p as usize];
+        if let Some(v) = set.filter(|v| !v.is_finite()) {
+            return Err(err(format!(
+                "{v} is not finite; a finite number is required"
+            )));
+        }
+        if !def.owner.applies(motor, friction) {
+            return match set {
+                Some(_) => Err(err(format!(
+                    "is set but not used by motor = {}, friction = {}; it belongs to {}",
+                    motor.name(),
+                    friction.name(),
+                    def.owner.law()
+                ))),
+                None => Ok(f64::NAN),
+            };
+        }
+        let v = match (set, def.default) {
+            (Some(v), _) => v,
+            (None, Fallback::Value(d)) => d,
+            (None, Fallback::SameAs(q)) => num[q as usize],
+            (None, Fallback::Never) => return Ok(f64::NAN),
+            (None, Fallback::Required) => {
+                return Err(err(format!("is required by {}", def.owner.law())))
+            }
+        };
+        let why = if def.why.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", def.why)
+        };
+        if !def.in_range(v) {
+            return Err(err(format!("must be {}{why}, got {v}", def.range_text())));
+        }
+        if let Some(q) = def.below.filter(|&q| !(v < num[q as usize])) {
+            let b = num[q as usize];
+            let lo = match def.lo {
+                Bound::None => String::new(),
+                _ => format!("{} and ", def.range_text()),
+            };
+            return Err(err(format!("must be {lo}< {} = {b}, got {v}", q.name())));
+        }
+        if let Some(q) = def.at_least.filter(|&q| !(v >= num[q as usize])) {
+            let b = num[q as usize];
+            return Err(err(format!("must be >= {} = {b}{why}, got {v}", q.name())));
+        }
+        Ok(v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_paper_design() {
+        let p = Spec::default().resolve(false).unwrap();
+        assert_eq!(p.get(Num::M1), 586.0);
+        assert!((p.get(Num::GammaDeg).to_radians().tan() - 0.1).abs() < 1e-15);
+        assert!(p.get(Num::Mu).is_nan());
+        assert!(p.get(Num::MotorOff).is_nan());
+    }
+
+    #[test]
+    fn coulomb_static_defaults_to_mu() {
+        let mut s = Spec {
+            friction: Some(FrictionKind::Coulomb),
+            ..Default::default()
+        };
+        s.set(Num::Mu, 0.05);
+        let p = s.resolve(false).unwrap();
+        assert_eq!(p.get(Num::MuStatic), 0.05);
+        assert!(p.get(Num::FricA).is_nan());
+    }
+
+    #[test]
+    fn errors_name_the_range() {
+        let mut s = Spec::default();
+        s.set(Num::VCrit, 3.4);
+        let e = s.resolve(false).unwrap_err();
+        assert_eq!(e.param, "v_crit");
+        assert_eq!(e.msg, "must be >= 0 m/s and < v_sync = 3.35, got 3.4");
+        let mut s = Spec::default();
+        s.set(Num::GammaDeg, 90.0);
+        assert_eq!(
+            s.resolve(false).unwrap_err().msg,
+            "must be in (0, 90) deg, got 90"
+        );
+    }
+}

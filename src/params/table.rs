@@ -1,0 +1,381 @@
+//! The table of parameters: one row per parameter of MODEL.md section 9,
+//! in its column order. The enum [`Num`], [`Num::ALL`], [`Param::COLUMNS`]
+//! and [`NUMERIC`] are generated from the rows by `parameter_table!`.
+
+/// Which motor law drives body 1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MotorKind {
+    /// Kloss characteristic of an induction motor (`v_sync`, `v_crit`, `f_crit`).
+    Kloss,
+    /// A constant force `f1`.
+    Constant,
+}
+
+/// Which friction law acts on the contact surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionKind {
+    /// The paper's fit ρ[deg] = 1/(a Vs^b + c).
+    Paper,
+    /// Constant μ, with an optional static `mu_static`.
+    Coulomb,
+    /// μ(Vs) from the sweep's friction table, interpolated linearly.
+    Table,
+}
+
+impl MotorKind {
+    /// Every motor law.
+    pub const ALL: [MotorKind; 2] = [MotorKind::Kloss, MotorKind::Constant];
+    /// The spelling used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            MotorKind::Kloss => "kloss",
+            MotorKind::Constant => "constant",
+        }
+    }
+}
+
+impl FrictionKind {
+    /// Every friction law.
+    pub const ALL: [FrictionKind; 3] = [
+        FrictionKind::Paper,
+        FrictionKind::Coulomb,
+        FrictionKind::Table,
+    ];
+    /// The spelling used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionKind::Paper => "paper",
+            FrictionKind::Coulomb => "coulomb",
+            FrictionKind::Table => "table",
+        }
+    }
+}
+
+/// Which law a numeric parameter belongs to: set under another law it is
+/// refused rather than ignored (a user who sets `mu` but forgets
+/// `friction = "coulomb"` would otherwise get the paper law unnoticed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Owner {
+    /// Every lane uses it.
+    All,
+    /// `motor = kloss`
+    Kloss,
+    /// `motor = constant`
+    ConstantMotor,
+    /// `friction = paper`
+    PaperFriction,
+    /// `friction = coulomb`
+    Coulomb,
+}
+
+impl Owner {
+    /// Whether lanes with these laws use the parameter.
+    pub fn applies(self, motor: MotorKind, friction: FrictionKind) -> bool {
+        match self {
+            Owner::All => true,
+            Owner::Kloss => motor == MotorKind::Kloss,
+            Owner::ConstantMotor => motor == MotorKind::Constant,
+            Owner::PaperFriction => friction == FrictionKind::Paper,
+            Owner::Coulomb => friction == FrictionKind::Coulomb,
+        }
+    }
+
+    /// The law as a user writes it ("motor = kloss"); empty for `All`.
+    pub fn law(self) -> &'static str {
+        match self {
+            Owner::All => "",
+            Owner::Kloss => "motor = kloss",
+            Owner::ConstantMotor => "motor = constant",
+            Owner::PaperFriction => "friction = paper",
+            Owner::Coulomb => "friction = coulomb",
+        }
+    }
+}
+
+/// What an unset parameter takes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fallback {
+    /// This value.
+    Value(f64),
+    /// The value of another parameter (`mu_static` defaults to `mu`).
+    SameAs(Num),
+    /// Nothing: the law that owns it needs it set.
+    Required,
+    /// Nothing, meaning "never" (`motor_off`).
+    Never,
+}
+
+/// One end of a parameter's allowed range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bound {
+    /// No bound on this side.
+    None,
+    /// The value itself is allowed.
+    Closed(f64),
+    /// Only values strictly beyond it.
+    Open(f64),
+}
+
+/// One row of the table: everything about a numeric parameter.
+#[derive(Clone, Copy, Debug)]
+pub struct Def {
+    /// The one name: TOML key, lane-table column, `lanes.csv` column.
+    pub name: &'static str,
+    /// Unit ("" for none).
+    pub unit: &'static str,
+    /// What it is, for the README.
+    pub meaning: &'static str,
+    /// Value when unset.
+    pub default: Fallback,
+    /// The law that uses it.
+    pub owner: Owner,
+    /// Lowest allowed value.
+    pub lo: Bound,
+    /// Highest allowed value.
+    pub hi: Bound,
+    /// A parameter it must stay strictly below (`v_crit < v_sync`).
+    pub below: Option<Num>,
+    /// A parameter it must be at least (`mu_static >= mu`).
+    pub at_least: Option<Num>,
+    /// Why the range is what it is, when that is not obvious.
+    pub why: &'static str,
+}
+
+/// Any parameter: numeric, or one of the two law selectors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    /// A numeric parameter.
+    Num(Num),
+    /// `motor`
+    Motor,
+    /// `friction`
+    Friction,
+}
+
+/// Builds the enum, the column order and [`NUMERIC`] from the rows, so
+/// none of them can disagree with the table.
+macro_rules! parameter_table {
+    (@rows [$($v:ident $def:tt)*] [$($col:expr,)*]) => {
+        /// The numeric parameters, in the order of MODEL.md section 9.
+        /// The discriminant indexes [`NUMERIC`], `Spec::num` and `Params::num`.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr(usize)]
+        pub enum Num { $($v,)* }
+        /// Number of numeric parameters.
+        pub const N_NUM: usize = [$(Num::$v),*].len();
+        impl Num {
+            /// All numeric parameters in index order.
+            pub const ALL: [Num; N_NUM] = [$(Num::$v),*];
+        }
+        /// The rows of the numeric parameters, indexed by [`Num`].
+        pub const NUMERIC: [Def; N_NUM] = [$(Def $def),*];
+        impl Param {
+            /// Every parameter in the column order of MODEL.md section 9.
+            pub const COLUMNS: [Param; N_NUM + 2] = [$($col),*];
+        }
+    };
+    (@rows [$($n:tt)*] [$($c:tt)*] num $v:ident $def:tt $($rest:tt)*) => {
+        parameter_table!(@rows [$($n)* $v $def] [$($c)* Param::Num(Num::$v),] $($rest)*);
+    };
+    (@rows [$($n:tt)*] [$($c:tt)*] selector $v:ident $($rest:tt)*) => {
+        parameter_table!(@rows [$($n)*] [$($c)* Param::$v,] $($rest)*);
+    };
+    ($($rows:tt)*) => { parameter_table!(@rows [] [] $($rows)*); };
+}
+
+/// A row's fields that most parameters leave at their usual value.
+const ROW: Def = Def {
+    name: "",
+    unit: "",
+    meaning: "",
+    default: Fallback::Required,
+    owner: Owner::All,
+    lo: Bound::None,
+    hi: Bound::None,
+    below: None,
+    at_least: None,
+    why: "",
+};
+
+parameter_table! {
+    num M1 { name: "m1", unit: "kg", meaning: "reduced mass of the worm side",
+        default: Fallback::Value(586.0), lo: Bound::Open(0.0), ..ROW }
+    num M2 { name: "m2", unit: "kg", meaning: "reduced mass of the wheel side",
+        default: Fallback::Value(10275.0), lo: Bound::Open(0.0), ..ROW }
+    num GammaDeg { name: "gamma_deg", unit: "deg", meaning: "lead angle",
+        default: Fallback::Value(5.710593137499643), // atan(0.1)
+        lo: Bound::Open(0.0), hi: Bound::Open(90.0), ..ROW }
+    num F2 { name: "f2", unit: "N", meaning: "load on body 2 (+ overhauling, - resisting)",
+        default: Fallback::Value(4774.0), ..ROW }
+    selector Motor
+    num VSync { name: "v_sync", unit: "m/s", meaning: "Kloss motor: synchronous speed",
+        default: Fallback::Value(3.35), owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
+    num VCrit { name: "v_crit", unit: "m/s", meaning: "Kloss motor: speed at the peak force",
+        default: Fallback::Value(2.07), owner: Owner::Kloss, lo: Bound::Closed(0.0),
+        below: Some(Num::VSync), ..ROW }
+    num FCrit { name: "f_crit", unit: "N", meaning: "Kloss motor: peak force",
+        default: Fallback::Value(4375.0), owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
+    num F1 { name: "f1", unit: "N", meaning: "force of a constant motor",
+        owner: Owner::ConstantMotor, ..ROW }
+    num MotorOff { name: "motor_off", unit: "s", meaning: "motor force 0 from this time",
+        default: Fallback::Never, lo: Bound::Closed(0.0), why: "or unset for never", ..ROW }
+    selector Friction
+    num FricA { name: "fric_a", unit: "", meaning: "paper law rho[deg] = 1/(a Vs^b + c)",
+        default: Fallback::Value(0.174), owner: Owner::PaperFriction, lo: Bound::Closed(0.0), ..ROW }
+    num FricB { name: "fric_b", unit: "", meaning: "paper law exponent b",
+        default: Fallback::Value(0.612), owner: Owner::PaperFriction, lo: Bound::Open(0.0), ..ROW }
+    num FricC { name: "fric_c", unit: "", meaning: "paper law c = 1/rho(0)",
+        default: Fallback::Value(0.14), owner: Owner::PaperFriction,
+        lo: Bound::Open(1.0 / 90.0), why: "1/90: rho(0) = 1/c deg < 90 deg", ..ROW }
+    num Mu { name: "mu", unit: "", meaning: "Coulomb law: sliding friction coefficient",
+        owner: Owner::Coulomb, lo: Bound::Closed(0.0), ..ROW }
+    num MuStatic { name: "mu_static", unit: "", meaning: "Coulomb law: static coefficient",
+        default: Fallback::SameAs(Num::Mu), owner: Owner::Coulomb, at_least: Some(Num::Mu),
+        why: "static friction below sliding friction would stop a departing lane at once",
+        ..ROW }
+    num X10 { name: "x1_0", unit: "m", meaning: "initial position of body 1",
+        default: Fallback::Value(0.0), ..ROW }
+    num V10 { name: "v1_0", unit: "m/s", meaning: "initial speed of body 1",
+        default: Fallback::Value(0.0), ..ROW }
+    num TEnd { name: "t_end", unit: "s", meaning: "simulated time",
+        default: Fallback::Value(2.0), lo: Bound::Open(0.0), ..ROW }
+}
+
+impl Num {
+    /// The parameter's row.
+    pub fn def(self) -> &'static Def {
+        &NUMERIC[self as usize]
+    }
+
+    /// The parameter's one name.
+    pub fn name(self) -> &'static str {
+        self.def().name
+    }
+
+    /// Looks a numeric parameter up by name.
+    pub fn from_name(name: &str) -> Option<Num> {
+        Num::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// The default value, if it has one of its own.
+    pub fn default_value(self) -> Option<f64> {
+        match self.def().default {
+            Fallback::Value(v) => Some(v),
+            _ => None,
+        }
+    }
+}
+
+impl Param {
+    /// The parameter's one name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Num(n) => n.name(),
+            Param::Motor => "motor",
+            Param::Friction => "friction",
+        }
+    }
+
+    /// Looks a parameter up by name.
+    pub fn from_name(name: &str) -> Option<Param> {
+        Param::COLUMNS.into_iter().find(|p| p.name() == name)
+    }
+
+    /// All names, comma separated, for error messages.
+    pub fn all_names() -> String {
+        Param::COLUMNS.map(|p| p.name()).join(", ")
+    }
+}
+
+impl Bound {
+    fn admits_above(self, v: f64) -> bool {
+        match self {
+            Bound::None => true,
+            Bound::Closed(b) => v >= b,
+            Bound::Open(b) => v > b,
+        }
+    }
+    fn admits_below(self, v: f64) -> bool {
+        match self {
+            Bound::None => true,
+            Bound::Closed(b) => v <= b,
+            Bound::Open(b) => v < b,
+        }
+    }
+}
+
+impl Def {
+    /// Whether `v` lies in the row's own range.
+    pub fn in_range(&self, v: f64) -> bool {
+        self.lo.admits_above(v) && self.hi.admits_below(v)
+    }
+
+    /// The range in words: "> 0 kg", "in (0, 90) deg", ">= 0 s"; empty
+    /// when any number is allowed.
+    pub fn range_text(&self) -> String {
+        let unit = if self.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", self.unit)
+        };
+        match (self.lo, self.hi) {
+            (Bound::None, Bound::None) => String::new(),
+            (lo, Bound::None) => match lo {
+                Bound::Closed(b) => format!(">= {b}{unit}"),
+                Bound::Open(b) => format!("> {b}{unit}"),
+                Bound::None => unreachable!(),
+            },
+            (Bound::None, hi) => match hi {
+                Bound::Closed(b) => format!("<= {b}{unit}"),
+                Bound::Open(b) => format!("< {b}{unit}"),
+                Bound::None => unreachable!(),
+            },
+            (lo, hi) => {
+                let (l, a) = match lo {
+                    Bound::Closed(b) => ('[', b),
+                    Bound::Open(b) => ('(', b),
+                    Bound::None => unreachable!(),
+                };
+                let (r, b) = match hi {
+                    Bound::Closed(b) => (']', b),
+                    Bound::Open(b) => (')', b),
+                    Bound::None => unreachable!(),
+                };
+                format!("in {l}{a}, {b}{r}{unit}")
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_follow_model_md_order() {
+        let names: Vec<_> = Param::COLUMNS.iter().map(|p| p.name()).collect();
+        assert_eq!(
+            names.join(","),
+            "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,\
+             fric_a,fric_b,fric_c,mu,mu_static,x1_0,v1_0,t_end"
+        );
+        for p in Param::COLUMNS {
+            assert_eq!(Param::from_name(p.name()), Some(p));
+        }
+        for (i, p) in Num::ALL.iter().enumerate() {
+            assert_eq!(*p as usize, i);
+        }
+    }
+
+    #[test]
+    fn ranges_read_as_written() {
+        assert_eq!(Num::M1.def().range_text(), "> 0 kg");
+        assert_eq!(Num::GammaDeg.def().range_text(), "in (0, 90) deg");
+        assert_eq!(Num::MotorOff.def().range_text(), ">= 0 s");
+        assert!(Num::GammaDeg.def().in_range(45.0));
+        assert!(!Num::GammaDeg.def().in_range(90.0));
+        assert!(!Num::M1.def().in_range(f64::NAN));
+    }
+}

@@ -1,0 +1,270 @@
+//! Sweep files (TOML) and the lanes they stand for.
+//!
+//! A sweep is a `[base]` parameter set, optional grid axes (`[[grid]]`, a
+//! Cartesian product), an optional tolerance study (`[sampling]` with
+//! `[[tolerance]]` entries) and an optional `[friction_table]`.
+//!
+//! Lane order: grid points in row-major order (the first `[[grid]]` axis
+//! varies slowest, the last fastest), and for each grid point the samples
+//! 0..n of the study. Lane `i` is grid point `i / n`, sample `i % n`.
+//! Sample `k` draws the same uniforms at every grid point (common random
+//! numbers), so designs are compared under the same tolerances.
+
+mod parse;
+mod resolved;
+
+use crate::model::FrictionTable;
+use crate::params::{Num, Spec};
+use crate::sampling::{Dist, Permutation, Uniforms};
+
+pub use parse::Method;
+
+/// One grid axis: a numeric parameter and its values.
+#[derive(Clone, Debug)]
+pub struct Axis {
+    /// The parameter.
+    pub param: Num,
+    /// Its values.
+    pub values: AxisValues,
+}
+
+/// An axis's values: a list, or a range computed value by value (so an
+/// axis of 10^9 points costs no memory, and provenance keeps its form).
+#[derive(Clone, Debug)]
+pub enum AxisValues {
+    /// `values = [...]`
+    List(Vec<f64>),
+    /// `from`, `to`, `n`, `scale`
+    Range {
+        /// First value.
+        from: f64,
+        /// Last value.
+        to: f64,
+        /// Number of values, >= 1.
+        n: u64,
+        /// Log-spaced.
+        log: bool,
+    },
+}
+
+impl Axis {
+    /// Number of values (never 0: validation refuses empty axes).
+    #[allow(clippy::len_without_is_empty)]
+    pub fn len(&self) -> u64 {
+        match &self.values {
+            AxisValues::List(v) => v.len() as u64,
+            AxisValues::Range { n, .. } => *n,
+        }
+    }
+
+    /// Value `i` (< len).
+    pub fn value(&self, i: u64) -> f64 {
+        match &self.values {
+            AxisValues::List(v) => v[i as usize],
+            &AxisValues::Range { from, to, n, log } => {
+                let frac = if n == 1 {
+                    0.0
+                } else {
+                    i as f64 / (n - 1) as f64
+                };
+                if log {
+                    (from.ln() + (to.ln() - from.ln()) * frac).exp()
+                } else {
+                    from + (to - from) * frac
+                }
+            }
+        }
+    }
+}
+
+/// One parameter of a tolerance study.
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerance {
+    /// The parameter.
+    pub param: Num,
+    /// Its distribution.
+    pub dist: Dist,
+    /// Half-width of the band, absolute (`tol`) ...
+    pub tol: f64,
+    /// ... or as a fraction of the nominal value (`tol_rel`).
+    pub relative: bool,
+}
+
+/// A tolerance study.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// Sampling method.
+    pub method: Method,
+    /// Samples per grid point.
+    pub n: u64,
+    /// Seed of the ChaCha8 stream.
+    pub seed: u64,
+    /// The varied parameters.
+    pub params: Vec<Tolerance>,
+    pub(crate) perms: Vec<Permutation>,
+}
+
+/// A parsed, validated sweep: a function from lane index to parameters.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The base parameter set (unset values take MODEL.md defaults).
+    pub base: Spec,
+    /// Grid axes, slowest first.
+    pub axes: Vec<Axis>,
+    /// Optional tolerance study.
+    pub study: Option<Study>,
+    /// Optional friction table (for `friction = "table"`).
+    pub table: Option<FrictionTable>,
+}
+impl Sweep {
+    pub(crate) fn lane_count_checked(&self) -> std::result::Result<u64, String> {
+        let mut n: u64 = self.study.as_ref().map_or(1, |s| s.n);
+        for a in &self.axes {
+            n = n
+                .checked_mul(a.len())
+                .ok_or("the sweep has more than 2^64 lanes")?;
+        }
+        Ok(n)
+    }
+
+    /// Number of lanes.
+    pub fn lane_count(&self) -> u64 {
+        self.lane_count_checked().unwrap_or(u64::MAX)
+    }
+
+    /// Samples per grid point (1 without a study).
+    fn samples(&self) -> u64 {
+        self.study.as_ref().map_or(1, |s| s.n)
+    }
+
+    /// The parameters of lane `i` (not yet validated).
+    pub fn lane_spec(&self, i: u64, u: &mut Uniforms) -> Spec {
+        let mut spec = self.base.clone();
+        let n = self.samples();
+        let (mut g, k) = (i / n, i % n);
+        for a in self.axes.iter().rev() {
+            let len = a.len();
+            spec.set(a.param, a.value(g % len));
+            g /= len;
+        }
+        if let Some(st) = &self.study {
+            let dims = st.params.len() as u64;
+            u.seek(k, dims);
+            for (d, t) in st.params.iter().enumerate() {
+                let r = u.next();
+                let q = match st.method {
+                    Method::MonteCarlo => r,
+                    Method::LatinHypercube => (st.perms[d].apply(k) as f64 + r) / n as f64,
+                };
+                let nominal = spec.num[t.param as usize]
+                    .or_else(|| t.param.default_value())
+                    .unwrap_or(f64::NAN);
+                let half = if t.relative {
+                    t.tol * nominal.abs()
+                } else {
+                    t.tol
+                };
+                spec.set(t.param, nominal + half * t.dist.quantile(q));
+            }
+        }
+        spec
+    }
+
+    /// A stream of uniforms for this sweep's study.
+    pub fn uniforms(&self) -> Uniforms {
+        Uniforms::new(self.study.as_ref().map_or(0, |s| s.seed))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Result;
+    use std::path::Path;
+
+    fn parse(t: &str) -> Result<Sweep> {
+        Sweep::parse(Path::new("s.toml"), t)
+    }
+
+    #[test]
+    fn grid_is_row_major_first_axis_slowest() {
+        let s = parse(
+            "[[grid]]\nparam = \"f2\"\nvalues = [1, 2]\n[[grid]]\nparam = \"gamma_deg\"\nfrom = 5\nto = 15\nn = 3\n",
+        )
+        .unwrap();
+        assert_eq!(s.lane_count(), 6);
+        let mut u = s.uniforms();
+        let got: Vec<(f64, f64)> = (0..6)
+            .map(|i| {
+                let sp = s.lane_spec(i, &mut u);
+                (
+                    sp.num[Num::F2 as usize].unwrap(),
+                    sp.num[Num::GammaDeg as usize].unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(
+            got,
+            vec![
+                (1.0, 5.0),
+                (1.0, 10.0),
+                (1.0, 15.0),
+                (2.0, 5.0),
+                (2.0, 10.0),
+                (2.0, 15.0)
+            ]
+        );
+    }
+
+    /// sweep.resolved.toml stands for exactly the same lanes.
+    #[test]
+    fn resolved_sweep_gives_the_same_lanes() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
+        for f in [
+            "paper.toml",
+            "efficiency_map.toml",
+            "tolerance.toml",
+            "million.toml",
+        ] {
+            let a = Sweep::from_file(&root.join(f)).unwrap();
+            let text = toml::to_string(&a.resolved_toml()).unwrap();
+            let b = Sweep::parse(Path::new("resolved"), &text)
+                .unwrap_or_else(|e| panic!("{f}: {e}\n{text}"));
+            assert_eq!(a.lane_count(), b.lane_count(), "{f}");
+            let (mut ua, mut ub) = (a.uniforms(), b.uniforms());
+            let n = a.lane_count();
+            for i in (0..n).step_by((n / 500).max(1) as usize) {
+                let pa = a.lane_spec(i, &mut ua).resolve(a.table.is_some()).unwrap();
+                let pb = b.lane_spec(i, &mut ub).resolve(b.table.is_some()).unwrap();
+                assert_eq!(format!("{pa:?}"), format!("{pb:?}"), "{f} lane {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn log_axis_hits_its_ends() {
+        let s = parse("[[grid]]\nparam = \"mu\"\nfrom = 0.01\nto = 1\nn = 3\nscale = \"log\"\n")
+            .unwrap();
+        let v: Vec<f64> = (0..3).map(|i| s.axes[0].value(i)).collect();
+        assert!(
+            (v[0] - 0.01).abs() < 1e-15 && (v[1] - 0.1).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-14
+        );
+    }
+
+    #[test]
+    fn latin_hypercube_puts_one_sample_in_each_stratum() {
+        let s = parse(
+            "[sampling]\nmethod = \"latin_hypercube\"\nn = 50\nseed = 3\n\
+             [[tolerance]]\nparam = \"m1\"\ndist = \"uniform\"\ntol = 50\n",
+        )
+        .unwrap();
+        let mut u = s.uniforms();
+        let mut hit = [0; 50];
+        for i in 0..50 {
+            let m1 = s.lane_spec(i, &mut u).num[Num::M1 as usize].unwrap();
+            // uniform on 586 ± 50: stratum of width 100/50 = 2 kg
+            hit[((m1 - 536.0) / 2.0) as usize] += 1;
+        }
+        assert!(hit.iter().all(|&h| h == 1), "{hit:?}");
+    }
+}

@@ -1,0 +1,92 @@
+//! A sweep as `sweep.resolved.toml` writes it: every lane's source spelled
+//! out, so that the file alone gives the same lanes again.
+
+use super::{AxisValues, Sweep};
+use crate::params::{FrictionKind, MotorKind, Num};
+
+impl Sweep {
+    /// The sweep as TOML with every lane's source spelled out: base with
+    /// defaults resolved, axes as value lists, the study and the table.
+    pub fn resolved_toml(&self) -> toml::Table {
+        let mut t = toml::Table::new();
+        // The base as set, plus the defaults of the laws it chooses; not
+        // validated, since axes and samples may supply what it lacks.
+        let mut base = toml::Table::new();
+        let motor = self.base.motor.unwrap_or(MotorKind::Kloss);
+        let friction = self.base.friction.unwrap_or(FrictionKind::Paper);
+        base.insert("motor".into(), motor.name().into());
+        base.insert("friction".into(), friction.name().into());
+        for n in Num::ALL {
+            let law_default = n.def().owner.applies(motor, friction);
+            let v =
+                self.base.num[n as usize].or(if law_default { n.default_value() } else { None });
+            if let Some(v) = v {
+                base.insert(n.name().into(), v.into());
+            }
+        }
+        t.insert("base".into(), base.into());
+        let grid: Vec<toml::Value> = self
+            .axes
+            .iter()
+            .map(|a| {
+                let mut x = toml::Table::new();
+                x.insert("param".into(), a.param.name().into());
+                match &a.values {
+                    &AxisValues::Range { from, to, n, log } => {
+                        x.insert("from".into(), from.into());
+                        x.insert("to".into(), to.into());
+                        x.insert("n".into(), (n as i64).into());
+                        x.insert("scale".into(), if log { "log" } else { "linear" }.into());
+                    }
+                    AxisValues::List(v) => {
+                        x.insert("values".into(), floats(v));
+                    }
+                }
+                x.into()
+            })
+            .collect();
+        if !grid.is_empty() {
+            t.insert("grid".into(), grid.into());
+        }
+        if let Some(st) = &self.study {
+            let mut s = toml::Table::new();
+            s.insert("method".into(), serde_name(&st.method));
+            s.insert("n".into(), (st.n as i64).into());
+            s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
+            t.insert("sampling".into(), s.into());
+            let tols: Vec<toml::Value> = st
+                .params
+                .iter()
+                .map(|p| {
+                    let mut x = toml::Table::new();
+                    x.insert("param".into(), p.param.name().into());
+                    x.insert("dist".into(), serde_name(&p.dist));
+                    x.insert(
+                        if p.relative { "tol_rel" } else { "tol" }.into(),
+                        p.tol.into(),
+                    );
+                    x.into()
+                })
+                .collect();
+            t.insert("tolerance".into(), tols.into());
+        }
+        if let Some(tb) = &self.table {
+            let mut x = toml::Table::new();
+            x.insert("vs".into(), floats(&tb.vs[..tb.n]));
+            x.insert("mu".into(), floats(&tb.mu[..tb.n]));
+            t.insert("friction_table".into(), x.into());
+        }
+        t
+    }
+}
+
+/// A list of floats as a TOML array.
+fn floats(v: &[f64]) -> toml::Value {
+    toml::Value::Array(v.iter().map(|&x| x.into()).collect())
+}
+
+/// An enum's spelling in files, as its serde derive writes it (one source
+/// of truth for the names).
+fn serde_name<T: serde::Serialize>(v: &T) -> toml::Value {
+    toml::Value::try_from(v).expect("unit enum variants serialize as strings")
+}
