@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::gpu::{Gpu, GpuBackend};
-use crate::integrator::{simulate_batch, Contact, LaneResult, Settings, Status};
+use crate::integrator::{simulate_batch, Contact, LaneResult, RowPath, Settings, Status};
 use crate::model::{FrictionTable, Lane};
 use crate::params::{Num, Params, Spec};
 use crate::sampling::Uniforms;
@@ -91,7 +91,7 @@ pub fn run_cpu_lanes(
 }
 
 /// Filler overwritten by every lane's result.
-const PLACEHOLDER: LaneResult = LaneResult {
+pub(crate) const PLACEHOLDER: LaneResult = LaneResult {
     status: Status::NonFinite,
     switches: 0,
     t_first_switch: f64::NAN,
@@ -105,6 +105,7 @@ const PLACEHOLDER: LaneResult = LaneResult {
     w_friction: f64::NAN,
     eta_end: f64::NAN,
     steps: 0,
+    path: RowPath::Cpu,
 };
 
 impl Backend for CpuBackend {
@@ -167,10 +168,18 @@ pub fn open(
     let cpu = || -> Result<Box<dyn Backend>> { Ok(Box::new(CpuBackend::new(threads, settings)?)) };
     match choice {
         Choice::Cpu => cpu(),
-        Choice::Gpu => Ok(Box::new(GpuBackend::new(Gpu::new(false)?, settings))),
+        Choice::Gpu => {
+            let c = CpuBackend::new(threads, settings)?;
+            Ok(Box::new(GpuBackend::with_cpu(
+                Gpu::new(false)?,
+                settings,
+                c,
+            )))
+        }
         Choice::Auto => {
             if let Ok(gpu) = Gpu::new(true) {
-                return Ok(Box::new(GpuBackend::new(gpu, settings)));
+                let c = CpuBackend::new(threads, settings)?;
+                return Ok(Box::new(GpuBackend::with_cpu(gpu, settings, c)));
             }
             if lanes < AUTO_TRIAL_MIN_LANES {
                 return cpu();
@@ -179,7 +188,9 @@ pub fn open(
                 return cpu();
             };
             let c = CpuBackend::new(threads, settings)?;
-            trial(Box::new(c), Box::new(GpuBackend::new(soft, settings)))
+            let recompute = CpuBackend::new(threads, settings)?;
+            let g = GpuBackend::with_cpu(soft, settings, recompute);
+            trial(Box::new(c), Box::new(g))
         }
     }
 }

@@ -5,12 +5,15 @@
 //! agree; every other lane is listed with the reason.
 //!
 //! The worst deviation of each column (over lanes whose discrete fields
-//! agree) and the number of lanes over each bound are reported too: lanes
+//! agree) and the number of lanes over each bound are reported too, the
+//! verdict first; at most 20 disagreeing lanes are listed (all of them go
+//! to a CSV file when asked), so memory does not grow with them. Lanes
 //! that miss are f32-ill-conditioned cases (a switch near synchronous speed
 //! under a near-zero load, a contact force that grazes zero), and the
 //! report shows how many there are and how far they are off.
 
 use std::fmt::Write as _;
+use std::io::Write as _;
 
 use crate::backend::{Backend, CpuBackend};
 use crate::error::Result;
@@ -48,8 +51,13 @@ fn discrete(r: &LaneResult) -> String {
     )
 }
 
-/// Accumulated comparison.
-#[derive(Clone, Debug, Default)]
+/// Disagreeing lanes listed in the printed report; all of them go to the
+/// `--disagreements` file when one is asked for.
+pub const LISTED: usize = 20;
+
+/// Accumulated comparison. Its memory does not grow with the number of
+/// lanes or of disagreeing lanes.
+#[derive(Default)]
 pub struct Report {
     /// Lanes compared.
     pub lanes: u64,
@@ -60,21 +68,54 @@ pub struct Report {
     pub over: [u64; 6],
     /// Lanes whose discrete fields differ.
     pub discrete_differ: u64,
-    /// Every lane that does not agree: (lane, reason).
-    pub others: Vec<(u64, String)>,
+    /// Lanes that do not agree.
+    pub disagree: u64,
+    /// GPU rows the GPU path's self-check recomputed in f64.
+    pub recomputed: u64,
+    /// The first [`LISTED`] lanes that do not agree: (lane, reason).
+    pub listed: Vec<(u64, String)>,
+    /// Every lane that does not agree, as CSV rows (lane,reason).
+    pub all: Option<Box<dyn std::io::Write + Send>>,
 }
 
 impl Report {
+    /// A report that also writes every disagreeing lane to `all`.
+    pub fn writing_to(mut all: Box<dyn std::io::Write + Send>) -> std::io::Result<Report> {
+        writeln!(all, "lane,reason")?;
+        Ok(Report {
+            all: Some(all),
+            ..Report::default()
+        })
+    }
+
+    fn disagrees(&mut self, lane: u64, why: String) -> std::io::Result<()> {
+        self.disagree += 1;
+        if let Some(w) = self.all.as_mut() {
+            writeln!(w, "{lane},\"{why}\"")?;
+        }
+        if self.listed.len() < LISTED {
+            self.listed.push((lane, why));
+        }
+        Ok(())
+    }
+
     /// Adds lanes `first..` with their CPU (reference) and GPU results.
-    pub fn add(&mut self, first: u64, cpu: &[LaneResult], gpu: &[LaneResult]) {
+    pub fn add(
+        &mut self,
+        first: u64,
+        cpu: &[LaneResult],
+        gpu: &[LaneResult],
+    ) -> std::io::Result<()> {
         for (i, (c, g)) in cpu.iter().zip(gpu).enumerate() {
             let lane = first + i as u64;
             self.lanes += 1;
+            if matches!(g.path, crate::integrator::RowPath::Recomputed(_)) {
+                self.recomputed += 1;
+            }
             let (dc, dg) = (discrete(c), discrete(g));
             if dc != dg {
                 self.discrete_differ += 1;
-                self.others
-                    .push((lane, format!("discrete fields differ: cpu {dc}, gpu {dg}")));
+                self.disagrees(lane, format!("discrete fields differ: cpu {dc}, gpu {dg}"))?;
                 continue;
             }
             let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
@@ -104,9 +145,10 @@ impl Report {
                 }
             }
             if !reasons.is_empty() {
-                self.others.push((lane, reasons.join(", ")));
+                self.disagrees(lane, reasons.join(", "))?;
             }
         }
+        Ok(())
     }
 
     /// Share of lanes that agree.
@@ -114,7 +156,7 @@ impl Report {
         if self.lanes == 0 {
             1.0
         } else {
-            1.0 - self.others.len() as f64 / self.lanes as f64
+            1.0 - self.disagree as f64 / self.lanes as f64
         }
     }
 
@@ -123,9 +165,19 @@ impl Report {
         self.agree_share() >= AGREE_SHARE
     }
 
-    /// The printed report.
+    /// The printed report: the verdict first, then the table per column,
+    /// then at most [`LISTED`] disagreeing lanes.
     pub fn text(&self) -> String {
         let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{}: {} of {} lanes agree within every bound ({:.3} %, at least {:.0} % required)",
+            if self.passes() { "PASS" } else { "FAIL" },
+            self.lanes - self.disagree,
+            self.lanes,
+            100.0 * self.agree_share(),
+            100.0 * AGREE_SHARE
+        );
         let _ = writeln!(
             s,
             "{:<16} {:>12} {:>8} {:>10}  worst lane",
@@ -142,18 +194,24 @@ impl Report {
         }
         let _ = writeln!(
             s,
-            "discrete fields (status/switches/reversals/sticks/contact) differ on {} lanes",
-            self.discrete_differ
+            "discrete fields (status/switches/reversals/sticks/contact) differ on {} lanes; \
+             {} GPU rows were recomputed in f64 by the GPU path's self-check",
+            self.discrete_differ, self.recomputed
         );
-        let _ = writeln!(
-            s,
-            "{} of {} lanes agree within every bound ({:.3} %, at least {:.0} % required); the others:",
-            self.lanes - self.others.len() as u64,
-            self.lanes,
-            100.0 * self.agree_share(),
-            100.0 * AGREE_SHARE
-        );
-        for (lane, why) in &self.others {
+        if self.disagree > 0 {
+            let _ = writeln!(
+                s,
+                "{} lanes disagree; the first {}{}:",
+                self.disagree,
+                self.listed.len(),
+                if self.all.is_some() {
+                    " (all of them are in the --disagreements file)"
+                } else {
+                    " (all of them: --disagreements FILE.csv)"
+                }
+            );
+        }
+        for (lane, why) in &self.listed {
             let _ = writeln!(s, "  lane {lane}: {why}");
         }
         s
@@ -174,26 +232,96 @@ impl Sink for Compare {
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
         self.cpu
             .run_chunk(first, params, self.table.as_ref(), &mut self.cpu_results)?;
-        self.report.add(first, &self.cpu_results, results);
-        Ok(())
+        self.report
+            .add(first, &self.cpu_results, results)
+            .map_err(|e| crate::error::Error::Internal(format!("writing the disagreements: {e}")))
     }
-    fn finish(self) -> Result<Report> {
+    fn finish(mut self) -> Result<Report> {
+        if let Some(w) = self.report.all.as_mut() {
+            w.flush().map_err(|e| {
+                crate::error::Error::Internal(format!("writing the disagreements: {e}"))
+            })?;
+        }
         Ok(self.report)
     }
 }
 
-/// Runs every lane of `source` on `gpu` and on `cpu` and compares them.
+/// Runs every lane of `source` on `gpu` and on `cpu` and compares them
+/// into `report`.
 pub fn compare(
     source: &Source,
     gpu: &mut dyn Backend,
     cpu: CpuBackend,
     progress: bool,
+    report: Report,
 ) -> Result<Report> {
     let sink = Compare {
         cpu,
         table: source.friction_table().copied(),
         cpu_results: Vec::new(),
-        report: Report::default(),
+        report,
     };
     pipeline(source, gpu, progress, sink)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::{Contact, RowPath, Status};
+
+    fn row(x: f64) -> LaneResult {
+        LaneResult {
+            status: Status::Ok,
+            switches: 0,
+            t_first_switch: f64::NAN,
+            reversals: 0,
+            sticks: 0,
+            contact_end: Contact::Aa,
+            x1_end: x,
+            v1_end: 1.0,
+            w_motor: 1.0,
+            w_load: 1.0,
+            w_friction: 1.0,
+            eta_end: 0.5,
+            steps: 1,
+            path: RowPath::Gpu,
+        }
+    }
+
+    /// 1,000 disagreeing lanes: the verdict comes first, 20 are listed,
+    /// all 1,000 go to the file, and the report holds only the 20.
+    #[test]
+    fn disagreeing_lanes_are_bounded_in_print_and_memory() {
+        let file = std::sync::Arc::new(std::sync::Mutex::new(Vec::<u8>::new()));
+        struct Shared(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
+        impl std::io::Write for Shared {
+            fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+                self.0.lock().unwrap().extend_from_slice(b);
+                Ok(b.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let mut r = Report::writing_to(Box::new(Shared(file.clone()))).unwrap();
+        let cpu: Vec<_> = (0..2000).map(|_| row(1.0)).collect();
+        let gpu: Vec<_> = (0..2000)
+            .map(|i| row(if i % 2 == 0 { 1.0 } else { 2.0 }))
+            .collect();
+        r.add(0, &cpu, &gpu).unwrap();
+        let text = r.text();
+        assert!(text.starts_with("FAIL: 1000 of 2000 lanes agree"), "{text}");
+        assert_eq!(r.listed.len(), LISTED);
+        assert_eq!(
+            text.lines().filter(|l| l.starts_with("  lane ")).count(),
+            LISTED
+        );
+        let csv = String::from_utf8(file.lock().unwrap().clone()).unwrap();
+        assert_eq!(csv.lines().count(), 1 + 1000);
+        assert!(csv
+            .lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("1,\"x1_end off by 1.000e0"));
+    }
 }

@@ -49,6 +49,9 @@ pub enum Command {
     Check {
         #[command(flatten)]
         lanes: LanesArgs,
+        /// Write every disagreeing lane (lane, reason) to this CSV file.
+        #[arg(long, value_name = "FILE.csv")]
+        disagreements: Option<PathBuf>,
     },
     /// List GPU adapters and their limits.
     Devices,
@@ -64,11 +67,25 @@ pub struct Plan {
     pub settings: Settings,
 }
 
+/// Most CPU threads a run may ask for. Lanes are independent and
+/// CPU-bound, so threads beyond the hardware's add no speed, only a stack
+/// each; 1024 is above the hardware threads of any one machine this tool
+/// runs on, and far below where thread creation itself fails.
+pub const MAX_THREADS: usize = 1024;
+
 impl LanesArgs {
     /// Validates the lane arguments into a plan (reads and checks every lane).
     pub fn plan(&self) -> Result<Plan> {
-        if self.threads == Some(0) {
-            return Err(Error::Usage("--threads must be >= 1".into()));
+        match self.threads {
+            Some(0) => return Err(Error::Usage("--threads must be >= 1".into())),
+            Some(n) if n > MAX_THREADS => {
+                let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+                return Err(Error::Usage(format!(
+                    "--threads: {n} is too many; allowed: 1 to {MAX_THREADS} \
+                     (this machine runs {cores} at once; more only cost memory)"
+                )));
+            }
+            _ => {}
         }
         let source = Source::open(self.sweep.as_deref(), self.lanes.as_deref())?;
         Ok(Plan {

@@ -42,7 +42,9 @@ pub enum Error {
 }
 
 impl Error {
-    /// Bad input in `file`.
+    /// Bad input in `file`. The parameter and message are made one line
+    /// (control characters escaped, a long parameter cut), since they may
+    /// quote the input.
     pub fn input(
         file: &Path,
         at: Option<String>,
@@ -52,8 +54,8 @@ impl Error {
         Error::Input {
             file: file.to_path_buf(),
             at,
-            param: param.map(str::to_string),
-            msg: msg.into(),
+            param: param.map(|p| shown(p, 40)),
+            msg: one_line(&msg.into()),
         }
     }
 
@@ -76,3 +78,25 @@ impl Error {
 
 /// Shorthand result.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// Text on one line: control characters escaped as `\n`, `\u{1}`, ...
+pub fn one_line(s: &str) -> String {
+    s.chars()
+        .flat_map(|c| {
+            if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            }
+        })
+        .collect()
+}
+
+/// Input quoted in a message: one line, at most `max` characters.
+pub fn shown(s: &str, max: usize) -> String {
+    let mut t = one_line(s);
+    if t.chars().count() > max {
+        t = t.chars().take(max).collect::<String>() + "...";
+    }
+    t
+}

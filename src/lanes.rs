@@ -112,6 +112,9 @@ impl Source {
 
     /// Checks every lane; returns the count. Errors name the lane or row.
     fn validate(&self) -> Result<u64> {
+        if let Source::Table { path, .. } = self {
+            check_quotes(path)?;
+        }
         let mut r = self.reader()?;
         let mut buf = Vec::with_capacity(4096);
         let mut n = 0;
@@ -258,10 +261,9 @@ impl LaneReader<'_> {
                 row,
             } => {
                 while out.len() < max {
-                    let more = rd.read_record(rec).map_err(|e| {
-                        let at = e.position().map(|p| format!("line {}", p.line()));
-                        Error::input(path, at, None, e.to_string())
-                    })?;
+                    let more = rd
+                        .read_record(rec)
+                        .map_err(|e| csv_error(path, *row + 1, e))?;
                     if !more {
                         break;
                     }
@@ -282,4 +284,62 @@ impl LaneReader<'_> {
         }
         Ok(())
     }
+}
+
+/// A CSV reader's error as a one-line error naming the row.
+fn csv_error(path: &Path, row: u64, e: csv::Error) -> Error {
+    let line = e.position().map_or(0, |p| p.line());
+    let at = Some(format!("row {row} (line {line})"));
+    match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => Error::input(
+            path,
+            at,
+            None,
+            format!(
+                "has {len} cells but the header has {expected_len}; give one cell per column \
+                 (an empty cell means \"not set\")"
+            ),
+        ),
+        csv::ErrorKind::Utf8 { .. } => Error::input(path, at, None, "is not valid UTF-8 text"),
+        _ => Error::input(path, at, None, e.to_string()),
+    }
+}
+
+/// Refuses a quote that is opened and never closed: the CSV reader would
+/// take the rest of the file as one cell (`"100` as 100). Quotes of a
+/// well-formed table pair up (`""` inside a quoted cell is one quote), so
+/// their count is even; the last one opened names the line.
+fn check_quotes(path: &Path) -> Result<()> {
+    use std::io::Read;
+    let mut f = File::open(path)
+        .map_err(|e| Error::input(path, None, None, format!("cannot read the lane table: {e}")))?;
+    let mut buf = vec![0u8; 1 << 16];
+    let (mut quotes, mut line, mut last_line) = (0u64, 1u64, 0u64);
+    loop {
+        let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
+        if n == 0 {
+            break;
+        }
+        for &b in &buf[..n] {
+            match b {
+                b'"' => {
+                    quotes += 1;
+                    last_line = line;
+                }
+                b'\n' => line += 1,
+                _ => {}
+            }
+        }
+    }
+    if quotes % 2 == 1 {
+        return Err(Error::input(
+            path,
+            Some(format!("line {last_line}")),
+            None,
+            "a quote (\") is opened and never closed; close it or remove it",
+        ));
+    }
+    Ok(())
 }

@@ -21,6 +21,7 @@ pub mod gpu;
 pub mod integrator;
 pub mod lanes;
 pub mod model;
+pub mod outdir;
 pub mod output;
 pub mod params;
 pub mod runner;

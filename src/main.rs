@@ -1,6 +1,6 @@
 //! `tswm`: parse, plan, run; one error line and exit code 2 for bad input.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -9,18 +9,26 @@ use tswm::backend::{self, Choice, CpuBackend};
 use tswm::cli::{Cli, Command, LanesArgs};
 use tswm::error::{Error, Result};
 use tswm::gpu::{Gpu, GpuBackend};
+use tswm::outdir::{commit_together, remove_partials_on_signal, AtomicFile, OutDir};
 use tswm::{check, output, runner};
 
 fn main() -> ExitCode {
     quiet_mesa();
     let cli = Cli::parse();
+    if let Err(e) = remove_partials_on_signal() {
+        eprintln!("tswm: error: {e}");
+        return ExitCode::from(e.exit_code());
+    }
     let result = match cli.command {
         Command::Run {
             lanes,
             out,
             backend,
         } => run(&lanes, &out, backend),
-        Command::Check { lanes } => check(&lanes),
+        Command::Check {
+            lanes,
+            disagreements,
+        } => check(&lanes, disagreements.as_deref()),
         Command::Devices => devices(),
     };
     match result {
@@ -49,23 +57,37 @@ fn run(lanes: &LanesArgs, out: &Path, choice: Choice) -> Result<()> {
         plan.threads,
         plan.settings,
     )?;
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let csv = out.join("lanes.csv");
+    let dir = OutDir::open(out)?;
+    let csv = dir.join("lanes.csv");
     let progress = std::io::stderr().is_terminal();
-    let summary = runner::run(&plan.source, be.as_mut(), &csv, progress)?;
-    let resolved = output::provenance(&plan.source, &be.name(), be.tolerance());
-    output::write_atomic(&out.join("sweep.resolved.toml"), resolved.as_bytes())?;
+    let (summary, table) = runner::run(&plan.source, be.as_mut(), &csv, progress)?;
+    let mut resolved = AtomicFile::create(&dir.join("sweep.resolved.toml"))?;
+    let text = output::provenance(&plan.source, &be.name(), be.tolerance());
+    resolved
+        .writer()
+        .write_all(text.as_bytes())
+        .map_err(|e| Error::io(&dir.join("sweep.resolved.toml"), e))?;
+    commit_together(vec![resolved, table.into_file()])?;
     println!("{}", summary.line(&be.name(), &csv));
     Ok(())
 }
 
-fn check(lanes: &LanesArgs) -> Result<()> {
+fn check(lanes: &LanesArgs, disagreements: Option<&Path>) -> Result<()> {
     let plan = lanes.plan()?;
     let cpu = CpuBackend::new(plan.threads, plan.settings)?;
     let cpu_name = backend::Backend::name(&cpu);
-    let mut gpu = GpuBackend::new(Gpu::new(false)?, plan.settings);
+    let recompute = CpuBackend::new(plan.threads, plan.settings)?;
+    let mut gpu = GpuBackend::with_cpu(Gpu::new(false)?, plan.settings, recompute);
+    let report = match disagreements {
+        None => check::Report::default(),
+        Some(p) => {
+            let f = std::fs::File::create(p).map_err(|e| Error::io(p, e))?;
+            check::Report::writing_to(Box::new(std::io::BufWriter::new(f)))
+                .map_err(|e| Error::io(p, e))?
+        }
+    };
     let progress = std::io::stderr().is_terminal();
-    let report = check::compare(&plan.source, &mut gpu, cpu, progress)?;
+    let report = check::compare(&plan.source, &mut gpu, cpu, progress, report)?;
     println!(
         "tswm check: {} lanes, {} against {cpu_name}",
         report.lanes,
@@ -73,7 +95,6 @@ fn check(lanes: &LanesArgs) -> Result<()> {
     );
     print!("{}", report.text());
     if report.passes() {
-        println!("PASS");
         Ok(())
     } else {
         Err(Error::CheckFailed(

@@ -1,19 +1,21 @@
 //! The results table `lanes.csv`: each lane's full parameters (MODEL.md
-//! section 9 order), then its results. Written under a temporary name and
-//! renamed only when complete, so a `lanes.csv` on disk is always whole.
+//! section 9 order), then its results; and the provenance file beside it.
+//! Both are written under temporary names and committed together
+//! (`outdir`), so a `lanes.csv` on disk is always whole and belongs to the
+//! `sweep.resolved.toml` beside it.
 
 use std::fmt::Write as _;
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
 use crate::lanes::Source;
+use crate::outdir::AtomicFile;
 use crate::params::{Param, Params};
 
 /// Result columns, after the parameter columns.
-pub const RESULT_COLUMNS: [&str; 14] = [
+pub const RESULT_COLUMNS: [&str; 15] = [
     "lane",
     "status",
     "switches",
@@ -28,64 +30,8 @@ pub const RESULT_COLUMNS: [&str; 14] = [
     "w_friction",
     "eta_end",
     "steps",
+    "path",
 ];
-
-/// A file written under `NAME.partial` and renamed to `NAME` by `commit`;
-/// dropped uncommitted, the partial file is removed.
-pub struct AtomicFile {
-    tmp: PathBuf,
-    dest: PathBuf,
-    w: Option<BufWriter<File>>,
-}
-
-impl AtomicFile {
-    /// Starts `dest`.
-    pub fn create(dest: &Path) -> Result<AtomicFile> {
-        let name = dest
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp = dest.with_file_name(format!(".{name}.partial"));
-        let f = File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
-        Ok(AtomicFile {
-            tmp,
-            dest: dest.to_path_buf(),
-            w: Some(BufWriter::with_capacity(1 << 20, f)),
-        })
-    }
-
-    /// The writer.
-    pub fn writer(&mut self) -> &mut BufWriter<File> {
-        self.w.as_mut().expect("writer used after commit")
-    }
-
-    /// Flushes, syncs and renames to the final name.
-    pub fn commit(mut self) -> Result<()> {
-        let w = self.w.take().expect("committed twice");
-        let f = w
-            .into_inner()
-            .map_err(|e| Error::io(&self.tmp, e.into_error()))?;
-        f.sync_all().map_err(|e| Error::io(&self.tmp, e))?;
-        std::fs::rename(&self.tmp, &self.dest).map_err(|e| Error::io(&self.dest, e))
-    }
-}
-
-impl Drop for AtomicFile {
-    fn drop(&mut self) {
-        if self.w.is_some() {
-            let _ = std::fs::remove_file(&self.tmp);
-        }
-    }
-}
-
-/// Writes a whole small file atomically.
-pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<()> {
-    let mut f = AtomicFile::create(dest)?;
-    f.writer()
-        .write_all(bytes)
-        .map_err(|e| Error::io(dest, e))?;
-    f.commit()
-}
 
 /// Streams rows of `lanes.csv`.
 pub struct LanesCsv {
@@ -154,25 +100,47 @@ impl LanesCsv {
             push_f64(s, if ok { v } else { f64::NAN });
             s.push(',');
         }
-        let _ = writeln!(s, "{}", r.steps);
+        let _ = writeln!(s, "{},{}", r.steps, r.path.name());
         self.flush_line()
     }
 
-    /// Completes the file under its final name.
-    pub fn commit(self) -> Result<()> {
-        self.file.commit()
+    /// The finished file, to be committed with the run's other files.
+    pub fn into_file(self) -> AtomicFile {
+        self.file
     }
 }
 
 /// The text of `sweep.resolved.toml`: a header naming the tool, backend
 /// and tolerance, then the sweep with every lane's source spelled out.
 pub fn provenance(source: &Source, backend: &str, tol: f64) -> String {
-    let resolved = match source {
-        Source::Sweep { sweep, .. } => toml::to_string(&sweep.resolved_toml()).unwrap_or_default(),
-        Source::Table { path, .. } => format!("# lanes from {}\n", path.display()),
+    let (from, resolved) = match source {
+        Source::Sweep { sweep, .. } => (
+            "every lane of lanes.csv follows from this file".to_string(),
+            toml::to_string(&sweep.resolved_toml()).unwrap_or_default(),
+        ),
+        Source::Table {
+            path, base, table, ..
+        } => {
+            // The lane table's cells over this [base] and [friction_table].
+            let under = crate::sweep::Sweep {
+                base: base.clone(),
+                axes: Vec::new(),
+                study: None,
+                table: *table,
+            };
+            (
+                format!(
+                    "every lane of lanes.csv follows from the lane table {} ({} rows) \
+                     over the [base] and [friction_table] below",
+                    path.display(),
+                    source.lane_count()
+                ),
+                toml::to_string(&under.resolved_toml()).unwrap_or_default(),
+            )
+        }
     };
     format!(
-        "# tswm {} resolved sweep: every lane of lanes.csv follows from this file\n\
+        "# tswm {} resolved sweep: {from}\n\
          # backend: {backend}, tol: {tol:e}, lanes: {}\n{resolved}",
         env!("CARGO_PKG_VERSION"),
         source.lane_count()

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use crate::backend::Backend;
 use crate::error::{Error, Result};
-use crate::integrator::{Contact, LaneResult, Status};
+use crate::integrator::{Contact, LaneResult, RowPath, Status};
 use crate::lanes::Source;
 use crate::output::LanesCsv;
 use crate::params::Params;
@@ -40,6 +40,8 @@ pub struct Summary {
     pub by_status: BTreeMap<Status, u64>,
     /// Lanes by final contact (finished lanes).
     pub by_contact: BTreeMap<Contact, u64>,
+    /// Lanes by the path their row came from.
+    pub by_path: BTreeMap<RowPath, u64>,
 }
 
 impl Summary {
@@ -49,6 +51,34 @@ impl Summary {
         if r.status == Status::Ok {
             *self.by_contact.entry(r.contact_end).or_default() += 1;
         }
+        *self.by_path.entry(r.path).or_default() += 1;
+    }
+
+    /// "; gpu rows: N checked, M recomputed in f64 (why n, ...)" for runs
+    /// with GPU rows; empty for CPU runs.
+    fn recompute_note(&self) -> String {
+        let redone: Vec<String> = self
+            .by_path
+            .iter()
+            .filter_map(|(p, n)| match p {
+                RowPath::Recomputed(why) => Some(format!("{} {n}", why.name())),
+                _ => None,
+            })
+            .collect();
+        let cpu = self.by_path.get(&RowPath::Cpu).copied().unwrap_or(0);
+        if cpu == self.lanes {
+            return String::new();
+        }
+        let n: u64 = self.lanes - cpu - self.by_path.get(&RowPath::Gpu).copied().unwrap_or(0);
+        format!(
+            "; gpu rows: {} trusted, {n} recomputed in f64{}",
+            self.by_path.get(&RowPath::Gpu).copied().unwrap_or(0),
+            if redone.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", redone.join(", "))
+            }
+        )
     }
 
     /// The one-line summary.
@@ -64,12 +94,13 @@ impl Summary {
             .map(|(c, n)| format!("{} {n}", c.name()))
             .collect();
         format!(
-            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}; wrote {}",
+            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}; wrote {}",
             self.lanes,
             self.seconds,
             self.lanes as f64 / self.seconds.max(1e-9),
             status.join(", "),
             if contact.is_empty() { "-".into() } else { contact.join(", ") },
+            self.recompute_note(),
             out.display()
         )
     }
@@ -96,14 +127,15 @@ impl Sink for CsvSink {
     }
 }
 
-/// Runs every lane of `source` on `backend`, writing `out_csv` (complete or
-/// not at all). `progress` shows a bar on stderr when it is a terminal.
+/// Runs every lane of `source` on `backend`, streaming rows to a temporary
+/// file for `out_csv`; the caller commits it (with the run's other files)
+/// or drops it. `progress` shows a bar on stderr when it is a terminal.
 pub fn run(
     source: &Source,
     backend: &mut dyn Backend,
     out_csv: &Path,
     progress: bool,
-) -> Result<Summary> {
+) -> Result<(Summary, LanesCsv)> {
     let start = Instant::now();
     let sink = CsvSink {
         csv: LanesCsv::create(out_csv)?,
@@ -114,9 +146,8 @@ pub fn run(
         Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", out_csv.display())),
         e => e,
     })?;
-    csv.commit()?;
     summary.seconds = start.elapsed().as_secs_f64();
-    Ok(summary)
+    Ok((summary, csv))
 }
 
 fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {

@@ -38,3 +38,42 @@ pub fn random_user_lanes(n: usize, seed: u64) -> Vec<Spec> {
         })
         .collect()
 }
+
+/// Long horizons with stiff motors: random user lanes with t_end 20 to
+/// 300 s, lead angle 2 to 35 deg and a Kloss critical slip log-uniform
+/// from 0.4 down to 3e-5 (v_crit close to v_sync), where f32 loses lanes.
+pub fn long_stiff_lanes(n: usize, seed: u64) -> Vec<Spec> {
+    let mut u = Uniforms::new(seed ^ 0x5eed);
+    let mut specs = random_user_lanes(n, seed);
+    for (i, s) in specs.iter_mut().enumerate() {
+        u.seek(i as u64, 4);
+        let t_end = 20.0 + 280.0 * u.next();
+        s.set(Num::TEnd, t_end);
+        if s.num[Num::MotorOff as usize].is_some() {
+            s.set(Num::MotorOff, t_end * u.next());
+        } else {
+            u.next();
+        }
+        s.set(Num::GammaDeg, 2.0 + 33.0 * u.next());
+        let sk = (0.4f64.ln() + (3e-5f64.ln() - 0.4f64.ln()) * u.next()).exp();
+        s.set(Num::VCrit, 3.35 * (1.0 - sk));
+    }
+    specs
+}
+
+/// Extremely stiff motors started at synchronous speed: v_crit within
+/// 0.5e-4 to 1.5e-4 m/s of v_sync, loads around the paper's, t_end 6 s
+/// and 20 s in turn. In f32 these exhaust the GPU's dispatch budget or
+/// lose the lane.
+pub fn stiff_at_sync_lanes(n: usize) -> Vec<Spec> {
+    (0..n)
+        .map(|i| {
+            let mut s = Spec::default();
+            s.set(Num::VCrit, 3.35 - 1e-4 * (0.5 + i as f64 / n as f64));
+            s.set(Num::V10, 3.35);
+            s.set(Num::F2, -4774.0 + 200.0 * (i % 7) as f64);
+            s.set(Num::TEnd, if i % 2 == 0 { 6.0 } else { 20.0 });
+            s
+        })
+        .collect()
+}

@@ -1,12 +1,13 @@
 //! The GPU as a [`Backend`] of the runner: lanes converted to f32, run
 //! chunk by chunk, states converted back through the shared end-state
-//! conversion.
+//! conversion, every row checked (`verify`) and the rows it does not trust
+//! recomputed on the f64 path in the same run.
 
-use super::layout::{GpuGlobals, GpuLane, GpuState, GPU_TOL_F64};
-use super::Gpu;
-use crate::backend::Backend;
+use super::layout::{flags, GpuGlobals, GpuLane, GpuState, GPU_TOL_F64};
+use super::{verify, Gpu};
+use crate::backend::{Backend, CpuBackend, PLACEHOLDER};
 use crate::error::Result;
-use crate::integrator::{LaneResult, Settings};
+use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
 use crate::params::Params;
 
@@ -15,25 +16,47 @@ pub struct GpuBackend {
     gpu: Gpu,
     settings: Settings,
     chunk: usize,
+    /// The f64 path for rows the check does not trust.
+    cpu: CpuBackend,
+    /// Check every row and recompute the untrusted ones (on by default;
+    /// off only to measure the raw f32 kernel).
+    pub self_check: bool,
     lanes64: Vec<Lane>,
     lanes32: Vec<GpuLane>,
+    on_gpu: Vec<usize>,
     states: Vec<GpuState>,
+    redo: Vec<(usize, Recheck)>,
+    redo_params: Vec<Params>,
+    redo_out: Vec<LaneResult>,
 }
 
 /// Default lanes per chunk (capped by the device's limits).
 pub const CHUNK_LANES: usize = 1 << 16;
 
 impl GpuBackend {
-    /// A backend on an opened device.
+    /// A backend on an opened device; rows it does not trust are
+    /// recomputed on all cores.
     pub fn new(gpu: Gpu, settings: Settings) -> GpuBackend {
+        let cpu = CpuBackend::new(0, settings).expect("a thread pool on all cores");
+        GpuBackend::with_cpu(gpu, settings, cpu)
+    }
+
+    /// A backend whose recomputed rows run on `cpu`.
+    pub fn with_cpu(gpu: Gpu, settings: Settings, cpu: CpuBackend) -> GpuBackend {
         let chunk = CHUNK_LANES.min(gpu.max_chunk_lanes()).max(1);
         GpuBackend {
             gpu,
             settings,
             chunk,
+            cpu,
+            self_check: true,
             lanes64: Vec::new(),
             lanes32: Vec::new(),
+            on_gpu: Vec::new(),
             states: Vec::new(),
+            redo: Vec::new(),
+            redo_params: Vec::new(),
+            redo_out: Vec::new(),
         }
     }
 }
@@ -59,18 +82,61 @@ impl Backend for GpuBackend {
         self.lanes64.clear();
         self.lanes64
             .extend(lanes.iter().map(|p| Lane::new(p, table)));
+        out.clear();
+        out.resize(lanes.len(), PLACEHOLDER);
+        self.redo.clear();
+        // Lanes f32 cannot represent never go to the GPU.
+        self.on_gpu.clear();
+        for (i, l) in self.lanes64.iter().enumerate() {
+            if !self.self_check || verify::representable(l) {
+                self.on_gpu.push(i);
+            } else {
+                self.redo.push((i, Recheck::F32Range));
+            }
+        }
         self.lanes32.clear();
-        self.lanes32.extend(self.lanes64.iter().map(GpuLane::from));
+        let l64 = &self.lanes64;
+        self.lanes32
+            .extend(self.on_gpu.iter().map(|&i| GpuLane::from(&l64[i])));
         let globals = GpuGlobals::new(&self.settings, table);
         self.gpu
             .run(chunk, &self.lanes32, globals, &mut self.states)?;
-        out.clear();
-        out.extend(
-            self.states
-                .iter()
-                .zip(&self.lanes64)
-                .map(|(s, l)| s.end_state().result(l, table)),
-        );
+        for (&i, st) in self.on_gpu.iter().zip(&self.states) {
+            let mut r = st.end_state().result(&self.lanes64[i], table);
+            r.path = RowPath::Gpu;
+            let finished = st.flags & flags::DONE != 0;
+            match verify::recheck(&self.lanes64[i], &r, finished) {
+                Some(why) if self.self_check => self.redo.push((i, why)),
+                _ => out[i] = r,
+            }
+        }
+        self.recompute(first, lanes, table, out)
+    }
+}
+
+impl GpuBackend {
+    /// Recomputes the untrusted rows of a chunk on the f64 path.
+    fn recompute(
+        &mut self,
+        first: u64,
+        lanes: &[Params],
+        table: Option<&FrictionTable>,
+        out: &mut [LaneResult],
+    ) -> Result<()> {
+        if self.redo.is_empty() {
+            return Ok(());
+        }
+        self.redo_params.clear();
+        self.redo_params
+            .extend(self.redo.iter().map(|&(i, _)| lanes[i]));
+        self.cpu
+            .run_chunk(first, &self.redo_params, table, &mut self.redo_out)?;
+        for (&(i, why), r) in self.redo.iter().zip(&self.redo_out) {
+            out[i] = LaneResult {
+                path: RowPath::Recomputed(why),
+                ..*r
+            };
+        }
         Ok(())
     }
 }

@@ -122,8 +122,14 @@ impl GpuState {
     /// Where the lane stopped, in f64 (compensated sums folded in).
     pub fn end_state(&self) -> EndState {
         let val = |i: usize| self.y[i] as f64 - self.yc[i] as f64;
+        // A lane the dispatch budget cut short never says `ok`.
+        let finished = self.flags & flags::DONE != 0;
         EndState {
-            status: Status::from_code(self.status),
+            status: if finished {
+                Status::from_code(self.status)
+            } else {
+                Status::MaxSteps
+            },
             stuck: self.flags & flags::STUCK != 0,
             side: self.side,
             dir: self.dir,

@@ -8,6 +8,7 @@
 
 mod backend;
 pub mod layout;
+pub mod verify;
 
 pub use backend::{GpuBackend, CHUNK_LANES};
 

@@ -17,7 +17,7 @@ pub mod stepper;
 
 pub use automaton::{advance, init, LaneState, H_INITIAL};
 pub use batch::{simulate, simulate_batch, INTERLEAVE};
-pub use result::{Contact, EndState, LaneResult, Status};
+pub use result::{Contact, EndState, LaneResult, Recheck, RowPath, Status};
 
 /// Components of the integrated state: x1, ẋ1, w_motor, w_load, w_friction.
 pub const NY: usize = 5;

@@ -86,6 +86,73 @@ impl Contact {
     }
 }
 
+/// Why a GPU row was not trusted and came from the f64 path instead.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Recheck {
+    /// An input f32 cannot represent (sent to the CPU from the start).
+    F32Range,
+    /// The lane did not reach t_end within the dispatch budget.
+    Unfinished,
+    /// The GPU ended the lane with a status other than `ok`.
+    GpuStatus,
+    /// A result is not finite, or beyond what f32 resolves.
+    NonFinite,
+    /// The lane's own energy balance does not close within what f32 allows.
+    EnergyBalance,
+    /// A Kloss motor so stiff near synchronous speed that f32 cannot resolve its force.
+    StiffMotor,
+    /// A work that cancels below what f32 resolves of the energy that flowed.
+    Cancellation,
+}
+
+impl Recheck {
+    /// Every reason, in order.
+    pub const ALL: [Recheck; 7] = [
+        Recheck::F32Range,
+        Recheck::Unfinished,
+        Recheck::GpuStatus,
+        Recheck::NonFinite,
+        Recheck::EnergyBalance,
+        Recheck::StiffMotor,
+        Recheck::Cancellation,
+    ];
+
+    /// The reason's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Recheck::F32Range => "f32_range",
+            Recheck::Unfinished => "unfinished",
+            Recheck::GpuStatus => "gpu_status",
+            Recheck::NonFinite => "nonfinite",
+            Recheck::EnergyBalance => "energy_balance",
+            Recheck::StiffMotor => "stiff_motor",
+            Recheck::Cancellation => "cancellation",
+        }
+    }
+}
+
+/// Which path a row came from: the `path` column of `lanes.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum RowPath {
+    /// The f64 CPU path (a CPU run).
+    Cpu,
+    /// The f32 GPU path, checked and trusted.
+    Gpu,
+    /// Computed on the GPU, not trusted, recomputed on the f64 path.
+    Recomputed(Recheck),
+}
+
+impl RowPath {
+    /// The cell: `cpu`, `gpu` or `cpu:REASON`.
+    pub fn name(self) -> String {
+        match self {
+            RowPath::Cpu => "cpu".into(),
+            RowPath::Gpu => "gpu".into(),
+            RowPath::Recomputed(r) => format!("cpu:{}", r.name()),
+        }
+    }
+}
+
 /// What a lane reports (MODEL.md section 6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaneResult {
@@ -105,6 +172,8 @@ pub struct LaneResult {
     pub eta_end: f64,
     /// Accepted integration steps.
     pub steps: u32,
+    /// The path the row came from.
+    pub path: RowPath,
 }
 
 /// A lane's state where it stopped, in f64, as either backend holds it:
@@ -160,6 +229,7 @@ impl EndState {
             w_friction: self.y[4],
             eta_end,
             steps: self.steps,
+            path: RowPath::Cpu,
         }
     }
 }

@@ -69,24 +69,31 @@ impl Spec {
         if text.is_empty() {
             return Ok(());
         }
+        if text.contains(['\n', '\r']) {
+            return Err(format!(
+                "`{}` holds a line break; a cell is one number or law name (is a quote left open?)",
+                crate::error::shown(text, 40)
+            ));
+        }
+        let quoted = crate::error::shown(text, 40);
         match p {
             Param::Motor => {
                 self.motor = Some(parse_law(text).ok_or_else(|| {
-                    format!("`{text}` is not a motor law; allowed: kloss, constant")
+                    format!("`{quoted}` is not a motor law; allowed: kloss, constant")
                 })?)
             }
             Param::Friction => {
                 self.friction = Some(parse_law(text).ok_or_else(|| {
-                    format!("`{text}` is not a friction law; allowed: paper, coulomb, table")
+                    format!("`{quoted}` is not a friction law; allowed: paper, coulomb, table")
                 })?)
             }
             Param::Num(n) => {
                 let v: f64 = text
                     .parse()
-                    .map_err(|_| format!("`{text}` is not a number"))?;
+                    .map_err(|_| format!("`{quoted}` is not a number"))?;
                 if !v.is_finite() {
                     return Err(format!(
-                        "`{text}` is not finite; a finite number is required"
+                        "`{quoted}` is not finite; a finite number is required"
                     ));
                 }
                 self.set(n, v);
@@ -230,10 +237,11 @@ mod tests {
         assert_eq!(e.param, "v_crit");
         assert_eq!(e.msg, "must be >= 0 m/s and < v_sync = 3.35, got 3.4");
         let mut s = Spec::default();
-        s.set(Num::GammaDeg, 90.0);
+        s.set(Num::GammaDeg, 1e-9);
         assert_eq!(
             s.resolve(false).unwrap_err().msg,
-            "must be in (0, 90) deg, got 90"
+            "must be in [0.5, 85] deg (worm lead angles; towards 0 or 90 deg the \
+             efficiencies lose meaning), got 0.000000001"
         );
     }
 }

@@ -201,17 +201,21 @@ const ROW: Def = Def {
 
 parameter_table! {
     num M1 { name: "m1", unit: "kg", meaning: "reduced mass of the worm side",
-        default: Fallback::Value(586.0), lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::Value(586.0), lo: Bound::Closed(1e-3), hi: Bound::Closed(1e9),
+        why: "a physical reduced mass", ..ROW }
     num M2 { name: "m2", unit: "kg", meaning: "reduced mass of the wheel side",
-        default: Fallback::Value(10275.0), lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::Value(10275.0), lo: Bound::Closed(1e-3), hi: Bound::Closed(1e9),
+        why: "a physical reduced mass", ..ROW }
     num GammaDeg { name: "gamma_deg", unit: "deg", meaning: "lead angle",
         default: Fallback::Value(5.710593137499643), // atan(0.1)
-        lo: Bound::Open(0.0), hi: Bound::Open(90.0), ..ROW }
+        lo: Bound::Closed(0.5), hi: Bound::Closed(85.0),
+        why: "worm lead angles; towards 0 or 90 deg the efficiencies lose meaning", ..ROW }
     num F2 { name: "f2", unit: "N", meaning: "load on body 2 (+ overhauling, - resisting)",
         default: Fallback::Value(4774.0), ..ROW }
     selector Motor
     num VSync { name: "v_sync", unit: "m/s", meaning: "Kloss motor: synchronous speed",
-        default: Fallback::Value(3.35), owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::Value(3.35), owner: Owner::Kloss, lo: Bound::Open(0.0),
+        hi: Bound::Closed(100.0), why: "sliding speeds of real drives", ..ROW }
     num VCrit { name: "v_crit", unit: "m/s", meaning: "Kloss motor: speed at the peak force",
         default: Fallback::Value(2.07), owner: Owner::Kloss, lo: Bound::Closed(0.0),
         below: Some(Num::VSync), ..ROW }
@@ -223,24 +227,29 @@ parameter_table! {
         default: Fallback::Never, lo: Bound::Closed(0.0), why: "or unset for never", ..ROW }
     selector Friction
     num FricA { name: "fric_a", unit: "", meaning: "paper law rho[deg] = 1/(a Vs^b + c)",
-        default: Fallback::Value(0.174), owner: Owner::PaperFriction, lo: Bound::Closed(0.0), ..ROW }
+        default: Fallback::Value(0.174), owner: Owner::PaperFriction, lo: Bound::Closed(0.0),
+        hi: Bound::Closed(100.0), ..ROW }
     num FricB { name: "fric_b", unit: "", meaning: "paper law exponent b",
-        default: Fallback::Value(0.612), owner: Owner::PaperFriction, lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::Value(0.612), owner: Owner::PaperFriction, lo: Bound::Open(0.0),
+        hi: Bound::Closed(5.0), ..ROW }
     num FricC { name: "fric_c", unit: "", meaning: "paper law c = 1/rho(0)",
         default: Fallback::Value(0.14), owner: Owner::PaperFriction,
-        lo: Bound::Open(1.0 / 90.0), why: "1/90: rho(0) = 1/c deg < 90 deg", ..ROW }
+        lo: Bound::Open(1.0 / 90.0), hi: Bound::Closed(100.0),
+        why: "1/90: rho(0) = 1/c deg < 90 deg", ..ROW }
     num Mu { name: "mu", unit: "", meaning: "Coulomb law: sliding friction coefficient",
-        owner: Owner::Coulomb, lo: Bound::Closed(0.0), ..ROW }
+        owner: Owner::Coulomb, lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
     num MuStatic { name: "mu_static", unit: "", meaning: "Coulomb law: static coefficient",
         default: Fallback::SameAs(Num::Mu), owner: Owner::Coulomb, at_least: Some(Num::Mu),
+        hi: Bound::Closed(10.0),
         why: "static friction below sliding friction would stop a departing lane at once",
         ..ROW }
     num X10 { name: "x1_0", unit: "m", meaning: "initial position of body 1",
-        default: Fallback::Value(0.0), ..ROW }
+        default: Fallback::Value(0.0), lo: Bound::Closed(-1e6), hi: Bound::Closed(1e6), ..ROW }
     num V10 { name: "v1_0", unit: "m/s", meaning: "initial speed of body 1",
-        default: Fallback::Value(0.0), ..ROW }
+        default: Fallback::Value(0.0), lo: Bound::Closed(-100.0), hi: Bound::Closed(100.0),
+        why: "sliding speeds of real drives", ..ROW }
     num TEnd { name: "t_end", unit: "s", meaning: "simulated time",
-        default: Fallback::Value(2.0), lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::Value(2.0), lo: Bound::Open(0.0), hi: Bound::Closed(1e5), ..ROW }
 }
 
 impl Num {
@@ -306,6 +315,18 @@ impl Bound {
     }
 }
 
+/// A bound as a person writes it: 1e9, 1e-3, 0.5, 85.
+fn num_text(b: f64) -> String {
+    if b != 0.0 && !(1e-2..1e5).contains(&b.abs()) {
+        format!("{b:e}")
+    } else if format!("{b}").len() > 8 {
+        // 1/90: six decimals say enough.
+        format!("{b:.6}")
+    } else {
+        format!("{b}")
+    }
+}
+
 impl Def {
     /// Whether `v` lies in the row's own range.
     pub fn in_range(&self, v: f64) -> bool {
@@ -323,13 +344,13 @@ impl Def {
         match (self.lo, self.hi) {
             (Bound::None, Bound::None) => String::new(),
             (lo, Bound::None) => match lo {
-                Bound::Closed(b) => format!(">= {b}{unit}"),
-                Bound::Open(b) => format!("> {b}{unit}"),
+                Bound::Closed(b) => format!(">= {}{unit}", num_text(b)),
+                Bound::Open(b) => format!("> {}{unit}", num_text(b)),
                 Bound::None => unreachable!(),
             },
             (Bound::None, hi) => match hi {
-                Bound::Closed(b) => format!("<= {b}{unit}"),
-                Bound::Open(b) => format!("< {b}{unit}"),
+                Bound::Closed(b) => format!("<= {}{unit}", num_text(b)),
+                Bound::Open(b) => format!("< {}{unit}", num_text(b)),
                 Bound::None => unreachable!(),
             },
             (lo, hi) => {
@@ -343,10 +364,59 @@ impl Def {
                     Bound::Open(b) => (')', b),
                     Bound::None => unreachable!(),
                 };
-                format!("in {l}{a}, {b}{r}{unit}")
+                format!("in {l}{}, {}{r}{unit}", num_text(a), num_text(b))
             }
         }
     }
+}
+
+/// The README's parameter table, rendered from the rows (a test keeps the
+/// README equal to it).
+pub fn readme_table() -> String {
+    let mut s =
+        String::from("| name | unit | meaning | default | allowed |\n|---|---|---|---|---|\n");
+    for p in Param::COLUMNS {
+        let row = match p {
+            Param::Motor => "| `motor` | | motor law | `kloss` | `kloss`, `constant` |".to_string(),
+            Param::Friction => {
+                "| `friction` | | friction law | `paper` | `paper`, `coulomb`, `table` |"
+                    .to_string()
+            }
+            Param::Num(n) => {
+                let d = n.def();
+                let default = match d.default {
+                    Fallback::Value(v) => format!("{v}"),
+                    Fallback::SameAs(q) => format!("= `{}`", q.name()),
+                    Fallback::Required => format!("required by {}", d.owner.law()),
+                    Fallback::Never => "never".into(),
+                };
+                let mut allowed = d.range_text();
+                if let Some(q) = d.below {
+                    allowed += &format!(", < `{}`", q.name());
+                }
+                if let Some(q) = d.at_least {
+                    allowed += &format!(">= `{}`", q.name());
+                    if d.hi != Bound::None {
+                        allowed = format!(">= `{}`, {}", q.name(), d.range_text());
+                    }
+                }
+                if allowed.is_empty() {
+                    allowed = "any finite number".into();
+                }
+                let law = match d.owner {
+                    Owner::All => String::new(),
+                    o => format!(" ({})", o.law()),
+                };
+                format!(
+                    "| `{}` | {} | {}{law} | {default} | {allowed} |",
+                    d.name, d.unit, d.meaning
+                )
+            }
+        };
+        s += &row;
+        s.push('\n');
+    }
+    s
 }
 
 #[cfg(test)]
@@ -369,13 +439,25 @@ mod tests {
         }
     }
 
+    /// The README's table is the table.
+    #[test]
+    fn readme_parameter_table_is_the_table() {
+        let readme = include_str!("../../README.md");
+        let want = readme_table();
+        assert!(
+            readme.contains(&want),
+            "README's parameter table differs; it should read:\n{want}"
+        );
+    }
+
     #[test]
     fn ranges_read_as_written() {
-        assert_eq!(Num::M1.def().range_text(), "> 0 kg");
-        assert_eq!(Num::GammaDeg.def().range_text(), "in (0, 90) deg");
+        assert_eq!(Num::M1.def().range_text(), "in [1e-3, 1e9] kg");
+        assert_eq!(Num::GammaDeg.def().range_text(), "in [0.5, 85] deg");
         assert_eq!(Num::MotorOff.def().range_text(), ">= 0 s");
         assert!(Num::GammaDeg.def().in_range(45.0));
         assert!(!Num::GammaDeg.def().in_range(90.0));
+        assert!(!Num::V10.def().in_range(1e39));
         assert!(!Num::M1.def().in_range(f64::NAN));
     }
 }

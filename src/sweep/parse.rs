@@ -31,19 +31,45 @@ struct SweepFile {
 #[serde(deny_unknown_fields)]
 struct AxisDef {
     param: String,
-    values: Option<Vec<f64>>,
-    from: Option<f64>,
-    to: Option<f64>,
-    n: Option<i64>,
-    scale: Option<String>,
+    values: Option<Spanned<Vec<f64>>>,
+    from: Option<Spanned<f64>>,
+    to: Option<Spanned<f64>>,
+    n: Option<Spanned<i64>>,
+    scale: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SamplingDef {
     method: Method,
-    n: i64,
-    seed: u64,
+    n: Spanned<i64>,
+    seed: Spanned<Seed>,
+}
+
+/// Largest seed: `sweep.resolved.toml` writes seeds as TOML integers,
+/// which are signed 64-bit, and a seed must come back as it was given.
+pub const MAX_SEED: u64 = i64::MAX as u64;
+
+/// A seed as written, checked against [`MAX_SEED`] with its line.
+struct Seed(i128);
+
+impl<'de> Deserialize<'de> for Seed {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Seed, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = Seed;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "seed: an integer from 0 to {MAX_SEED}")
+            }
+            fn visit_i64<E>(self, v: i64) -> std::result::Result<Seed, E> {
+                Ok(Seed(v as i128))
+            }
+            fn visit_u64<E>(self, v: u64) -> std::result::Result<Seed, E> {
+                Ok(Seed(v as i128))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// How a tolerance study draws its samples.
@@ -71,6 +97,26 @@ struct TableDef {
     vs: Vec<f64>,
     mu: Vec<f64>,
 }
+/// The TOML reader's error on one line; a duplicate key is named.
+fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
+    let at = e.span().map(|s| line_of(text, s.start));
+    let msg = e.message().trim().replace('\n', " ");
+    if msg.starts_with("duplicate key") {
+        let key = e
+            .span()
+            .and_then(|s| text.get(s))
+            .map(|k| k.trim().trim_matches(['"', '\'']))
+            .unwrap_or("");
+        return Error::input(
+            path,
+            at,
+            Some(key),
+            "duplicate key; each key may appear once in its table",
+        );
+    }
+    Error::input(path, at, None, msg)
+}
+
 fn line_of(text: &str, pos: usize) -> String {
     format!(
         "line {}",
@@ -88,10 +134,7 @@ impl Sweep {
 
     /// Parses sweep-file text; `path` names it in errors.
     pub fn parse(path: &Path, text: &str) -> Result<Sweep> {
-        let file: SweepFile = toml::from_str(text).map_err(|e| {
-            let at = e.span().map(|s| line_of(text, s.start));
-            Error::input(path, at, None, e.message().trim().replace('\n', " "))
-        })?;
+        let file: SweepFile = toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         let at = At { path, text };
         let base = parse_base(&at, &file.base)?;
         let axes = parse_axes(&at, &file.grid)?;
@@ -172,12 +215,15 @@ fn parse_base(at: &At, keys: &BTreeMap<String, Spanned<toml::Value>>) -> Result<
 fn parse_axes(at: &At, grid: &[Spanned<AxisDef>]) -> Result<Vec<Axis>> {
     let mut axes: Vec<Axis> = Vec::new();
     for ax in grid {
-        let span = ax.span();
         let a = ax.get_ref();
-        let param = numeric_param(&a.param).map_err(|m| at.bad(span.clone(), &a.param, m))?;
-        let values = axis_values(a).map_err(|m| at.bad(span.clone(), &a.param, m))?;
+        // Errors point at the key concerned, else at the [[grid]] entry.
+        let bad = |(span, m): (Option<std::ops::Range<usize>>, String)| {
+            at.bad(span.unwrap_or(ax.span()), &a.param, m)
+        };
+        let param = numeric_param(&a.param).map_err(|m| bad((None, m)))?;
+        let values = axis_values(a).map_err(bad)?;
         if axes.iter().any(|x| x.param == param) {
-            return Err(at.bad(span, &a.param, "appears on two grid axes".into()));
+            return Err(bad((None, "appears on two grid axes".into())));
         }
         axes.push(Axis { param, values });
     }
@@ -204,9 +250,19 @@ fn parse_study(at: &At, file: &SweepFile, base: &Spec, axes: &[Axis]) -> Result<
         (Some(s), Some(_)) => s,
     };
     let sd = s.get_ref();
-    if sd.n < 1 {
-        return Err(at.bad(s.span(), "n", format!("must be >= 1, got {}", sd.n)));
+    let n = *sd.n.get_ref();
+    if n < 1 {
+        return Err(at.bad(sd.n.span(), "n", format!("must be >= 1, got {n}")));
     }
+    let seed = sd.seed.get_ref().0;
+    if !(0..=MAX_SEED as i128).contains(&seed) {
+        return Err(at.bad(
+            sd.seed.span(),
+            "seed",
+            format!("must be an integer from 0 to {MAX_SEED} (so that sweep.resolved.toml gives it back), got {seed}"),
+        ));
+    }
+    let seed = seed as u64;
     let mut params: Vec<Tolerance> = Vec::new();
     for t in &file.tolerance {
         let tol = parse_tolerance(at, t, base, axes)?;
@@ -219,14 +275,14 @@ fn parse_study(at: &At, file: &SweepFile, base: &Spec, axes: &[Axis]) -> Result<
         }
         params.push(tol);
     }
-    let n = sd.n as u64;
+    let n = n as u64;
     let perms = (0..params.len() as u64)
-        .map(|d| Permutation::new(n, sd.seed ^ (0xA5A5_0000_0000_0000 | d)))
+        .map(|d| Permutation::new(n, seed ^ (0xA5A5_0000_0000_0000 | d)))
         .collect();
     Ok(Some(Study {
         method: sd.method,
         n,
-        seed: sd.seed,
+        seed,
         params,
         perms,
     }))
@@ -271,42 +327,71 @@ fn numeric_param(name: &str) -> std::result::Result<Num, String> {
     }
 }
 
-fn axis_values(a: &AxisDef) -> std::result::Result<AxisValues, String> {
-    match (&a.values, a.from, a.to, a.n) {
+/// An axis's values; an error names the span of the key concerned.
+fn axis_values(
+    a: &AxisDef,
+) -> std::result::Result<AxisValues, (Option<std::ops::Range<usize>>, String)> {
+    let get = |x: &Option<Spanned<f64>>| x.as_ref().map(|v| *v.get_ref());
+    match (&a.values, &a.from, &a.to, &a.n) {
         (Some(v), None, None, None) => {
-            if a.scale.is_some() {
-                return Err("scale applies to from/to/n, not to values".into());
+            if let Some(sc) = &a.scale {
+                return Err((
+                    Some(sc.span()),
+                    "scale applies to from/to/n, not to values".into(),
+                ));
             }
+            let span = Some(v.span());
+            let v = v.get_ref();
             if v.is_empty() {
-                return Err("values is empty; give at least one value".into());
+                return Err((span, "values is empty; give at least one value".into()));
             }
             if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-                return Err(format!("value {x} is not finite"));
+                return Err((span, format!("value {x} is not finite")));
             }
             Ok(AxisValues::List(v.clone()))
         }
         (None, Some(from), Some(to), Some(n)) => {
-            if n < 1 {
-                return Err(format!("n must be >= 1, got {n}"));
+            if *n.get_ref() < 1 {
+                return Err((
+                    Some(n.span()),
+                    format!("n must be >= 1, got {}", n.get_ref()),
+                ));
             }
-            if !from.is_finite() || !to.is_finite() {
-                return Err("from and to must be finite".into());
+            for x in [from, to] {
+                if !x.get_ref().is_finite() {
+                    return Err((Some(x.span()), "from and to must be finite".into()));
+                }
             }
-            let log = match a.scale.as_deref().unwrap_or("linear") {
-                "linear" => false,
-                "log" => true,
-                s => return Err(format!("scale `{s}` is unknown; allowed: linear, log")),
+            let log = match &a.scale {
+                None => false,
+                Some(sc) => match sc.get_ref().as_str() {
+                    "linear" => false,
+                    "log" => true,
+                    s => {
+                        return Err((
+                            Some(sc.span()),
+                            format!("scale `{s}` is unknown; allowed: linear, log"),
+                        ))
+                    }
+                },
             };
+            let (from, to) = (get(&a.from).unwrap_or(0.0), get(&a.to).unwrap_or(0.0));
             if log && !(from > 0.0 && to > 0.0) {
-                return Err("scale = \"log\" needs from > 0 and to > 0".into());
+                return Err((
+                    Some(a.scale.as_ref().map_or(0..0, |s| s.span())),
+                    "scale = \"log\" needs from > 0 and to > 0".into(),
+                ));
             }
             Ok(AxisValues::Range {
                 from,
                 to,
-                n: n as u64,
+                n: *n.get_ref() as u64,
                 log,
             })
         }
-        _ => Err("give either values = [...] or from, to and n (with optional scale)".into()),
+        _ => Err((
+            None,
+            "give either values = [...] or from, to and n (with optional scale)".into(),
+        )),
     }
 }

@@ -116,34 +116,52 @@ fn nan_and_infinity() {
 }
 
 #[test]
-fn masses_must_be_positive() {
+fn masses_must_be_positive_and_physical() {
     rejects(
         Some("[base]\nm1 = 0\n"),
         None,
-        &["s.toml", "m1", "must be > 0"],
+        &["s.toml", "m1", "must be in [1e-3, 1e9] kg"],
     );
     rejects(
         None,
         Some("m2\n10275\n-5\n"),
-        &["l.csv", "row 2 (line 3)", "m2", "must be > 0"],
+        &["l.csv", "row 2 (line 3)", "m2", "must be in [1e-3, 1e9] kg"],
     );
     // A grid value is checked in its lane.
     rejects(
         Some("[[grid]]\nparam = \"m1\"\nvalues = [586, -1]\n"),
         None,
-        &["s.toml", "lane 1", "m1", "must be > 0"],
+        &["s.toml", "lane 1", "m1", "must be in [1e-3, 1e9] kg"],
     );
 }
 
+/// The lead angle stays in a worm drive's physical range: inside (0, 90)
+/// and away from where the efficiencies lose meaning (1e-9 deg gave
+/// eta_end = -2e9).
 #[test]
-fn lead_angle_inside_0_90() {
-    for g in ["0", "90", "120", "-3"] {
+fn lead_angle_inside_its_physical_range() {
+    for g in ["0", "90", "120", "-3", "1e-9", "89.9"] {
         rejects(
             Some(&format!("[base]\ngamma_deg = {g}\n")),
             None,
-            &["s.toml", "gamma_deg", "(0, 90)"],
+            &["s.toml", "gamma_deg", "must be in [0.5, 85] deg"],
         );
     }
+}
+
+/// Initial speeds beyond any drive's (1e39 m/s gave `ok` with no heat).
+#[test]
+fn initial_speed_inside_its_physical_range() {
+    rejects(
+        None,
+        Some("v1_0\n1e39\n"),
+        &[
+            "l.csv",
+            "row 1 (line 2)",
+            "v1_0",
+            "must be in [-100, 100] m/s",
+        ],
+    );
 }
 
 #[test]
@@ -180,12 +198,12 @@ fn t_end_positive() {
     rejects(
         Some("[base]\nt_end = 0\n"),
         None,
-        &["s.toml", "t_end", "must be > 0"],
+        &["s.toml", "t_end", "must be in (0, 1e5] s"],
     );
     rejects(
         None,
         Some("t_end\n-1\n"),
-        &["l.csv", "row 1 (line 2)", "t_end", "must be > 0"],
+        &["l.csv", "row 1 (line 2)", "t_end", "must be in (0, 1e5] s"],
     );
 }
 
@@ -194,7 +212,7 @@ fn friction_parameters() {
     rejects(
         Some("[base]\nfriction = \"coulomb\"\nmu = -0.1\n"),
         None,
-        &["s.toml", "mu", ">= 0"],
+        &["s.toml", "mu", "must be in [0, 10]"],
     );
     rejects(
         Some("[base]\nfriction = \"coulomb\"\n"),
@@ -287,6 +305,156 @@ fn tolerance_study_errors() {
     rejects(
         Some("[sampling]\nmethod = \"monte_carlo\"\nn = 200\nseed = 1\n[[tolerance]]\nparam = \"m1\"\ndist = \"uniform\"\ntol = 1000\n"),
         None,
-        &["s.toml", "lane ", "m1", "must be > 0"],
+        &["s.toml", "lane ", "m1", "must be in [1e-3, 1e9] kg"],
     );
+}
+
+#[test]
+fn duplicate_key_is_named() {
+    rejects(
+        Some("[base]\nm1 = 586\nm1 = 600\n"),
+        None,
+        &["s.toml", "line 3", "m1: duplicate key"],
+    );
+}
+
+#[test]
+fn ragged_row_says_what_is_wrong() {
+    rejects(
+        None,
+        Some("m1,m2\n586,10275\n586\n"),
+        &[
+            "l.csv",
+            "row 2 (line 3)",
+            "has 1 cells but the header has 2",
+        ],
+    );
+}
+
+#[test]
+fn a_quoted_line_break_is_one_line() {
+    rejects(
+        None,
+        Some("m1,m2\n586,\"10\n275\"\n"),
+        &["l.csv", "row 1 (line 2)", "m2", "holds a line break"],
+    );
+}
+
+/// `"100` used to be read as 100.
+#[test]
+fn an_unterminated_quote_is_refused() {
+    rejects(
+        None,
+        Some("m1\n\"100\n"),
+        &["l.csv", "line 2", "never closed"],
+    );
+}
+
+fn study(seed: &str) -> String {
+    format!(
+        "[sampling]\nmethod = \"monte_carlo\"\nn = 3\nseed = {seed}\n\
+         [[tolerance]]\nparam = \"m1\"\ndist = \"uniform\"\ntol = 1\n"
+    )
+}
+
+/// Seeds are exactly those that sweep.resolved.toml can give back.
+#[test]
+fn seeds_outside_what_round_trips_are_named() {
+    for seed in ["-1", "9223372036854775808", "18446744073709551615"] {
+        rejects(
+            Some(&study(seed)),
+            None,
+            &[
+                "s.toml",
+                "line 4",
+                "seed: must be an integer from 0 to 9223372036854775807",
+            ],
+        );
+    }
+    rejects(
+        Some(&study("1.5")),
+        None,
+        &[
+            "s.toml",
+            "line 4",
+            "seed: an integer from 0 to 9223372036854775807",
+        ],
+    );
+}
+
+#[test]
+fn the_largest_seed_round_trips_through_the_resolved_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.toml"), study("9223372036854775807")).unwrap();
+    let (_, _, a) = crate::common::run_ok(
+        &["run", "s.toml", "--out", "o", "--backend", "cpu"],
+        dir.path(),
+    );
+    std::fs::copy(
+        dir.path().join("o/sweep.resolved.toml"),
+        dir.path().join("r.toml"),
+    )
+    .unwrap();
+    let (_, _, b) = crate::common::run_ok(
+        &["run", "r.toml", "--out", "o", "--backend", "cpu"],
+        dir.path(),
+    );
+    assert_eq!(a, b, "the resolved sweep gives the same lanes");
+    let text = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();
+    assert!(text.contains("seed = 9223372036854775807"), "{text}");
+}
+
+/// Grid errors point at the key, not at the [[grid]] header.
+#[test]
+fn grid_errors_name_the_line_of_the_key() {
+    rejects(
+        Some("[[grid]]\nparam = \"m1\"\nfrom = 1\nto = 2\nn = -3\n"),
+        None,
+        &["s.toml", "line 5", "m1", "n must be >= 1"],
+    );
+    rejects(
+        Some("[[grid]]\nparam = \"mu\"\nfrom = 1\nto = 2\nn = 3\nscale = \"cubic\"\n[base]\nfriction = \"coulomb\"\n"),
+        None,
+        &["s.toml", "line 6", "scale `cubic` is unknown"],
+    );
+    rejects(
+        Some("[[grid]]\nparam = \"m1\"\nvalues = []\n"),
+        None,
+        &["s.toml", "line 3", "values is empty"],
+    );
+}
+
+/// With --lanes beside a sweep file, the provenance records the file's
+/// [base] and [friction_table].
+#[test]
+fn lane_table_provenance_records_base_and_friction_table() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("s.toml"),
+        "[base]\nfriction = \"table\"\nf2 = -3000\n[friction_table]\nvs = [0, 1, 4]\nmu = [0.12, 0.06, 0.04]\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("l.csv"), "gamma_deg\n10\n").unwrap();
+    crate::common::run_ok(
+        &[
+            "run",
+            "s.toml",
+            "--lanes",
+            "l.csv",
+            "--out",
+            "o",
+            "--backend",
+            "cpu",
+        ],
+        dir.path(),
+    );
+    let text = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();
+    for want in [
+        "l.csv (1 rows)",
+        "f2 = -3000.0",
+        "friction = \"table\"",
+        "mu = [0.12, 0.06, 0.04]",
+    ] {
+        assert!(text.contains(want), "`{want}` missing from {text}");
+    }
 }

@@ -5,7 +5,7 @@ use crate::common::*;
 
 const HEADER: &str = "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,fric_a,fric_b,fric_c,mu,\
 mu_static,x1_0,v1_0,t_end,lane,status,switches,t_first_switch,reversals,sticks,contact_end,x1_end,v1_end,w_motor,\
-w_load,w_friction,eta_end,steps";
+w_load,w_friction,eta_end,steps,path";
 
 #[test]
 fn paper_sweep_writes_lanes_csv_and_provenance() {
@@ -55,11 +55,16 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
         "{resolved}"
     );
     assert!(resolved.contains("fric_c = 0.14"));
-    let names: Vec<_> = std::fs::read_dir(dir.path().join("o"))
+    let mut names: Vec<_> = std::fs::read_dir(dir.path().join("o"))
         .unwrap()
-        .map(|e| e.unwrap().file_name())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names.len(), 2, "only the two final files: {names:?}");
+    names.sort();
+    assert_eq!(
+        names,
+        [".tswm.lock", "lanes.csv", "sweep.resolved.toml"],
+        "only the two final files and the folder's lock"
+    );
 }
 
 #[test]

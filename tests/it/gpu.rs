@@ -68,8 +68,9 @@ fn model_md_reference_cases_on_gpu() {
     eprintln!("GPU, MODEL.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
-/// on 10,000 random user lanes, GPU against CPU within the bounds
-/// of `tswm::check`, discrete fields identical on at least 98 % of lanes.
+/// On 10,000 random user lanes, the raw f32 kernel (no self-check)
+/// against CPU within the bounds of `tswm::check`, discrete fields
+/// identical on at least 98 % of lanes.
 #[test]
 fn random_lanes_gpu_matches_cpu() {
     let Some(mut g) = gpu("random_lanes_gpu_matches_cpu") else {
@@ -79,11 +80,134 @@ fn random_lanes_gpu_matches_cpu() {
         .iter()
         .map(|s| s.resolve(false).unwrap())
         .collect();
+    g.self_check = false;
     let (rc, rg) = run_both(&mut g, &params);
+    g.self_check = true;
     let mut report = Report::default();
-    report.add(0, &rc, &rg);
+    report.add(0, &rc, &rg).unwrap();
     eprintln!("{}", report.text());
     assert!(report.passes(), "{}", report.text());
+}
+
+/// Compares GPU-backend rows with the f64 path: returns how many rows
+/// were recomputed, and panics on any row that says `ok`, was trusted
+/// from the GPU, and is off by more than 100 times the GPU bounds or in
+/// status or final contact.
+fn no_wrong_ok_row(g: &mut GpuBackend, what: &str, specs: &[tswm::params::Spec]) -> usize {
+    use tswm::integrator::{RowPath, Status};
+    let params: Vec<Params> = specs.iter().map(|s| s.resolve(false).unwrap()).collect();
+    let (rc, rg) = run_both(g, &params);
+    let mut redone = 0;
+    for (i, (c, r)) in rc.iter().zip(&rg).enumerate() {
+        if r.path != RowPath::Gpu {
+            redone += 1;
+            assert_eq!(format!("{:?}", c.status), format!("{:?}", r.status));
+            assert_eq!(c.x1_end.to_bits(), r.x1_end.to_bits(), "{what} lane {i}");
+            continue;
+        }
+        assert!(
+            r.status == Status::Ok,
+            "{what} lane {i}: a trusted GPU row is ok"
+        );
+        assert_eq!(c.status, r.status, "{what} lane {i}");
+        assert_eq!(c.contact_end, r.contact_end, "{what} lane {i}");
+        for (name, a, b) in [
+            ("x1_end", r.x1_end, c.x1_end),
+            ("v1_end", r.v1_end, c.v1_end),
+            ("w_motor", r.w_motor, c.w_motor),
+            ("w_load", r.w_load, c.w_load),
+            ("w_friction", r.w_friction, c.w_friction),
+        ] {
+            assert!(
+                rel1(a, b) <= tswm::gpu::verify::TRUSTED_BOUND,
+                "{what} lane {i}: {name} {a} vs f64 {b}"
+            );
+        }
+    }
+    eprintln!(
+        "{what}: {redone} of {} rows recomputed in f64 ({:.2} %)",
+        rg.len(),
+        100.0 * redone as f64 / rg.len() as f64
+    );
+    redone
+}
+
+/// No GPU row says `ok` while it is wrong: on 10,000 random user lanes
+/// (few recomputed), on long horizons with stiff motors (where 21 % of
+/// lanes missed the bounds), and on the lanes of the failures seen.
+#[test]
+fn gpu_self_check_leaves_no_wrong_ok_row() {
+    let Some(mut g) = gpu("gpu_self_check_leaves_no_wrong_ok_row") else {
+        return;
+    };
+    let random = tswm::testmodels::random_user_lanes(10_000, 31);
+    let redone = no_wrong_ok_row(&mut g, "random user lanes", &random);
+    assert!(
+        redone < 200,
+        "{redone} of 10,000 random user lanes recomputed"
+    );
+    no_wrong_ok_row(
+        &mut g,
+        "long horizons, stiff motors",
+        &tswm::testmodels::long_stiff_lanes(100, 7),
+    );
+    let stiff = tswm::testmodels::stiff_at_sync_lanes(20);
+    assert_eq!(
+        no_wrong_ok_row(&mut g, "stiff motors at v_sync", &stiff),
+        stiff.len()
+    );
+}
+
+/// The lanes of the failures seen, recreated from their figures: an
+/// extremely stiff motor started at synchronous speed, which ran out of
+/// dispatch budget and came back `ok` short of t_end (t_end 6 s and 20 s
+/// gave the same x1_end), and inputs beyond f32's range, which came back
+/// `ok` or `stick` with zeros. All now come from the f64 path.
+#[test]
+fn unfinished_and_f32_range_lanes_come_from_the_f64_path() {
+    let Some(mut g) = gpu("unfinished_and_f32_range_lanes_come_from_the_f64_path") else {
+        return;
+    };
+    use tswm::params::{MotorKind, Num, Spec};
+    let mut specs = Vec::new();
+    for t_end in [6.0, 20.0] {
+        let mut s = Spec::default();
+        s.set(Num::VCrit, 3.35 - 1e-4);
+        s.set(Num::V10, 3.35);
+        s.set(Num::F2, -4774.0);
+        s.set(Num::TEnd, t_end);
+        specs.push(s);
+    }
+    for (p, v) in [(Num::FCrit, 1e39), (Num::F2, 1e300)] {
+        let mut s = Spec::default();
+        s.set(p, v);
+        specs.push(s);
+    }
+    let mut s = Spec {
+        motor: Some(MotorKind::Constant),
+        ..Default::default()
+    };
+    s.set(Num::F1, 1e308);
+    specs.push(s);
+    let params: Vec<Params> = specs.iter().map(|s| s.resolve(false).unwrap()).collect();
+    let (rc, rg) = run_both(&mut g, &params);
+    for (i, (c, r)) in rc.iter().zip(&rg).enumerate() {
+        assert!(
+            r.path.name().starts_with("cpu:"),
+            "lane {i}: {}",
+            r.path.name()
+        );
+        // Every field is the f64 path's, bit for bit (Debug shows NaN too).
+        let same_path = tswm::integrator::LaneResult { path: c.path, ..*r };
+        assert_eq!(format!("{same_path:?}"), format!("{c:?}"), "lane {i}");
+    }
+    assert_ne!(
+        rg[0].x1_end, rg[1].x1_end,
+        "t_end 6 s and 20 s end in different places"
+    );
+    for r in &rg[2..] {
+        assert_eq!(r.path.name(), "cpu:f32_range");
+    }
 }
 
 #[test]
@@ -172,9 +296,10 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut be = Failing(CpuBackend::new(1, Settings::default()).unwrap());
     let csv = dir.path().join("lanes.csv");
-    let err = tswm::runner::run(&src, &mut be, &csv, false)
-        .unwrap_err()
-        .to_string();
+    let err = match tswm::runner::run(&src, &mut be, &csv, false) {
+        Ok(_) => panic!("the run must fail"),
+        Err(e) => e.to_string(),
+    };
     assert!(err.contains("chunk 1"), "{err}");
     assert_eq!(
         std::fs::read_dir(dir.path()).unwrap().count(),

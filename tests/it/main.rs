@@ -5,5 +5,7 @@ mod bad_input;
 mod cli;
 mod common;
 mod fixtures;
+mod fuzz;
 mod gpu;
+mod output;
 mod shader;

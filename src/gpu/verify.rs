@@ -1,0 +1,99 @@
+//! The host's check of every GPU row: a row is trusted only when nothing
+//! in it says that f32 could not carry the lane; otherwise the lane is
+//! recomputed on the f64 path and the row says so (`path` = `cpu:REASON`).
+//!
+//! Thresholds, by measurement (`cargo run --release --example gpu_trust --
+//! random|long|stiff`, README "GPU path"): on 10,000 random user lanes the
+//! energy residual's worst is 1.0e-6, so 1e-5 leaves a factor 10; every
+//! GPU row off by more than 5e-3 in the long-horizon and stiff-motor sets
+//! has a residual of at least 5.9e-5, or a critical slip of at most
+//! 3.7e-4 (1e-3 leaves a factor 2.7), or a status other than `ok`.
+
+use crate::integrator::{LaneResult, Recheck, Status};
+use crate::model::{Lane, MOTOR_KLOSS};
+
+/// Largest energy-balance residual (relative to the largest energy term)
+/// a trusted row may have.
+pub const ENERGY_RESIDUAL: f64 = 1e-5;
+
+/// Critical slip below which a Kloss motor counts as too stiff for f32:
+/// near synchronous speed one f32 step of ẋ1 then moves the motor force
+/// by more than 1e-4 of its peak.
+pub const STIFF_SIGMA_K: f64 = 1e-3;
+
+/// Relative rounding of the f32 path's energies, measured as above
+/// (worst energy residual 1e-6): a work smaller than this share of the
+/// energy that flowed is not resolved to the GPU bound.
+const F32_ENERGY_RESOLUTION: f64 = 1e-6;
+
+/// What a trusted row promises at worst: 100 times the GPU bound on x1, v1
+/// and the works (5e-5 of max(1, |value|), `tswm check`).
+pub const TRUSTED_BOUND: f64 = 100.0 * crate::check::VALUE_BOUND;
+
+/// Whether f32 represents a lane's inputs: finite, and not so small that
+/// they vanish. Lanes that fail go to the f64 path without a GPU attempt.
+pub fn representable(lane: &Lane) -> bool {
+    let vals = [
+        lane.m1,
+        lane.m2,
+        lane.tan_g,
+        lane.sin_g,
+        lane.cos_g,
+        lane.inv_cos_g,
+        lane.f2,
+        lane.v_sync,
+        lane.sigma_k,
+        lane.f_crit,
+        lane.f1,
+        lane.fric_a,
+        lane.fric_b,
+        lane.fric_c,
+        lane.mu,
+        lane.mu_s,
+        lane.x1_0,
+        lane.v1_0,
+        lane.t_end,
+    ];
+    let ok = |v: f64| {
+        let a = v.abs();
+        a == 0.0 || (a >= f32::MIN_POSITIVE as f64 && a <= f32::MAX as f64)
+    };
+    vals.into_iter().all(ok) && (lane.motor_off.is_infinite() || ok(lane.motor_off))
+}
+
+/// Why a GPU row cannot be trusted, if it cannot. `finished` says whether
+/// the lane reached its end within the dispatch budget.
+pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
+    if !finished {
+        return Some(Recheck::Unfinished);
+    }
+    if r.status != Status::Ok {
+        return Some(Recheck::GpuStatus);
+    }
+    let vals = [r.x1_end, r.v1_end, r.w_motor, r.w_load, r.w_friction];
+    if !vals
+        .iter()
+        .all(|v| v.is_finite() && v.abs() <= f32::MAX as f64)
+    {
+        return Some(Recheck::NonFinite);
+    }
+    if lane.motor == MOTOR_KLOSS && lane.sigma_k < STIFF_SIGMA_K {
+        return Some(Recheck::StiffMotor);
+    }
+    // MODEL.md section 6: w_motor + w_load − w_friction = ΔKE.
+    let m = lane.m1 + lane.m2 * lane.tan_g * lane.tan_g;
+    let ke = 0.5 * m * (r.v1_end * r.v1_end - lane.v1_0 * lane.v1_0);
+    let scale = [1.0, r.w_motor.abs(), r.w_load.abs(), r.w_friction, ke.abs()]
+        .into_iter()
+        .fold(0.0, f64::max);
+    if (r.w_motor + r.w_load - r.w_friction - ke).abs() > ENERGY_RESIDUAL * scale {
+        return Some(Recheck::EnergyBalance);
+    }
+    // Only w_motor (a motor that drives, then brakes) and w_load (a
+    // reversal) have integrands that change sign; w_friction's never does.
+    let resolved = |w: f64| F32_ENERGY_RESOLUTION * scale <= TRUSTED_BOUND * w.abs().max(1.0);
+    if !resolved(r.w_motor) || !resolved(r.w_load) {
+        return Some(Recheck::Cancellation);
+    }
+    None
+}
