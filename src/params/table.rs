@@ -1,6 +1,10 @@
 //! The table of parameters: one row per parameter of MODEL.md section 9,
 //! in its column order. The enum [`Num`], [`Num::ALL`], [`Param::COLUMNS`]
 //! and [`NUMERIC`] are generated from the rows by `parameter_table!`.
+//!
+//! Why over 400 lines: the rows and what reads them (ranges in words, the
+//! README's table) belong together; split, the one place that states each
+//! parameter's facts would become two.
 
 /// Which motor law drives body 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
