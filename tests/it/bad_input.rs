@@ -1,7 +1,6 @@
 //! Bad input: a one-line error naming the file, the line
 //! or row, the parameter and what is allowed; exit code 2; nothing written.
 
-use crate::common::tswm;
 use std::path::Path;
 
 /// Runs `tswm run` on a sweep file (and optionally a lane table) with the
@@ -22,17 +21,7 @@ fn rejects(sweep: Option<&str>, lanes: Option<&str>, want: &[&str]) {
 }
 
 fn check(args: &[&str], dir: &Path, want: &[&str]) {
-    let out = tswm(args, dir);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "args {args:?}: stderr {err}");
-    assert_eq!(
-        err.trim_end().lines().count(),
-        1,
-        "one line expected, got: {err}"
-    );
-    for w in want {
-        assert!(err.contains(w), "`{w}` missing from: {err}");
-    }
+    crate::common::rejected(args, dir, want);
     assert!(
         !dir.join("out").exists(),
         "nothing may be written on bad input"

@@ -123,3 +123,20 @@ pub fn check_reference_cases(
     }
     (worst, worst_t)
 }
+
+/// Runs `tswm` and asserts the bad-input contract: exit code 2 and one
+/// line on stderr holding every `want`. Returns the line.
+pub fn rejected(args: &[&str], cwd: &Path, want: &[&str]) -> String {
+    let out = tswm(args, cwd);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(2), "args {args:?}: stderr {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "one line expected, got: {err}"
+    );
+    for w in want {
+        assert!(err.contains(w), "`{w}` missing from: {err}");
+    }
+    err
+}
