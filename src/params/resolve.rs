@@ -180,12 +180,16 @@ impl Spec {
                 return Err(err(format!("is required by {}", def.owner.law())))
             }
         };
-        let why = if def.why.is_empty() {
-            String::new()
-        } else {
-            format!(" ({})", def.why)
+        // Only an error needs the words (this runs for every lane).
+        let why = || {
+            if def.why.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", def.why)
+            }
         };
         if !def.in_range(v) {
+            let why = why();
             return Err(err(format!("must be {}{why}, got {v}", def.range_text())));
         }
         if let Some(q) = def.below.filter(|&q| !(v < num[q as usize])) {
@@ -198,6 +202,7 @@ impl Spec {
         }
         if let Some(q) = def.at_least.filter(|&q| !(v >= num[q as usize])) {
             let b = num[q as usize];
+            let why = why();
             return Err(err(format!("must be >= {} = {b}{why}, got {v}", q.name())));
         }
         Ok(v)
