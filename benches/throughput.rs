@@ -108,8 +108,8 @@ fn kernel(c: &mut Criterion) {
 
 /// One end-to-end run: lanes.csv streamed, synced and renamed into place.
 fn write_table(src: &Source, be: &mut dyn Backend, csv: &std::path::Path) {
-    let (_, table) = tswm::runner::run(src, be, csv, false).unwrap();
-    tswm::outdir::commit_together(vec![table.into_file()]).unwrap();
+    let written = tswm::runner::run(src, be, csv, None, false).unwrap();
+    tswm::outdir::commit_together(vec![written.lanes.into_file()], &[]).unwrap();
 }
 
 fn end_to_end(c: &mut Criterion) {

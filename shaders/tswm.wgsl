@@ -9,8 +9,9 @@
 //                                 motion, stick_test
 //   src/integrator/result.rs      status codes
 //   src/integrator/stepper.rs     tableau, rhs, stage*_v, increment, error_term,
-//                                 error_scale, dense_coeffs, try_step
+//                                 error_scale, dense_coeffs, dense_r5, try_step
 //   src/integrator/events.rs      dense_v, event_value, locate_root, earliest_event
+//   src/integrator/flow.rs        dense_slope, split, dense_w, step_flow
 //   src/integrator/automaton.rs   State, init, set_side, check_mode, come_to_rest,
 //                                 depart, cut_motor, reach_time_event, prepare,
 //                                 step_factor, finish_step, step_to_event, advance
@@ -173,12 +174,18 @@ const D7: f32 = 69997945.0 / 29380423.0;
 
 struct Mode { side: i32, dir: i32, motor_on: bool }
 
-struct Deriv { k: array<f32, 5>, d: f32 }
+// Components of the integrated state: keep in sync with `NY` in
+// src/integrator/mod.rs (x1, v1, w_motor, w_load, w_friction, w_p1).
+const NY: u32 = 6u;
+
+struct Deriv { k: array<f32, NY>, d: f32 }
 
 fn rhs(l: Lane, m: Mode, v: f32) -> Deriv {
     let mo = motion(l, m.side, m.dir, m.motor_on, v);
     let v2 = v * l.tan_g;
-    return Deriv(array<f32, 5>(v, mo.acc, mo.f1 * v, l.f2 * v2, mo.s1 * v + mo.s2 * v2), mo.d);
+    let p1 = mo.s1 * v;
+    let p2 = mo.s2 * v2;
+    return Deriv(array<f32, NY>(v, mo.acc, mo.f1 * v, l.f2 * v2, p1 + p2, p1), mo.d);
 }
 
 fn stage2_v(v0: f32, h: f32, k1: f32) -> f32 {
@@ -213,19 +220,34 @@ fn dense_coeffs(v0: f32, v1: f32, h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6
     let r2 = v1 - v0;
     let r3 = h * k1 - r2;
     let r4 = r2 - h * k7 - r3;
-    let r5 = h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7);
-    return array<f32, 5>(v0, r2, r3, r4, r5);
+    return array<f32, 5>(v0, r2, r3, r4, dense_r5(h, k1, k3, k4, k5, k6, k7));
+}
+
+fn dense_r5(h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32, k7: f32) -> f32 {
+    return h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7);
 }
 
 struct Trial {
-    y1: array<f32, 5>,
-    y1c: array<f32, 5>,
-    k7: array<f32, 5>,
+    y1: array<f32, NY>,
+    y1c: array<f32, NY>,
+    k7: array<f32, NY>,
     err: f32,
     dense: array<f32, 5>,
+    // increments of the integrals of p1 and p2, and the last coefficient
+    // of their dense outputs, for `step_flow`
+    dw: vec2<f32>,
+    dw_r4: vec2<f32>,
 }
 
-fn try_step(l: Lane, m: Mode, y: array<f32, 5>, yc: array<f32, 5>, k1: array<f32, 5>, h: f32, tol: f32) -> Trial {
+// Compensated (Kahan) y1 = y + dy of component i; the value is y1 - y1c.
+fn step_component(tr: ptr<function, Trial>, i: u32, dy: f32, y: f32, yc: f32) {
+    let yy = dy - yc;
+    let s = y + yy;
+    (*tr).y1c[i] = (s - y) - yy;
+    (*tr).y1[i] = s;
+}
+
+fn try_step(l: Lane, m: Mode, y: array<f32, NY>, yc: array<f32, NY>, k1: array<f32, NY>, h: f32, tol: f32) -> Trial {
     let v0 = y[1];
     let k2 = rhs(l, m, stage2_v(v0, h, k1[1])).k;
     let k3 = rhs(l, m, stage3_v(v0, h, k1[1], k2[1])).k;
@@ -233,24 +255,37 @@ fn try_step(l: Lane, m: Mode, y: array<f32, 5>, yc: array<f32, 5>, k1: array<f32
     let k5 = rhs(l, m, stage5_v(v0, h, k1[1], k2[1], k3[1], k4[1])).k;
     let k6 = rhs(l, m, stage6_v(v0, h, k1[1], k2[1], k3[1], k4[1], k5[1])).k;
     var tr: Trial;
-    for (var i = 0; i < 5; i++) {
-        let dy = increment(h, k1[i], k3[i], k4[i], k5[i], k6[i]);
-        // compensated (Kahan) y1 = y + dy; the value is y1 - y1c
-        let yy = dy - yc[i];
-        let s = y[i] + yy;
-        tr.y1c[i] = (s - y[i]) - yy;
-        tr.y1[i] = s;
-    }
+    // Written out component by component (constant indices): with a loop
+    // over the components lavapipe's compiler keeps these arrays in
+    // memory and runs ten times slower.
+    step_component(&tr, 0u, increment(h, k1[0], k3[0], k4[0], k5[0], k6[0]), y[0], yc[0]);
+    step_component(&tr, 1u, increment(h, k1[1], k3[1], k4[1], k5[1], k6[1]), y[1], yc[1]);
+    step_component(&tr, 2u, increment(h, k1[2], k3[2], k4[2], k5[2], k6[2]), y[2], yc[2]);
+    step_component(&tr, 3u, increment(h, k1[3], k3[3], k4[3], k5[3], k6[3]), y[3], yc[3]);
+    step_component(&tr, 4u, increment(h, k1[4], k3[4], k4[4], k5[4], k6[4]), y[4], yc[4]);
+    step_component(&tr, 5u, increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), y[5], yc[5]);
     tr.k7 = rhs(l, m, tr.y1[1]).k;
     var err = 0.0;
-    for (var i = 0; i < 5; i++) {
-        let e = error_term(h, k1[i], k3[i], k4[i], k5[i], k6[i], tr.k7[i]);
-        err = max(err, abs(e) / error_scale(tol, y[i], tr.y1[i]));
-    }
+    err = max(err, abs(error_term(h, k1[0], k3[0], k4[0], k5[0], k6[0], tr.k7[0])) / error_scale(tol, y[0], tr.y1[0]));
+    err = max(err, abs(error_term(h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1])) / error_scale(tol, y[1], tr.y1[1]));
+    err = max(err, abs(error_term(h, k1[2], k3[2], k4[2], k5[2], k6[2], tr.k7[2])) / error_scale(tol, y[2], tr.y1[2]));
+    err = max(err, abs(error_term(h, k1[3], k3[3], k4[3], k5[3], k6[3], tr.k7[3])) / error_scale(tol, y[3], tr.y1[3]));
+    err = max(err, abs(error_term(h, k1[4], k3[4], k4[4], k5[4], k6[4], tr.k7[4])) / error_scale(tol, y[4], tr.y1[4]));
+    err = max(err, abs(error_term(h, k1[5], k3[5], k4[5], k5[5], k6[5], tr.k7[5])) / error_scale(tol, y[5], tr.y1[5]));
     // NaN and infinity fail this test: the step is rejected.
     if (!(err <= 3.0e38)) { err = 3.0e38; }
     tr.err = err;
     tr.dense = dense_coeffs(v0, tr.y1[1], h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1]);
+    // The integral of p1 is component 5; that of p2 the difference of 4 and 5.
+    let k7 = tr.k7;
+    let q1 = k1[4] - k1[5];
+    let q3 = k3[4] - k3[5];
+    let q4 = k4[4] - k4[5];
+    let q5 = k5[4] - k5[5];
+    let q6 = k6[4] - k6[5];
+    tr.dw = vec2<f32>(increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), increment(h, q1, q3, q4, q5, q6));
+    tr.dw_r4 = vec2<f32>(dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
+        dense_r5(h, q1, q3, q4, q5, q6, k7[4] - k7[5]));
     return tr;
 }
 
@@ -311,18 +346,71 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial) -> vec2<f32> {
     return vec2<f32>(theta, f32(which));
 }
 
+// ==== src/integrator/flow.rs ====
+
+// Bisection ends when the bracket is this narrow: 2^-24, the resolution of
+// f32 on [0, 1] (2^-52 in f64, see `THETA_TOL` in src/integrator/flow.rs).
+const THETA_TOL_FLOW: f32 = 5.9604645e-8;
+
+fn dense_slope(r: array<f32, 5>, th: f32) -> f32 {
+    let th1 = 1.0 - th;
+    return r[1] + (th1 - th) * r[2] + th * (2.0 - 3.0 * th) * r[3] + 2.0 * th * th1 * (th1 - th) * r[4];
+}
+
+// [in, out] parts of a step's increment r[1] of the integral of p, from
+// its dense output r (r0 = 0) and p at the step's start and end.
+fn split(r: array<f32, 5>, p0: f32, p_end: f32) -> vec2<f32> {
+    let total = r[1];
+    if (!(p0 * p_end < 0.0)) {
+        let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
+        return select(vec2<f32>(0.0, -total), vec2<f32>(total, 0.0), positive);
+    }
+    let sign = select(-1.0, 1.0, p0 > 0.0);
+    var a = 0.0;
+    var b = 1.0;
+    // A trip count the compiler cannot see: a constant one is unrolled,
+    // and that code, run only at a crossing, halved lavapipe's throughput.
+    var it = 0u;
+    while (b - a > THETA_TOL_FLOW && it < 64u) {
+        it++;
+        let c = 0.5 * (a + b);
+        if (sign * dense_slope(r, c) > 0.0) { a = c; } else { b = c; }
+    }
+    let first = dense_v(r, 0.5 * (a + b));
+    let rest = total - first;
+    return select(vec2<f32>(rest, -first), vec2<f32>(first, -rest), sign > 0.0);
+}
+
+fn dense_w(dw: f32, h: f32, q0: f32, q_end: f32, r4: f32) -> array<f32, 5> {
+    let r2 = h * q0 - dw;
+    return array<f32, 5>(0.0, dw, r2, dw - h * q_end - r2, r4);
+}
+
+// Increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step.
+fn step_flow(k1: array<f32, NY>, tr: Trial, h: f32) -> vec4<f32> {
+    let p1_0 = k1[5];
+    let p1_end = tr.k7[5];
+    let p2_0 = k1[4] - k1[5];
+    let p2_end = tr.k7[4] - tr.k7[5];
+    let f1 = split(dense_w(tr.dw.x, h, p1_0, p1_end, tr.dw_r4.x), p1_0, p1_end);
+    let f2 = split(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
+    return vec4<f32>(f1, f2);
+}
+
 // ==== src/integrator/automaton.rs ====
 
 // Keep in sync with `GpuState` in src/gpu/layout.rs.
 struct State {
     t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
-    y: array<f32, 5>,
-    yc: array<f32, 5>,
-    k1: array<f32, 5>,
+    flow: vec4<f32>,    // w1_in, w1_out, w2_in, w2_out
+    flow_c: vec4<f32>,  // their Kahan compensations
+    y: array<f32, NY>,
+    yc: array<f32, NY>,
+    k1: array<f32, NY>,
     side: i32, dir: i32, flags: u32, status: u32,
     switches: u32, reversals: u32, sticks: u32, steps: u32,
     events: u32, pad0: u32, pad1: u32, pad2: u32,
-    pad3: u32,
+    pad3: u32, pad4: u32,
 }
 
 // Flag bits of State.flags: keep in sync with `flags` in src/gpu/layout.rs.
@@ -367,8 +455,10 @@ fn init(l: Lane, st: ptr<function, State>) {
     let v = l.v1_0;
     (*st).t_hi = 0.0;
     (*st).t_lo = 0.0;
-    (*st).y = array<f32, 5>(l.x1_0, v, 0.0, 0.0, 0.0);
-    (*st).yc = array<f32, 5>(0.0, 0.0, 0.0, 0.0, 0.0);
+    (*st).y = array<f32, NY>(l.x1_0, v, 0.0, 0.0, 0.0, 0.0);
+    (*st).yc = array<f32, NY>();
+    (*st).flow = vec4<f32>();
+    (*st).flow_c = vec4<f32>();
     (*st).h = min(g.h_initial, l.t_end);
     (*st).side = side_of(phi(l, v, motor_on));
     (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
@@ -490,6 +580,7 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
     if (ev.x <= 1.0) {
         step_to_event(l, st, plan, ev.x, u32(ev.y), h_next);
     } else {
+        add_flow(st, tr, h);
         (*st).y = tr.y1;
         (*st).yc = tr.y1c;
         (*st).k1 = tr.k7;
@@ -500,16 +591,28 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
             time_add(st, h);
         }
     }
-    var finite = true;
-    for (var i = 0; i < 5; i++) {
-        if (!(abs((*st).y[i]) <= 3.0e38)) { finite = false; }
+    // One test per component with constant indices (see try_step); NaN
+    // fails `<=` where max() might drop it.
+    let y = (*st).y;
+    if (!(abs(y[0]) <= 3.0e38 && abs(y[1]) <= 3.0e38 && abs(y[2]) <= 3.0e38
+        && abs(y[3]) <= 3.0e38 && abs(y[4]) <= 3.0e38 && abs(y[5]) <= 3.0e38)) {
+        finish(st, S_NONFINITE);
     }
-    if (!finite) { finish(st, S_NONFINITE); }
+}
+
+// Compensated (Kahan) sum of an accepted step's energy flow, before the
+// state moves.
+fn add_flow(st: ptr<function, State>, tr: Trial, h: f32) {
+    let yy = step_flow((*st).k1, tr, h) - (*st).flow_c;
+    let s = (*st).flow + yy;
+    (*st).flow_c = (s - (*st).flow) - yy;
+    (*st).flow = s;
 }
 
 fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, which: u32, h_next: f32) {
     let h_ev = theta * plan.h;
     let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
+    add_flow(st, ev, h_ev);
     time_add(st, h_ev);
     (*st).y = ev.y1;
     (*st).yc = ev.y1c;

@@ -105,6 +105,15 @@ pub(crate) const PLACEHOLDER: LaneResult = LaneResult {
     w_friction: f64::NAN,
     eta_end: f64::NAN,
     steps: 0,
+    w1_in: f64::NAN,
+    w1_out: f64::NAN,
+    w2_in: f64::NAN,
+    w2_out: f64::NAN,
+    eta_direct: f64::NAN,
+    eta_inverse: f64::NAN,
+    eta_direct_ss: f64::NAN,
+    eta_inverse_ss: f64::NAN,
+    lock_margin_deg: f64::NAN,
     path: RowPath::Cpu,
 };
 

@@ -31,13 +31,17 @@ pub const VALUE_BOUND: f64 = 5e-5;
 pub const AGREE_SHARE: f64 = 0.98;
 
 /// The compared continuous columns.
-pub const COLUMNS: [&str; 6] = [
+pub const COLUMNS: [&str; 10] = [
     "t_first_switch",
     "x1_end",
     "v1_end",
     "w_motor",
     "w_load",
     "w_friction",
+    "w1_in",
+    "w1_out",
+    "w2_in",
+    "w2_out",
 ];
 
 fn discrete(r: &LaneResult) -> String {
@@ -63,9 +67,9 @@ pub struct Report {
     pub lanes: u64,
     /// Worst deviation of each of [`COLUMNS`] and its lane (lanes whose
     /// discrete fields agree).
-    pub worst: [(f64, u64); 6],
+    pub worst: [(f64, u64); COLUMNS.len()],
     /// Lanes over the bound, per column.
-    pub over: [u64; 6],
+    pub over: [u64; COLUMNS.len()],
     /// Lanes whose discrete fields differ.
     pub discrete_differ: u64,
     /// Lanes that do not agree.
@@ -130,6 +134,10 @@ impl Report {
                 rel(g.w_motor, c.w_motor),
                 rel(g.w_load, c.w_load),
                 rel(g.w_friction, c.w_friction),
+                rel(g.w1_in, c.w1_in),
+                rel(g.w1_out, c.w1_out),
+                rel(g.w2_in, c.w2_in),
+                rel(g.w2_out, c.w2_out),
             ];
             let mut reasons = Vec::new();
             for (k, d) in dev.into_iter().enumerate() {
@@ -284,6 +292,15 @@ mod tests {
             w_friction: 1.0,
             eta_end: 0.5,
             steps: 1,
+            w1_in: 1.0,
+            w1_out: 0.0,
+            w2_in: 0.0,
+            w2_out: 1.0,
+            eta_direct: 1.0,
+            eta_inverse: f64::NAN,
+            eta_direct_ss: 0.7,
+            eta_inverse_ss: 0.6,
+            lock_margin_deg: 1.0,
             path: RowPath::Gpu,
         }
     }

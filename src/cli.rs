@@ -8,6 +8,7 @@ use crate::backend::Choice;
 use crate::error::{Error, Result};
 use crate::integrator::Settings;
 use crate::lanes::Source;
+use crate::sweep::TraceSpec;
 
 /// Simulate thousands to millions of worm-drive (TSWM) variants.
 #[derive(Parser, Debug)]
@@ -21,7 +22,7 @@ pub struct Cli {
 /// Where the lanes come from.
 #[derive(clap::Args, Debug, Clone)]
 pub struct LanesArgs {
-    /// Sweep file (TOML). With --lanes it may give only [base] and [friction_table].
+    /// Sweep file (TOML). With --lanes it may give only [base], [friction_table] and [report].
     pub sweep: Option<PathBuf>,
     /// Explicit lane table (CSV, one lane a row, MODEL.md parameter names as columns).
     #[arg(long, value_name = "FILE.csv")]
@@ -34,7 +35,8 @@ pub struct LanesArgs {
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Run a sweep and write DIR/lanes.csv and DIR/sweep.resolved.toml.
+    /// Run a sweep and write DIR/lanes.csv, summary.csv, sweep.resolved.toml,
+    /// report.html (and traces.csv for traced lanes).
     Run {
         #[command(flatten)]
         lanes: LanesArgs,
@@ -44,6 +46,21 @@ pub enum Command {
         /// Backend.
         #[arg(long, value_enum, default_value_t = Choice::Auto)]
         backend: Choice,
+        /// Lanes to trace into DIR/traces.csv (overrides the sweep's [trace]).
+        #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
+        trace: Vec<u64>,
+        /// Interval between trace rows, s.
+        #[arg(long, value_name = "DT")]
+        trace_dt: Option<f64>,
+        /// Do not write DIR/report.html.
+        #[arg(long)]
+        no_report: bool,
+    },
+    /// Write DIR/report.html from the files of an existing output folder.
+    Report {
+        /// Output folder of `tswm run`.
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
     },
     /// Run the same lanes on the CPU and the GPU and compare (exit 1 when a bound is missed).
     Check {
@@ -65,6 +82,34 @@ pub struct Plan {
     pub threads: usize,
     /// Integration settings of the CPU path.
     pub settings: Settings,
+}
+
+/// The traces a run writes: `--trace` and `--trace-dt` over the sweep
+/// file's `[trace]` table; None when no lane is traced.
+pub fn trace_plan(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<TraceSpec>> {
+    let from_file = match source {
+        Source::Sweep { sweep, .. } => sweep.trace.clone(),
+        Source::Table { .. } => None,
+    };
+    let (lanes, dt) = match (lanes.is_empty(), dt, from_file) {
+        (true, None, file) => return Ok(file),
+        (true, Some(dt), Some(file)) => (file.lanes, dt),
+        (true, Some(_), None) => {
+            return Err(Error::Usage(
+                "--trace-dt: needs lanes to trace (--trace L1,L2,... or [trace] lanes)".into(),
+            ))
+        }
+        (false, Some(dt), _) => (lanes.to_vec(), dt),
+        (false, None, Some(file)) => (lanes.to_vec(), file.dt),
+        (false, None, None) => {
+            return Err(Error::Usage(
+                "--trace: needs --trace-dt DT, the interval between rows in s".into(),
+            ))
+        }
+    };
+    TraceSpec::new(lanes, dt, source.lane_count())
+        .map(Some)
+        .map_err(|m| Error::Usage(format!("--trace: {m}")))
 }
 
 /// Most CPU threads a run may ask for. Lanes are independent and

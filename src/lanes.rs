@@ -32,6 +32,8 @@ pub enum Source {
         base: Spec,
         /// Friction table for `friction = table` rows.
         table: Option<FrictionTable>,
+        /// What the report shows.
+        report: crate::sweep::ReportSpec,
         /// Number of rows (counted by [`Source::open`]).
         rows: u64,
     },
@@ -70,26 +72,27 @@ impl Source {
     /// Lanes of a lane table over an optional sweep file's base and table
     /// (rows not yet read: see [`Source::open`]).
     fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
-        let (base, table) = match sweep_file {
+        let (base, table, report) = match sweep_file {
             Some(f) => {
                 let s = Sweep::from_file(f)?;
-                if !s.axes.is_empty() || s.study.is_some() {
+                if !s.axes.is_empty() || s.study.is_some() || s.trace.is_some() {
                     return Err(Error::input(
                         f,
                         None,
                         None,
-                        "with --lanes the sweep file may hold only [base] and [friction_table]; \
+                        "with --lanes the sweep file may hold only [base], [friction_table] and [report]; \
                          the lane table gives the lanes",
                     ));
                 }
-                (s.base, s.table)
+                (s.base, s.table, s.report)
             }
-            None => (Spec::default(), None),
+            None => (Spec::default(), None, Default::default()),
         };
         Ok(Source::Table {
             path: path.to_path_buf(),
             base,
             table,
+            report,
             rows: 0,
         })
     }

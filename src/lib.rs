@@ -7,7 +7,8 @@
 //! automaton), [`sweep`], [`sampling`] and [`lanes`] (where lanes come
 //! from), [`backend`] (CPU path, choosing a backend) and [`gpu`] (the
 //! WGSL path), [`runner`] and [`output`] (chunked runs streamed to
-//! `lanes.csv`), [`check`] (CPU against GPU), [`cli`].
+//! `lanes.csv`), [`stats`] (`summary.csv`), [`check`] (CPU against GPU),
+//! [`cli`].
 
 // `!(x > 0.0)` is used on purpose throughout: it also rejects NaN, which
 // `x <= 0.0` would let through.
@@ -24,7 +25,9 @@ pub mod model;
 pub mod outdir;
 pub mod output;
 pub mod params;
+pub mod report;
 pub mod runner;
 pub mod sampling;
+pub mod stats;
 pub mod sweep;
 pub mod testmodels;

@@ -24,7 +24,11 @@ fn main() -> ExitCode {
             lanes,
             out,
             backend,
-        } => run(&lanes, &out, backend),
+            trace,
+            trace_dt,
+            no_report,
+        } => run(&lanes, &out, backend, &trace, trace_dt, !no_report),
+        Command::Report { dir } => report(&dir),
         Command::Check {
             lanes,
             disagreements,
@@ -49,8 +53,16 @@ fn quiet_mesa() {
     }
 }
 
-fn run(lanes: &LanesArgs, out: &Path, choice: Choice) -> Result<()> {
+fn run(
+    lanes: &LanesArgs,
+    out: &Path,
+    choice: Choice,
+    trace: &[u64],
+    trace_dt: Option<f64>,
+    with_report: bool,
+) -> Result<()> {
     let plan = lanes.plan()?;
+    let trace = tswm::cli::trace_plan(trace, trace_dt, &plan.source)?;
     let mut be = backend::open(
         choice,
         plan.source.lane_count(),
@@ -60,15 +72,42 @@ fn run(lanes: &LanesArgs, out: &Path, choice: Choice) -> Result<()> {
     let dir = OutDir::open(out)?;
     let csv = dir.join("lanes.csv");
     let progress = std::io::stderr().is_terminal();
-    let (summary, table) = runner::run(&plan.source, be.as_mut(), &csv, progress)?;
+    let written = runner::run(&plan.source, be.as_mut(), &csv, trace.as_ref(), progress)?;
     let mut resolved = AtomicFile::create(&dir.join("sweep.resolved.toml"))?;
-    let text = output::provenance(&plan.source, &be.name(), be.tolerance());
+    let text = output::provenance(
+        &plan.source,
+        &be.name(),
+        be.tolerance(),
+        written.summary.seconds,
+    );
     resolved
         .writer()
         .write_all(text.as_bytes())
         .map_err(|e| Error::io(&dir.join("sweep.resolved.toml"), e))?;
-    commit_together(vec![resolved, table.into_file()])?;
-    println!("{}", summary.line(&be.name(), &csv));
+    // lanes.csv last: its appearance means the run is complete. A run
+    // without traces removes an earlier run's traces.csv, which would not
+    // belong to it; the report is built from the committed files, so an
+    // earlier run's report goes with the old results.
+    let mut files = vec![resolved, written.stats];
+    files.extend(written.traces.map(|t| t.into_file()));
+    files.push(written.lanes.into_file());
+    commit_together(files, &[&dir.join("traces.csv"), &dir.join("report.html")])?;
+    let mut line = written.summary.line(&be.name(), &csv);
+    if with_report {
+        let start = std::time::Instant::now();
+        tswm::report::write(dir.path())?;
+        line.push_str(&format!(
+            "; report.html in {:.2} s",
+            start.elapsed().as_secs_f64()
+        ));
+    }
+    println!("{line}");
+    Ok(())
+}
+
+fn report(dir: &Path) -> Result<()> {
+    tswm::report::write(dir)?;
+    println!("tswm: wrote {}", dir.join("report.html").display());
     Ok(())
 }
 

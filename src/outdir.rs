@@ -198,15 +198,22 @@ impl Drop for AtomicFile {
 /// results under these names are removed, and the new ones renamed into
 /// place in the order given. A crash between renames can leave the first
 /// files without the last, never an old file beside a new one.
-pub fn commit_together(mut files: Vec<AtomicFile>) -> Result<()> {
+///
+/// `stale` names files of an earlier run that this run does not write
+/// (they are removed with the old results).
+pub fn commit_together(mut files: Vec<AtomicFile>, stale: &[&Path]) -> Result<()> {
     for f in &mut files {
         f.sync()?;
     }
-    for f in &files {
-        match std::fs::remove_file(&f.dest) {
+    let old = files
+        .iter()
+        .map(|f| f.dest.as_path())
+        .chain(stale.iter().copied());
+    for dest in old {
+        match std::fs::remove_file(dest) {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-            Err(e) => return Err(Error::io(&f.dest, e)),
+            Err(e) => return Err(Error::io(dest, e)),
         }
     }
     for f in &files {
@@ -228,5 +235,5 @@ pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<()> {
     f.writer()
         .write_all(bytes)
         .map_err(|e| Error::io(dest, e))?;
-    commit_together(vec![f])
+    commit_together(vec![f], &[])
 }

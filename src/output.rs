@@ -15,7 +15,7 @@ use crate::outdir::AtomicFile;
 use crate::params::{Param, Params};
 
 /// Result columns, after the parameter columns.
-pub const RESULT_COLUMNS: [&str; 15] = [
+pub const RESULT_COLUMNS: [&str; 24] = [
     "lane",
     "status",
     "switches",
@@ -30,15 +30,60 @@ pub const RESULT_COLUMNS: [&str; 15] = [
     "w_friction",
     "eta_end",
     "steps",
+    "w1_in",
+    "w1_out",
+    "w2_in",
+    "w2_out",
+    "eta_direct",
+    "eta_inverse",
+    "eta_direct_ss",
+    "eta_inverse_ss",
+    "lock_margin_deg",
     "path",
 ];
 
-/// Streams rows of `lanes.csv`.
-pub struct LanesCsv {
+/// A CSV file written line by line under a temporary name (the files of
+/// one run are committed together, `outdir::commit_together`).
+pub struct CsvLines {
     file: AtomicFile,
     line: String,
     path: PathBuf,
 }
+
+impl CsvLines {
+    /// Starts `path` with the header line `header`.
+    pub fn create(path: &Path, header: &str) -> Result<CsvLines> {
+        let mut w = CsvLines {
+            file: AtomicFile::create(path)?,
+            line: String::with_capacity(512),
+            path: path.into(),
+        };
+        w.line.push_str(header);
+        w.end_line()?;
+        Ok(w)
+    }
+
+    /// The line being built (empty after each `end_line`).
+    pub fn line(&mut self) -> &mut String {
+        &mut self.line
+    }
+
+    /// Ends the line and writes it.
+    pub fn end_line(&mut self) -> Result<()> {
+        self.line.push('\n');
+        let r = self.file.writer().write_all(self.line.as_bytes());
+        self.line.clear();
+        r.map_err(|e| Error::io(&self.path, e))
+    }
+
+    /// The finished file, to be committed with the run's other files.
+    pub fn into_file(self) -> AtomicFile {
+        self.file
+    }
+}
+
+/// Streams rows of `lanes.csv`.
+pub struct LanesCsv(CsvLines);
 
 /// A float cell: empty for NaN (not applicable, or no such event), else
 /// the shortest text that reads back to the same f64.
@@ -51,31 +96,17 @@ fn push_f64(s: &mut String, v: f64) {
 impl LanesCsv {
     /// Starts `path` and writes the header.
     pub fn create(path: &Path) -> Result<LanesCsv> {
-        let mut w = LanesCsv {
-            file: AtomicFile::create(path)?,
-            line: String::with_capacity(512),
-            path: path.into(),
-        };
         let header: Vec<&str> = Param::COLUMNS
             .iter()
             .map(|p| p.name())
             .chain(RESULT_COLUMNS.iter().copied())
             .collect();
-        w.line.push_str(&header.join(","));
-        w.line.push('\n');
-        w.flush_line()?;
-        Ok(w)
-    }
-
-    fn flush_line(&mut self) -> Result<()> {
-        let r = self.file.writer().write_all(self.line.as_bytes());
-        self.line.clear();
-        r.map_err(|e| Error::io(&self.path, e))
+        CsvLines::create(path, &header.join(",")).map(LanesCsv)
     }
 
     /// Appends lane `lane`'s row.
     pub fn write(&mut self, lane: u64, p: &Params, r: &LaneResult) -> Result<()> {
-        let s = &mut self.line;
+        let s = self.0.line();
         for c in Param::COLUMNS {
             match c {
                 Param::Motor => s.push_str(p.motor.name()),
@@ -100,26 +131,46 @@ impl LanesCsv {
             push_f64(s, if ok { v } else { f64::NAN });
             s.push(',');
         }
-        let _ = writeln!(s, "{},{}", r.steps, r.path.name());
-        self.flush_line()
+        let _ = write!(s, "{}", r.steps);
+        for v in [
+            r.w1_in,
+            r.w1_out,
+            r.w2_in,
+            r.w2_out,
+            r.eta_direct,
+            r.eta_inverse,
+            r.eta_direct_ss,
+            r.eta_inverse_ss,
+            r.lock_margin_deg,
+        ] {
+            s.push(',');
+            push_f64(s, if ok { v } else { f64::NAN });
+        }
+        let _ = write!(s, ",{}", r.path.name());
+        self.0.end_line()
     }
 
     /// The finished file, to be committed with the run's other files.
     pub fn into_file(self) -> AtomicFile {
-        self.file
+        self.0.into_file()
     }
 }
 
-/// The text of `sweep.resolved.toml`: a header naming the tool, backend
-/// and tolerance, then the sweep with every lane's source spelled out.
-pub fn provenance(source: &Source, backend: &str, tol: f64) -> String {
+/// The text of `sweep.resolved.toml`: a header naming the tool, backend,
+/// tolerance and run time (`seconds`), then the sweep with every lane's
+/// source spelled out.
+pub fn provenance(source: &Source, backend: &str, tol: f64, seconds: f64) -> String {
     let (from, resolved) = match source {
         Source::Sweep { sweep, .. } => (
             "every lane of lanes.csv follows from this file".to_string(),
             toml::to_string(&sweep.resolved_toml()).unwrap_or_default(),
         ),
         Source::Table {
-            path, base, table, ..
+            path,
+            base,
+            table,
+            report,
+            ..
         } => {
             // The lane table's cells over this [base] and [friction_table].
             let under = crate::sweep::Sweep {
@@ -127,6 +178,8 @@ pub fn provenance(source: &Source, backend: &str, tol: f64) -> String {
                 axes: Vec::new(),
                 study: None,
                 table: *table,
+                trace: None,
+                report: report.clone(),
             };
             (
                 format!(
@@ -141,8 +194,40 @@ pub fn provenance(source: &Source, backend: &str, tol: f64) -> String {
     };
     format!(
         "# tswm {} resolved sweep: {from}\n\
-         # backend: {backend}, tol: {tol:e}, lanes: {}\n{resolved}",
+         # backend: {backend}, tol: {tol:e}, lanes: {}\n\
+         # time: {seconds:.3} s ({:.0} lanes/s)\n{resolved}",
         env!("CARGO_PKG_VERSION"),
-        source.lane_count()
+        source.lane_count(),
+        source.lane_count() as f64 / seconds.max(1e-9),
     )
+}
+
+/// Streams rows of `traces.csv` (MODEL.md section 11).
+pub struct TracesCsv(CsvLines);
+
+/// The columns of `traces.csv`.
+pub const TRACE_COLUMNS: &str = "lane,t,x1,v1,a1,f1,s1,s2,psi,phi,contact";
+
+impl TracesCsv {
+    /// Starts `path` and writes the header.
+    pub fn create(path: &Path) -> Result<TracesCsv> {
+        CsvLines::create(path, TRACE_COLUMNS).map(TracesCsv)
+    }
+
+    /// Appends one row of lane `lane`.
+    pub fn write(&mut self, lane: u64, r: &crate::integrator::trace::TraceRow) -> Result<()> {
+        let s = self.0.line();
+        let _ = write!(s, "{lane}");
+        for v in [r.t, r.x1, r.v1, r.a1, r.f1, r.s1, r.s2, r.psi, r.phi] {
+            s.push(',');
+            push_f64(s, v);
+        }
+        let _ = write!(s, ",{}", r.contact.name());
+        self.0.end_line()
+    }
+
+    /// The finished file, to be committed with the run's other files.
+    pub fn into_file(self) -> AtomicFile {
+        self.0.into_file()
+    }
 }

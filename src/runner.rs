@@ -14,10 +14,16 @@ use std::time::Instant;
 
 use crate::backend::Backend;
 use crate::error::{Error, Result};
+use crate::integrator::trace::simulate_traced;
+use crate::integrator::Settings;
 use crate::integrator::{Contact, LaneResult, RowPath, Status};
 use crate::lanes::Source;
-use crate::output::LanesCsv;
+use crate::model::{FrictionTable, Lane};
+use crate::outdir::AtomicFile;
+use crate::output::{LanesCsv, TracesCsv};
 use crate::params::Params;
+use crate::stats::{Grouping, Stats};
+use crate::sweep::TraceSpec;
 
 /// What consumes each chunk's results, in lane order.
 pub trait Sink: Send {
@@ -107,47 +113,119 @@ impl Summary {
 }
 
 /// The results table as a sink: rows streamed to `lanes.csv`, counted for
-/// the summary.
+/// the summary line and into `summary.csv`; traced lanes streamed to
+/// `traces.csv`.
 struct CsvSink {
     csv: LanesCsv,
     summary: Summary,
+    stats: Stats,
+    traces: Option<Tracer>,
+}
+
+/// Traced lanes: run again on the f64 path with rows taken on the way
+/// (the same integration as the CPU path's, bit for bit, whatever the
+/// backend), one lane at a time, so memory does not grow with them.
+struct Tracer {
+    spec: TraceSpec,
+    next: usize,
+    out: TracesCsv,
+    table: Option<FrictionTable>,
+}
+
+impl Tracer {
+    fn chunk(&mut self, first: u64, params: &[Params]) -> Result<()> {
+        let end = first + params.len() as u64;
+        while let Some(&lane) = self.spec.lanes.get(self.next) {
+            if lane >= end {
+                break;
+            }
+            let l = Lane::new(&params[(lane - first) as usize], self.table.as_ref());
+            let mut failed = None;
+            let (out, table) = (&mut self.out, self.table.as_ref());
+            simulate_traced(&l, table, &Settings::default(), self.spec.dt, &mut |row| {
+                if failed.is_none() {
+                    failed = out.write(lane, row).err();
+                }
+            });
+            if let Some(e) = failed {
+                return Err(e);
+            }
+            self.next += 1;
+        }
+        Ok(())
+    }
 }
 
 impl Sink for CsvSink {
-    type Output = (LanesCsv, Summary);
+    type Output = Written;
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
         for (i, (p, r)) in params.iter().zip(results).enumerate() {
             self.csv.write(first + i as u64, p, r)?;
+            self.stats.add(first + i as u64, p, r)?;
             self.summary.add(r);
+        }
+        if let Some(t) = self.traces.as_mut() {
+            t.chunk(first, params)?;
         }
         Ok(())
     }
     fn finish(self) -> Result<Self::Output> {
-        Ok((self.csv, self.summary))
+        Ok(Written {
+            lanes: self.csv,
+            stats: self.stats.finish()?,
+            traces: self.traces.map(|t| t.out),
+            summary: self.summary,
+        })
     }
 }
 
+/// What a run wrote, not yet committed.
+pub struct Written {
+    /// `lanes.csv`.
+    pub lanes: LanesCsv,
+    /// `summary.csv`.
+    pub stats: AtomicFile,
+    /// `traces.csv`, when lanes were traced.
+    pub traces: Option<TracesCsv>,
+    /// Counts for the summary line.
+    pub summary: Summary,
+}
+
 /// Runs every lane of `source` on `backend`, streaming rows to a temporary
-/// file for `out_csv`; the caller commits it (with the run's other files)
-/// or drops it. `progress` shows a bar on stderr when it is a terminal.
+/// file for `out_csv` (and the traced lanes' rows to one for
+/// `traces.csv` beside it); the caller commits them (with the run's other
+/// files) or drops them. `progress` shows a bar on stderr when it is a
+/// terminal.
 pub fn run(
     source: &Source,
     backend: &mut dyn Backend,
     out_csv: &Path,
+    trace: Option<&TraceSpec>,
     progress: bool,
-) -> Result<(Summary, LanesCsv)> {
+) -> Result<Written> {
     let start = Instant::now();
+    let traces = match trace {
+        Some(spec) => Some(Tracer {
+            spec: spec.clone(),
+            next: 0,
+            out: TracesCsv::create(&out_csv.with_file_name("traces.csv"))?,
+            table: source.friction_table().copied(),
+        }),
+        None => None,
+    };
     let sink = CsvSink {
         csv: LanesCsv::create(out_csv)?,
+        stats: Stats::create(&out_csv.with_file_name("summary.csv"), Grouping::of(source))?,
         summary: Summary::default(),
+        traces,
     };
-    // On failure the sink's partial file is dropped, and so removed.
-    let (csv, mut summary) = pipeline(source, backend, progress, sink).map_err(|e| match e {
+    // On failure the sink's partial files are dropped, and so removed.
+    let mut written = pipeline(source, backend, progress, sink).map_err(|e| match e {
         Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", out_csv.display())),
         e => e,
     })?;
-    summary.seconds = start.elapsed().as_secs_f64();
-    Ok((summary, csv))
+    written.summary.seconds = start.elapsed().as_secs_f64();
+    Ok(written)
 }
 
 fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {

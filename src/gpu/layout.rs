@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::integrator::{EndState, Settings, Status};
+use crate::integrator::{EndState, Settings, Status, NY};
 use crate::model::{FrictionTable, Lane, MAX_TABLE_POINTS};
 
 /// "Never" for f32 times: WGSL may assume there are no infinities.
@@ -99,10 +99,14 @@ pub struct GpuState {
     pub h: f32,
     /// < 0 until the first switch.
     pub t_first_switch: f32,
-    pub y: [f32; 5],
+    /// w1_in, w1_out, w2_in, w2_out (a vec4 in the shader: 16-aligned).
+    pub flow: [f32; 4],
+    /// Kahan compensations of `flow`.
+    pub flow_c: [f32; 4],
+    pub y: [f32; NY],
     /// Kahan compensations of `y`: the value is y − yc.
-    pub yc: [f32; 5],
-    pub k1: [f32; 5],
+    pub yc: [f32; NY],
+    pub k1: [f32; NY],
     pub side: i32,
     pub dir: i32,
     pub flags: u32,
@@ -116,6 +120,7 @@ pub struct GpuState {
     pub pad1: u32,
     pub pad2: u32,
     pub pad3: u32,
+    pub pad4: u32,
 }
 
 impl GpuState {
@@ -135,6 +140,7 @@ impl GpuState {
             dir: self.dir,
             motor_on: self.flags & flags::MOTOR_ON != 0,
             y: std::array::from_fn(val),
+            flow: std::array::from_fn(|i| self.flow[i] as f64 - self.flow_c[i] as f64),
             switches: self.switches,
             reversals: self.reversals,
             sticks: self.sticks,

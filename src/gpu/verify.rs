@@ -4,9 +4,9 @@
 //!
 //! Thresholds, by measurement (`cargo run --release --example gpu_trust --
 //! random|long|stiff`, README "GPU path"): on 10,000 random user lanes the
-//! energy residual's worst is 1.0e-6, so 1e-5 leaves a factor 10; every
+//! energy residual's worst is 1.4e-6, so 1e-5 leaves a factor 7; every
 //! GPU row off by more than 5e-3 in the long-horizon and stiff-motor sets
-//! has a residual of at least 5.9e-5, or a critical slip of at most
+//! has a residual of at least 1.4e-3, or a critical slip of at most
 //! 3.7e-4 (1e-3 leaves a factor 2.7), or a status other than `ok`.
 
 use crate::integrator::{LaneResult, Recheck, Status};
@@ -70,7 +70,17 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     if r.status != Status::Ok {
         return Some(Recheck::GpuStatus);
     }
-    let vals = [r.x1_end, r.v1_end, r.w_motor, r.w_load, r.w_friction];
+    let vals = [
+        r.x1_end,
+        r.v1_end,
+        r.w_motor,
+        r.w_load,
+        r.w_friction,
+        r.w1_in,
+        r.w1_out,
+        r.w2_in,
+        r.w2_out,
+    ];
     if !vals
         .iter()
         .all(|v| v.is_finite() && v.abs() <= f32::MAX as f64)
@@ -83,10 +93,22 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     // MODEL.md section 6: w_motor + w_load − w_friction = ΔKE.
     let m = lane.m1 + lane.m2 * lane.tan_g * lane.tan_g;
     let ke = 0.5 * m * (r.v1_end * r.v1_end - lane.v1_0 * lane.v1_0);
-    let scale = [1.0, r.w_motor.abs(), r.w_load.abs(), r.w_friction, ke.abs()]
-        .into_iter()
-        .fold(0.0, f64::max);
-    if (r.w_motor + r.w_load - r.w_friction - ke).abs() > ENERGY_RESIDUAL * scale {
+    let scale = [
+        1.0,
+        r.w_motor.abs(),
+        r.w_load.abs(),
+        r.w_friction,
+        ke.abs(),
+        r.w1_in,
+        r.w2_in,
+    ]
+    .into_iter()
+    .fold(0.0, f64::max);
+    // MODEL.md section 10: w1_in − w1_out + w2_in − w2_out = w_friction.
+    let mesh = r.w1_in - r.w1_out + r.w2_in - r.w2_out - r.w_friction;
+    if (r.w_motor + r.w_load - r.w_friction - ke).abs() > ENERGY_RESIDUAL * scale
+        || mesh.abs() > ENERGY_RESIDUAL * scale
+    {
         return Some(Recheck::EnergyBalance);
     }
     // Only w_motor (a motor that drives, then brakes) and w_load (a

@@ -8,6 +8,7 @@
 //! between dispatches). No allocation, no recursion.
 
 use super::events::{earliest_event, EventFn};
+use super::flow::step_flow;
 use super::result::{EndState, Status};
 use super::stepper::{rhs, try_step, Mode, Trial};
 use super::{Settings, NY};
@@ -42,6 +43,8 @@ pub struct LaneState {
     /// Derivative at (t, y), valid when `k1_valid` (first same as last).
     pub k1: [f64; NY],
     pub k1_valid: bool,
+    /// w1_in, w1_out, w2_in, w2_out so far (see `flow`).
+    pub flow: [f64; 4],
 }
 
 impl LaneState {
@@ -63,6 +66,7 @@ impl LaneState {
             dir: self.dir,
             motor_on: self.motor_on,
             y: self.y,
+            flow: self.flow,
             switches: self.switches,
             reversals: self.reversals,
             sticks: self.sticks,
@@ -83,7 +87,7 @@ pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
     let v = lane.v1_0;
     let mut st = LaneState {
         t: 0.0,
-        y: [lane.x1_0, v, 0.0, 0.0, 0.0],
+        y: [lane.x1_0, v, 0.0, 0.0, 0.0, 0.0],
         h: H_INITIAL.min(lane.t_end),
         side: side_of(phi(lane, v, motor_on)),
         dir: if v > 0.0 {
@@ -105,6 +109,7 @@ pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
         events: 0,
         k1: [0.0; NY],
         k1_valid: false,
+        flow: [0.0; 4],
     };
     if v == 0.0 {
         come_to_rest(lane, table, &mut st);
@@ -303,6 +308,7 @@ pub fn finish_step(
     match earliest_event(lane, plan.mode, trial, h) {
         Some((theta, which)) => step_to_event(lane, table, set, st, plan, theta, which, h_next),
         None => {
+            add_flow(st, trial, h);
             st.y = trial.y1;
             st.k1 = trial.k7;
             st.h = h_next;
@@ -315,6 +321,14 @@ pub fn finish_step(
     }
     if !st.y.iter().all(|v| v.is_finite()) {
         st.finish(Status::NonFinite);
+    }
+}
+
+/// Adds an accepted step's energy flow (from `st`, before it moves).
+fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
+    let d = step_flow(&st.k1, trial, h);
+    for (f, d) in st.flow.iter_mut().zip(d) {
+        *f += d;
     }
 }
 
@@ -333,6 +347,7 @@ fn step_to_event(
 ) {
     let h_ev = theta * plan.h;
     let ev = try_step(lane, table, plan.mode, &st.y, &st.k1, h_ev, set.tol);
+    add_flow(st, &ev, h_ev);
     st.t += h_ev;
     st.y = ev.y1;
     st.k1_valid = false;

@@ -12,15 +12,20 @@
 pub mod automaton;
 pub mod batch;
 pub mod events;
+pub mod flow;
 pub mod result;
 pub mod stepper;
+pub mod trace;
 
 pub use automaton::{advance, init, LaneState, H_INITIAL};
 pub use batch::{simulate, simulate_batch, INTERLEAVE};
 pub use result::{Contact, EndState, LaneResult, Recheck, RowPath, Status};
 
-/// Components of the integrated state: x1, ẋ1, w_motor, w_load, w_friction.
-pub const NY: usize = 5;
+/// Components of the integrated state: x1, ẋ1, w_motor, w_load,
+/// w_friction and w_p1 = ∫p1 dt (MODEL.md sections 6 and 10; ∫p2 dt is
+/// w_friction − w_p1). The in and out parts of section 10 are not
+/// components: see [`flow`].
+pub const NY: usize = 6;
 
 /// Default per-step tolerance of the f64 path.
 pub const DEFAULT_TOL: f64 = 1e-8;

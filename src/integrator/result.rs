@@ -3,7 +3,7 @@
 //! used by both backends.
 
 use super::NY;
-use crate::model::{efficiency, motion, FrictionTable, Lane};
+use crate::model::{efficiency, motion, mu_sliding, FrictionTable, Lane};
 
 /// Why a lane ended; `Ok` unless it could not be finished.
 ///
@@ -172,8 +172,48 @@ pub struct LaneResult {
     pub eta_end: f64,
     /// Accepted integration steps.
     pub steps: u32,
+    /// J: ∫max(p1, 0), ∫max(−p1, 0), ∫max(p2, 0), ∫max(−p2, 0) with
+    /// p1 = S1 ẋ1, p2 = S2 ẋ2 (MODEL.md section 10).
+    pub w1_in: f64,
+    pub w1_out: f64,
+    pub w2_in: f64,
+    pub w2_out: f64,
+    /// w2_out / w1_in (NaN when w1_in is negligible).
+    pub eta_direct: f64,
+    /// w1_out / w2_in (NaN when w2_in is negligible).
+    pub eta_inverse: f64,
+    /// tan γ / tan(γ + ρ(Vs_end)).
+    pub eta_direct_ss: f64,
+    /// tan(γ − ρ(Vs_end)) / tan γ.
+    pub eta_inverse_ss: f64,
+    /// ρs − γ, deg (> 0: statically self-locking).
+    pub lock_margin_deg: f64,
     /// The path the row came from.
     pub path: RowPath,
+}
+
+/// Section 10's efficiencies and margin from a lane's energies and final
+/// speed: (eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss,
+/// lock_margin_deg).
+pub fn engineering(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    flow: &[f64; 4],
+    v_end: f64,
+) -> [f64; 5] {
+    let [w1_in, w1_out, w2_in, w2_out] = *flow;
+    let fed = 1e-6 * (w1_in + w2_in);
+    let ratio = |out: f64, inp: f64| if inp > fed { out / inp } else { f64::NAN };
+    // Steady values at the final sliding speed (at rest: the start-up value).
+    let g = lane.tan_g.atan();
+    let rho = mu_sliding(lane, table, v_end.abs() * lane.inv_cos_g).atan();
+    [
+        ratio(w2_out, w1_in),
+        ratio(w1_out, w2_in),
+        lane.tan_g / (g + rho).tan(),
+        (g - rho).tan() / lane.tan_g,
+        (lane.mu_s.atan() - g).to_degrees(),
+    ]
 }
 
 /// A lane's state where it stopped, in f64, as either backend holds it:
@@ -188,8 +228,10 @@ pub struct EndState {
     /// Direction of motion s.
     pub dir: i32,
     pub motor_on: bool,
-    /// x1, ẋ1, w_motor, w_load, w_friction.
+    /// x1, ẋ1, w_motor, w_load, w_friction, w_p1.
     pub y: [f64; NY],
+    /// w1_in, w1_out, w2_in, w2_out.
+    pub flow: [f64; 4],
     pub switches: u32,
     pub reversals: u32,
     pub sticks: u32,
@@ -209,6 +251,8 @@ impl EndState {
             let m = motion(lane, table, self.side, self.dir, self.motor_on, v);
             efficiency(lane, &m, self.side, self.dir, v)
         };
+        let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg] =
+            engineering(lane, table, &self.flow, v);
         LaneResult {
             status: self.status,
             switches: self.switches,
@@ -229,6 +273,15 @@ impl EndState {
             w_friction: self.y[4],
             eta_end,
             steps: self.steps,
+            w1_in: self.flow[0],
+            w1_out: self.flow[1],
+            w2_in: self.flow[2],
+            w2_out: self.flow[3],
+            eta_direct,
+            eta_inverse,
+            eta_direct_ss,
+            eta_inverse_ss,
+            lock_margin_deg,
             path: RowPath::Cpu,
         }
     }

@@ -59,16 +59,16 @@ pub struct Mode {
     pub motor_on: bool,
 }
 
-/// Right-hand side: derivative of (x1, ẋ1, w_motor, w_load, w_friction),
-/// and D of the mode. Depends on ẋ1 only: x1 and the works are quadratures.
+/// Right-hand side: derivative of (x1, ẋ1, w_motor, w_load, w_friction,
+/// w_p1), and D of the mode. Depends on ẋ1 only: x1 and the works are
+/// quadratures. p1 = S1 ẋ1 and p2 = S2 ẋ2 are the powers the bodies put
+/// into the mesh (MODEL.md section 10).
 #[inline]
 pub fn rhs(lane: &Lane, table: Option<&FrictionTable>, mode: Mode, v: f64) -> ([f64; NY], f64) {
     let m = motion(lane, table, mode.side, mode.dir, mode.motor_on, v);
     let v2 = v * lane.tan_g;
-    (
-        [v, m.acc, m.f1 * v, lane.f2 * v2, m.s1 * v + m.s2 * v2],
-        m.d,
-    )
+    let (p1, p2) = (m.s1 * v, m.s2 * v2);
+    ([v, m.acc, m.f1 * v, lane.f2 * v2, p1 + p2, p1], m.d)
 }
 
 // ẋ1 at which stages 2 to 6 evaluate the right-hand side (only ẋ1 is
@@ -112,7 +112,8 @@ fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
     tol * (1.0 + y0.abs().max(y1.abs()))
 }
 
-/// Dense-output coefficients of ẋ1 over the step (see `events::dense_v`).
+/// Dense-output coefficients of a component over the step from its value
+/// `v0` to `v1` (see `events::dense_v`).
 #[inline]
 #[allow(clippy::too_many_arguments)]
 fn dense_coeffs(
@@ -129,8 +130,14 @@ fn dense_coeffs(
     let r2 = v1 - v0;
     let r3 = h * k1 - r2;
     let r4 = r2 - h * k7 - r3;
-    let r5 = h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7);
-    [v0, r2, r3, r4, r5]
+    [v0, r2, r3, r4, dense_r5(h, k1, k3, k4, k5, k6, k7)]
+}
+
+/// The last dense-output coefficient of a component: the only one that
+/// needs the inner stages.
+#[inline]
+pub(crate) fn dense_r5(h: f64, k1: f64, k3: f64, k4: f64, k5: f64, k6: f64, k7: f64) -> f64 {
+    h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7)
 }
 
 /// The outcome of a trial step.
@@ -142,6 +149,11 @@ pub struct Trial {
     pub(crate) err: f64,
     /// Dense-output coefficients of ẋ1 (r1..r5).
     pub(crate) dense_v: [f64; 5],
+    /// The step's increments of ∫p1 and ∫p2 (w_p1, and w_friction −
+    /// w_p1), and the last coefficient of their dense outputs (the only
+    /// one that needs the inner stages; `flow::dense_w` forms the rest).
+    pub(crate) dw: [f64; 2],
+    pub(crate) dw_r4: [f64; 2],
 }
 
 /// One trial step of size h from (y, k1).
@@ -220,6 +232,17 @@ pub(crate) fn try_steps<const N: usize>(
         t.dense_v = dense_coeffs(
             y[j][1], t.y1[1], h, k1[1], k3[1], k4[1], k5[1], k6[1], k7[1],
         );
+        // ∫p1 is component 5; ∫p2 the difference of components 4 and 5.
+        let p2 = |k: &[f64; NY]| k[4] - k[5];
+        let (a, c, d, e, f, g) = (p2(k1), p2(k3), p2(k4), p2(k5), p2(k6), p2(k7));
+        t.dw = [
+            increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]),
+            increment(h, a, c, d, e, f),
+        ];
+        t.dw_r4 = [
+            dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
+            dense_r5(h, a, c, d, e, f, g),
+        ];
     }
     tr
 }

@@ -115,6 +115,83 @@ pub struct Sweep {
     pub study: Option<Study>,
     /// Optional friction table (for `friction = "table"`).
     pub table: Option<FrictionTable>,
+    /// Lanes to trace (`[trace]`), if any.
+    pub trace: Option<TraceSpec>,
+    /// What the report shows (`[report]`).
+    pub report: ReportSpec,
+}
+
+/// What `report.html` shows, from the sweep's `[report]` table.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReportSpec {
+    /// A title for the page (free text, shown escaped).
+    pub title: Option<String>,
+    /// The grid parameters of the heat maps (x, then y); empty: the first
+    /// two axes.
+    pub axes: Vec<Num>,
+    /// Result columns to plot; empty: [`ReportSpec::DEFAULT_RESULTS`].
+    pub results: Vec<String>,
+    /// Most panels (one per value of the other axes, or per grid point of
+    /// a study).
+    pub panels: usize,
+}
+
+impl ReportSpec {
+    /// Results plotted unless `[report] results` says otherwise.
+    pub const DEFAULT_RESULTS: [&'static str; 3] = ["eta_direct", "eta_inverse", "w_friction"];
+    /// Panels unless `[report] panels` says otherwise.
+    pub const DEFAULT_PANELS: usize = 6;
+    /// Most panels allowed (each is a few tens of kB of SVG).
+    pub const MAX_PANELS: usize = 48;
+
+    /// The results to plot.
+    pub fn results(&self) -> Vec<String> {
+        if self.results.is_empty() {
+            Self::DEFAULT_RESULTS
+                .iter()
+                .map(|s| s.to_string())
+                .collect()
+        } else {
+            self.results.clone()
+        }
+    }
+
+    /// The panel limit.
+    pub fn panels(&self) -> usize {
+        if self.panels == 0 {
+            Self::DEFAULT_PANELS
+        } else {
+            self.panels
+        }
+    }
+}
+
+/// Which lanes to trace and how often (MODEL.md section 11).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceSpec {
+    /// Lane indices, ascending, no repeats.
+    pub lanes: Vec<u64>,
+    /// Interval between rows, s.
+    pub dt: f64,
+}
+
+impl TraceSpec {
+    /// Checks a trace request against a run of `lanes` lanes; the message
+    /// says what is allowed.
+    pub fn new(mut lanes: Vec<u64>, dt: f64, total: u64) -> std::result::Result<TraceSpec, String> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(format!("dt must be a time > 0 s, got {dt}"));
+        }
+        if let Some(&bad) = lanes.iter().find(|&&l| l >= total) {
+            return Err(format!(
+                "lane {bad} is not in the run; allowed: 0 to {}",
+                total.saturating_sub(1)
+            ));
+        }
+        lanes.sort_unstable();
+        lanes.dedup();
+        Ok(TraceSpec { lanes, dt })
+    }
 }
 impl Sweep {
     pub(crate) fn lane_count_checked(&self) -> std::result::Result<u64, String> {

@@ -25,6 +25,26 @@ struct SweepFile {
     #[serde(default)]
     tolerance: Vec<Spanned<TolDef>>,
     friction_table: Option<Spanned<TableDef>>,
+    trace: Option<Spanned<TraceDef>>,
+    report: Option<Spanned<ReportDef>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ReportDef {
+    title: Option<String>,
+    #[serde(default)]
+    axes: Vec<String>,
+    #[serde(default)]
+    results: Vec<String>,
+    panels: Option<i64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TraceDef {
+    lanes: Vec<u64>,
+    dt: f64,
 }
 
 #[derive(Deserialize)]
@@ -146,17 +166,90 @@ impl Sweep {
             None => None,
         };
         let study = parse_study(&at, &file, &base, &axes)?;
-        let sweep = Sweep {
+        let mut sweep = Sweep {
             base,
             axes,
             study,
             table,
+            trace: None,
+            report: Default::default(),
         };
-        sweep
+        let total = sweep
             .lane_count_checked()
             .map_err(|m| Error::input(path, None, None, m))?;
+        if let Some(t) = &file.trace {
+            let d = t.get_ref();
+            sweep.trace = Some(
+                super::TraceSpec::new(d.lanes.clone(), d.dt, total)
+                    .map_err(|m| at.bad(t.span(), "trace", m))?,
+            );
+        }
+        if let Some(r) = &file.report {
+            sweep.report = parse_report(r.get_ref(), &sweep.axes)
+                .map_err(|(key, m)| at.bad(r.span(), key, m))?;
+        }
         Ok(sweep)
     }
+}
+
+/// The `[report]` table, checked against the grid; an error names its key.
+fn parse_report(
+    d: &ReportDef,
+    axes: &[Axis],
+) -> std::result::Result<super::ReportSpec, (&'static str, String)> {
+    let grid: Vec<&str> = axes.iter().map(|a| a.param.name()).collect();
+    let mut chosen = Vec::new();
+    for name in &d.axes {
+        match axes.iter().find(|a| a.param.name() == name) {
+            Some(a) if !chosen.contains(&a.param) => chosen.push(a.param),
+            Some(_) => return Err(("report.axes", format!("`{name}` is given twice"))),
+            None => {
+                return Err((
+                    "report.axes",
+                    format!(
+                        "`{name}` is not a grid parameter of this sweep; allowed: {}",
+                        if grid.is_empty() {
+                            "none (the sweep has no grid)".into()
+                        } else {
+                            grid.join(", ")
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+    if chosen.len() > 2 {
+        return Err(("report.axes", "at most 2 axes (x, then y)".into()));
+    }
+    let allowed = crate::stats::NUMBER_COLUMNS;
+    for r in &d.results {
+        if !allowed.contains(&r.as_str()) {
+            return Err((
+                "report.results",
+                format!(
+                    "`{r}` is not a result number column; allowed: {}",
+                    allowed.join(", ")
+                ),
+            ));
+        }
+    }
+    let max = super::ReportSpec::MAX_PANELS;
+    let panels = match d.panels {
+        None => 0,
+        Some(n) if n >= 1 && n as usize <= max => n as usize,
+        Some(n) => {
+            return Err((
+                "report.panels",
+                format!("{n} is out of range; allowed: 1 to {max}"),
+            ))
+        }
+    };
+    Ok(super::ReportSpec {
+        title: d.title.clone(),
+        axes: chosen,
+        results: d.results.clone(),
+        panels,
+    })
 }
 
 /// A sweep file's text, to turn spans into "line N" in errors.

@@ -70,6 +70,32 @@ impl Sweep {
                 .collect();
             t.insert("tolerance".into(), tols.into());
         }
+        if let Some(tr) = &self.trace {
+            let mut x = toml::Table::new();
+            let lanes: Vec<toml::Value> = tr.lanes.iter().map(|&l| (l as i64).into()).collect();
+            x.insert("lanes".into(), lanes.into());
+            x.insert("dt".into(), tr.dt.into());
+            t.insert("trace".into(), x.into());
+        }
+        let r = &self.report;
+        if *r != super::ReportSpec::default() {
+            let mut x = toml::Table::new();
+            if let Some(t) = &r.title {
+                x.insert("title".into(), t.clone().into());
+            }
+            if !r.axes.is_empty() {
+                let a: Vec<toml::Value> = r.axes.iter().map(|a| a.name().into()).collect();
+                x.insert("axes".into(), a.into());
+            }
+            if !r.results.is_empty() {
+                let v: Vec<toml::Value> = r.results.iter().map(|s| s.clone().into()).collect();
+                x.insert("results".into(), v.into());
+            }
+            if r.panels > 0 {
+                x.insert("panels".into(), (r.panels as i64).into());
+            }
+            t.insert("report".into(), x.into());
+        }
         if let Some(tb) = &self.table {
             let mut x = toml::Table::new();
             x.insert("vs".into(), floats(&tb.vs[..tb.n]));

@@ -32,7 +32,12 @@ fn fixture_copies_match_shared() {
         );
         return;
     }
-    for f in ["paper_lanes.csv", "paper_expected.csv"] {
+    for f in [
+        "paper_lanes.csv",
+        "paper_expected.csv",
+        "paper_engineering.csv",
+        "paper_trace.csv",
+    ] {
         assert_eq!(
             std::fs::read(shared.join(f)).unwrap(),
             std::fs::read(fixture(f)).unwrap(),

@@ -296,7 +296,7 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut be = Failing(CpuBackend::new(1, Settings::default()).unwrap());
     let csv = dir.path().join("lanes.csv");
-    let err = match tswm::runner::run(&src, &mut be, &csv, false) {
+    let err = match tswm::runner::run(&src, &mut be, &csv, None, false) {
         Ok(_) => panic!("the run must fail"),
         Err(e) => e.to_string(),
     };
@@ -329,4 +329,19 @@ fn auto_runs_small_sweeps_on_the_cpu_without_a_hardware_gpu() {
     let (out, _, rows) = run_ok(&["run", sweep.to_str().unwrap(), "--out", "o"], dir.path());
     assert_eq!(rows.len(), 2);
     assert!(String::from_utf8_lossy(&out.stdout).contains("cpu ("));
+}
+
+/// MODEL.md section 10 on the GPU path: the usual bounds (5e-5).
+#[test]
+fn engineering_columns_on_gpu() {
+    let Some(mut g) = gpu("engineering_columns_on_gpu") else {
+        return;
+    };
+    let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
+    let mut params = Vec::new();
+    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut res = Vec::new();
+    g.run_chunk(0, &params, None, &mut res).unwrap();
+    let worst = crate::engineering::check_engineering(&res, 5e-5);
+    eprintln!("GPU, section 10 fixture: worst deviation {worst:.2e} (bound 5e-5)");
 }

@@ -125,7 +125,14 @@ fn partial_files_of_a_killed_run_are_removed_by_the_next() {
     );
     assert_eq!(
         names(&out),
-        [".tswm.lock", "lanes.csv", "sweep.resolved.toml"]
+        [
+            ".tswm.lock",
+            "lanes.csv",
+            "report.html",
+            "summary.csv",
+            "sweep.resolved.toml",
+            "traces.csv"
+        ]
     );
 }
 
@@ -185,7 +192,14 @@ fn sigint_and_sigterm_leave_no_partial_file() {
         );
         assert_eq!(
             names(&out),
-            [".tswm.lock", "lanes.csv", "sweep.resolved.toml"],
+            [
+                ".tswm.lock",
+                "lanes.csv",
+                "report.html",
+                "summary.csv",
+                "sweep.resolved.toml",
+                "traces.csv"
+            ],
             "SIG{name}"
         );
         assert_eq!(
@@ -257,7 +271,17 @@ fn a_full_disk_leaves_the_old_results_together() {
         "{}",
         String::from_utf8_lossy(&r.stderr)
     );
-    assert_eq!(left, [".tswm.lock", "lanes.csv", "sweep.resolved.toml"]);
+    assert_eq!(
+        left,
+        [
+            ".tswm.lock",
+            "lanes.csv",
+            "report.html",
+            "summary.csv",
+            "sweep.resolved.toml",
+            "traces.csv"
+        ]
+    );
     assert_eq!(old.0.unwrap(), new.0.unwrap());
     assert_eq!(old.1.unwrap(), new.1.unwrap());
 }

@@ -51,8 +51,8 @@ fn host_structs_match_the_shader() {
     let lane = rust_layout!(GpuLane; m1, m2, tan_g, sin_g, cos_g, inv_cos_g, f2, motor, v_sync, sigma_k, f_crit, f1,
         motor_off, friction, fric_a, fric_b, fric_c, mu, mu_s, x1_0, v1_0, t_end, pad0, pad1);
     assert_eq!(wgsl_layout(&m, "Lane"), lane);
-    let state = rust_layout!(GpuState; t_hi, t_lo, h, t_first_switch, y, yc, k1, side, dir, flags, status, switches,
-        reversals, sticks, steps, events, pad0, pad1, pad2, pad3);
+    let state = rust_layout!(GpuState; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, side, dir, flags,
+        status, switches, reversals, sticks, steps, events, pad0, pad1, pad2, pad3, pad4);
     assert_eq!(wgsl_layout(&m, "State"), state);
     let globals = rust_layout!(GpuGlobals; n_lanes, budget, max_steps, max_events, tol, h_initial, table_n, row_lanes,
         table_vs, table_mu);
@@ -108,6 +108,7 @@ fn shared_constants_match_the_shader() {
         ("S_MAX_STEPS", Status::MaxSteps as u32),
         ("S_MAX_EVENTS", Status::MaxEvents as u32),
         ("S_STEP_UNDERFLOW", Status::StepUnderflow as u32),
+        ("NY", tswm::integrator::NY as u32),
         ("EV_SWITCH", EventFn::Switch as u32),
         ("EV_REST", EventFn::Rest as u32),
     ];
@@ -116,6 +117,7 @@ fn shared_constants_match_the_shader() {
     }
     // Every status the host knows has its code in the shader, once.
     let mut seen: Vec<u32> = codes[10..16].iter().map(|c| c.1).collect();
+    assert!(codes[10].0 == "S_OK" && codes[15].0 == "S_STEP_UNDERFLOW");
     seen.sort();
     assert_eq!(seen, Status::ALL.map(|s| s.code()));
 

@@ -1,0 +1,122 @@
+//! Section 10's energy flow: the in and out parts of ∫p1 dt and ∫p2 dt
+//! (MODEL.md section 10).
+//!
+//! Why not four more quadratures of max(±p, 0): their integrands have
+//! kinks where p crosses zero, which a step's error estimate does not see,
+//! so each crossing would need an event that restarts the step; measured,
+//! that cost a third of the CPU path's lanes/s. Instead ∫p1 is one more
+//! smooth, error-controlled quadrature (w_p1; ∫p2 is w_friction − w_p1),
+//! and an accepted step's increment of each goes to the in or the out part
+//! by the sign of p at the step's two ends (the derivatives k1 and k7).
+//! Where the sign differs, the step's dense output of the integral, a
+//! quartic in θ whose slope is p, gives both the zero (where the slope
+//! changes sign, found by bisection) and the part before it (its value
+//! there); the part after it is the rest of the increment. So in − out is
+//! the quadrature itself, w1_in − w1_out + w2_in − w2_out = w_friction
+//! holds to rounding, and no right-hand side is evaluated again.
+
+use super::events::dense_v;
+use super::stepper::Trial;
+use super::NY;
+
+/// Bisection for the zero of p inside a step ends when the bracket is
+/// this narrow: 2^-52, the resolution of f64 on [0, 1] (2^-24 in the
+/// shader's f32).
+pub const THETA_TOL: f64 = f64::EPSILON;
+
+/// Slope dW/dθ of a dense output W(θ) = r0 + θ(r1 + (1−θ)(r2 + θ(r3 +
+/// (1−θ) r4))) (see `events::dense_v`): h times the integrand there.
+#[inline]
+pub fn dense_slope(r: &[f64; 5], th: f64) -> f64 {
+    let th1 = 1.0 - th;
+    r[1] + (th1 - th) * r[2] + th * (2.0 - 3.0 * th) * r[3] + 2.0 * th * th1 * (th1 - th) * r[4]
+}
+
+/// Shares a step's increment of ∫p dt between the in (p > 0) and out
+/// (p < 0) parts, as [in, out]: `r` is the step's dense output of the
+/// integral with r0 = 0 (so r1 is the increment and W(θ) the part up to θ),
+/// `p0` and `p_end` the integrand at the step's ends.
+pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
+    let total = r[1];
+    if !(p0 * p_end < 0.0) {
+        // No crossing (a zero at an end is no crossing either).
+        let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
+        return if positive {
+            [total, 0.0]
+        } else {
+            [0.0, -total]
+        };
+    }
+    let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
+    let (mut a, mut b) = (0.0, 1.0);
+    // A tolerance, not a count, ends the loop, as in the shader (where a
+    // constant count is unrolled into code that halves lavapipe's speed);
+    // the cap guards against a bracket that rounding cannot narrow.
+    let mut it = 0;
+    while b - a > THETA_TOL && it < 64 {
+        it += 1;
+        let c = 0.5 * (a + b);
+        if sign * dense_slope(r, c) > 0.0 {
+            a = c;
+        } else {
+            b = c;
+        }
+    }
+    let first = dense_v(r, 0.5 * (a + b));
+    let rest = total - first;
+    if sign > 0.0 {
+        [first, -rest]
+    } else {
+        [rest, -first]
+    }
+}
+
+/// The dense output (r0 = 0) of an increment `dw` of a quadrature over a
+/// step of size h with derivatives `q0` and `q_end` at its ends and last
+/// coefficient `r4`: the same coefficients as `stepper::dense_coeffs`.
+pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
+    let r2 = h * q0 - dw;
+    [0.0, dw, r2, dw - h * q_end - r2, r4]
+}
+
+/// The increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step
+/// of size `h`, from the derivative `k1` at its start to `trial`.
+pub fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> [f64; 4] {
+    let k7 = &trial.k7;
+    let (p1_0, p1_end) = (k1[5], k7[5]);
+    let (p2_0, p2_end) = (k1[4] - k1[5], k7[4] - k7[5]);
+    let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
+    let r2 = dense_w(trial.dw[1], h, p2_0, p2_end, trial.dw_r4[1]);
+    let [i1, o1] = split(&r1, p1_0, p1_end);
+    let [i2, o2] = split(&r2, p2_0, p2_end);
+    [i1, o1, i2, o2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slope_is_the_derivative_of_the_dense_output() {
+        let r = [0.0, 0.7, -0.3, 0.45, 0.2];
+        for th in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
+            let d = 1e-6;
+            let fd = (dense_v(&r, th + d) - dense_v(&r, th - d)) / (2.0 * d);
+            assert!((dense_slope(&r, th) - fd).abs() < 1e-8, "{th}");
+        }
+    }
+
+    #[test]
+    fn a_crossing_splits_at_the_zero() {
+        // W(θ) = θ − θ²: slope 1 − 2θ, zero at 1/2, W(1/2) = 1/4, W(1) = 0.
+        // As a dense output: r1 = 0, r2 = 1 (θ(1−θ)·1), r3 = r4 = 0.
+        let r = [0.0, 0.0, 1.0, 0.0, 0.0];
+        let [inp, out] = split(&r, 1.0, -1.0);
+        assert!(
+            (inp - 0.25).abs() < 1e-15 && (out - 0.25).abs() < 1e-15,
+            "{inp} {out}"
+        );
+        assert_eq!(split(&[0.0, 2.0, 0.0, 0.0, 0.0], 1.0, 3.0), [2.0, 0.0]);
+        assert_eq!(split(&[0.0, -2.0, 0.0, 0.0, 0.0], -1.0, 0.0), [0.0, 2.0]);
+    }
+}

@@ -1,0 +1,152 @@
+//! Traces (MODEL.md section 11): a lane's state and internal forces over
+//! time, from the dense output of the same integration that gives its row
+//! of results (the same `prepare`, `try_step` and `finish_step`; only rows
+//! are taken on the way). Rows come every `dt` from 0 to t_end and, at
+//! every event, twice with the same t: the state just before it (old mode)
+//! and just after it (new mode).
+
+use super::automaton::{finish_step, init, prepare, LaneState};
+use super::events::dense_v;
+use super::result::{Contact, LaneResult};
+use super::stepper::try_step;
+use super::Settings;
+use crate::model::{motion, motor_force, mu_sliding, phi, FrictionTable, Lane};
+
+/// One row of a trace.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceRow {
+    pub t: f64,
+    pub x1: f64,
+    pub v1: f64,
+    pub a1: f64,
+    pub f1: f64,
+    pub s1: f64,
+    pub s2: f64,
+    /// NaN while stuck.
+    pub psi: f64,
+    pub phi: f64,
+    pub contact: Contact,
+}
+
+/// The row of a lane at time `t` with position `x`, speed `v` and the
+/// mode of `st` (side, direction, motor, stuck).
+fn row(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    st: &LaneState,
+    t: f64,
+    x: f64,
+    v: f64,
+) -> TraceRow {
+    if st.stuck {
+        let f1 = motor_force(lane, 0.0, st.motor_on);
+        return TraceRow {
+            t,
+            x1: x,
+            v1: 0.0,
+            a1: 0.0,
+            f1,
+            s1: f1,
+            s2: lane.f2,
+            psi: f64::NAN,
+            phi: phi(lane, 0.0, st.motor_on),
+            contact: Contact::Stick,
+        };
+    }
+    let m = motion(lane, table, st.side, st.dir, st.motor_on, v);
+    let vs = (st.dir as f64 * v).max(0.0) * lane.inv_cos_g;
+    let t_cs = (st.side * st.dir) as f64 * mu_sliding(lane, table, vs);
+    TraceRow {
+        t,
+        x1: x,
+        v1: v,
+        a1: m.acc,
+        f1: m.f1,
+        s1: m.s1,
+        s2: m.s2,
+        psi: -(lane.tan_g + t_cs) / (1.0 - lane.tan_g * t_cs),
+        phi: phi(lane, v, st.motor_on),
+        contact: if st.side > 0 {
+            Contact::Aa
+        } else {
+            Contact::Bb
+        },
+    }
+}
+
+/// x1 at fraction θ of a step of size h from x0: the exact integral of the
+/// dense output of ẋ1, r0 + θ(r1 + (1−θ)(r2 + θ(r3 + (1−θ) r4))).
+fn dense_x(x0: f64, h: f64, r: &[f64; 5], th: f64) -> f64 {
+    let c1 = r[0];
+    let c2 = r[1] + r[2];
+    let c3 = -r[2] + r[3] + r[4];
+    let c4 = -r[3] - 2.0 * r[4];
+    let c5 = r[4];
+    x0 + h * th * (c1 + th * (c2 / 2.0 + th * (c3 / 3.0 + th * (c4 / 4.0 + th * c5 / 5.0))))
+}
+
+/// Runs one lane to its end exactly as `simulate` does, handing `out` a
+/// row at every multiple of `dt` up to t_end and two at every event.
+pub fn simulate_traced(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+    dt: f64,
+    out: &mut dyn FnMut(&TraceRow),
+) -> LaneResult {
+    let mut st = init(lane, table);
+    let last = (lane.t_end / dt * (1.0 + 1e-12)).floor() as u64;
+    let mut k = 0u64;
+    let sample_t = |k: u64| k as f64 * dt;
+    // The samples at t = 0 (only k = 0, unless dt is tiny).
+    while k <= last && sample_t(k) <= st.t {
+        out(&row(lane, table, &st, sample_t(k), st.y[0], st.y[1]));
+        k += 1;
+    }
+    while !st.done {
+        let before = st;
+        match prepare(lane, table, &mut st) {
+            None => {
+                // A stick phase up to a time event: the state is constant.
+                while k <= last && sample_t(k) <= st.t {
+                    out(&row(lane, table, &before, sample_t(k), before.y[0], 0.0));
+                    k += 1;
+                }
+            }
+            Some(plan) => {
+                let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set.tol);
+                let from = st;
+                finish_step(lane, table, set, &mut st, &plan, &trial);
+                if st.t > from.t {
+                    while k <= last && sample_t(k) < st.t {
+                        let th = (sample_t(k) - from.t) / plan.h;
+                        let v = dense_v(&trial.dense_v, th);
+                        let x = dense_x(from.y[0], plan.h, &trial.dense_v, th);
+                        out(&row(lane, table, &from, sample_t(k), x, v));
+                        k += 1;
+                    }
+                    // A sample at the step's end: the integrated state.
+                    if k <= last && sample_t(k) <= st.t && st.events == before.events {
+                        out(&row(lane, table, &st, sample_t(k), st.y[0], st.y[1]));
+                        k += 1;
+                    }
+                }
+            }
+        }
+        if st.events > before.events {
+            // Just before the event: the old mode at the event's state.
+            let v_old = if st.stuck || st.dir != before.dir {
+                0.0
+            } else {
+                st.y[1]
+            };
+            out(&row(lane, table, &before, st.t, st.y[0], v_old));
+            out(&row(lane, table, &st, st.t, st.y[0], st.y[1]));
+            while k <= last && sample_t(k) <= st.t {
+                out(&row(lane, table, &st, sample_t(k), st.y[0], st.y[1]));
+                k += 1;
+            }
+        }
+    }
+    st.end_state().result(lane, table)
+}

@@ -1,0 +1,116 @@
+//! Statistics of a run for `summary.csv`: per grid point of a sampled
+//! sweep (or over the whole run), each result number's moments and
+//! quantiles, the share of lanes in each status and final contact with a
+//! Wilson interval, and the Spearman rank correlation of each sampled
+//! input with each result. Lanes of one grid point are consecutive, so
+//! one group is held at a time and memory does not grow with the run.
+
+pub mod quantile;
+pub mod summary;
+
+pub use summary::{Grouping, Stats, NUMBER_COLUMNS};
+
+/// The 95 % Wilson score interval of a share k/n (Wilson, 1927): unlike
+/// the normal approximation it stays inside [0, 1] and is not empty at
+/// k = 0 or k = n.
+pub fn wilson(k: u64, n: u64) -> (f64, f64) {
+    if n == 0 {
+        return (f64::NAN, f64::NAN);
+    }
+    const Z: f64 = 1.959_963_984_540_054;
+    let (k, n) = (k as f64, n as f64);
+    let p = k / n;
+    let z2n = Z * Z / n;
+    let centre = (p + z2n / 2.0) / (1.0 + z2n);
+    let half = Z / (1.0 + z2n) * (p * (1.0 - p) / n + Z * Z / (4.0 * n * n)).sqrt();
+    // At k = 0 and k = n the ends are 0 and 1 exactly (rounding would
+    // leave 1e-20 off).
+    let lo = if k == 0.0 {
+        0.0
+    } else {
+        (centre - half).max(0.0)
+    };
+    let hi = if k == n {
+        1.0
+    } else {
+        (centre + half).min(1.0)
+    };
+    (lo, hi)
+}
+
+/// Spearman's rank correlation of the pairs whose two values are both
+/// finite (average ranks for ties); NaN for fewer than 3 pairs or a
+/// constant side.
+pub fn spearman(x: &[f64], y: &[f64]) -> (f64, usize) {
+    let (xs, ys): (Vec<f64>, Vec<f64>) = x
+        .iter()
+        .zip(y)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(&a, &b)| (a, b))
+        .unzip();
+    let n = xs.len();
+    if n < 3 {
+        return (f64::NAN, n);
+    }
+    let (rx, ry) = (ranks(&xs), ranks(&ys));
+    let mean = (n as f64 + 1.0) / 2.0;
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in rx.iter().zip(&ry) {
+        let (da, db) = (a - mean, b - mean);
+        sxy += da * db;
+        sxx += da * da;
+        syy += db * db;
+    }
+    if sxx == 0.0 || syy == 0.0 {
+        return (f64::NAN, n);
+    }
+    (sxy / (sxx * syy).sqrt(), n)
+}
+
+/// 1-based ranks, ties sharing their average rank.
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut idx: Vec<usize> = (0..v.len()).collect();
+    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut r = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+            j += 1;
+        }
+        let avg = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &idx[i..=j] {
+            r[k] = avg;
+        }
+        i = j + 1;
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wilson_matches_a_known_interval() {
+        // Wilson's interval for 8 of 10 at 95 %: 0.4902 to 0.9433
+        // (e.g. statsmodels proportion_confint(8, 10, method="wilson")).
+        let (lo, hi) = wilson(8, 10);
+        assert!(
+            (lo - 0.490_162).abs() < 1e-6 && (hi - 0.943_318).abs() < 1e-6,
+            "{lo} {hi}"
+        );
+        let (lo, hi) = wilson(0, 50);
+        assert!(lo == 0.0 && (hi - 0.071_348).abs() < 1e-6, "{hi}");
+    }
+
+    #[test]
+    fn spearman_of_known_samples() {
+        // scipy.stats.spearmanr([1,2,3,4,5], [5,6,7,8,7]) = 0.8207826816681233
+        let (r, n) = spearman(&[1., 2., 3., 4., 5.], &[5., 6., 7., 8., 7.]);
+        assert_eq!(n, 5);
+        assert!((r - 0.820_782_681_668_123_3).abs() < 1e-12, "{r}");
+        let (r, _) = spearman(&[1., 2., 3., f64::NAN], &[3., 2., 1., 0.]);
+        assert!((r + 1.0).abs() < 1e-15);
+    }
+}
