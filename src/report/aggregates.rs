@@ -108,13 +108,7 @@ impl LineData {
     /// Per point: axis value, finished lanes, held share and its
     /// interval, a-a and b-b shares.
     pub fn contact_rows(&self) -> Vec<Vec<String>> {
-        let pct = |x: f64| {
-            if x.is_finite() {
-                format!("{:.2} %", 100.0 * x)
-            } else {
-                "-".into()
-            }
-        };
+        let pct = super::percent;
         self.xs
             .iter()
             .zip(&self.contact)

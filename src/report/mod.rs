@@ -52,16 +52,27 @@ fn param_label(n: Num) -> String {
     labelled(n.name(), n.def().unit)
 }
 
+/// A share as a percentage: two decimals, or two significant digits
+/// below 0.01 % (the upper end of a Wilson interval for no lane of a
+/// million is 3.8e-4 %, not 0.00 %); "-" for none.
+pub(crate) fn percent(x: f64) -> String {
+    if !x.is_finite() {
+        "-".into()
+    } else if x > 0.0 && x < 1e-4 {
+        format!("{:.1e} %", 100.0 * x)
+    } else if x < 1.0 && x > 1.0 - 1e-4 {
+        // Likewise just below 100 %: enough decimals to tell it from 100.
+        let decimals = (-(1.0 - x).log10()).ceil() as usize - 1;
+        format!("{:.*} %", decimals, 100.0 * x)
+    } else {
+        format!("{:.2} %", 100.0 * x)
+    }
+}
+
 /// A share with its 95 % Wilson interval, as table cells.
 fn share_cells(k: u64, n: u64) -> [String; 3] {
     let (lo, hi) = wilson(k, n);
-    let pct = |x: f64| {
-        if x.is_finite() {
-            format!("{:.2} %", 100.0 * x)
-        } else {
-            "-".into()
-        }
-    };
+    let pct = percent;
     [
         k.to_string(),
         pct(k as f64 / n as f64),

@@ -310,14 +310,7 @@ impl Folder {
                         .iter()
                         .find(|c| c.0 == nm)
                         .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
-                    let pct = |i: usize| {
-                        let x = num(&rec, i);
-                        if x.is_finite() {
-                            format!("{:.2} %", 100.0 * x)
-                        } else {
-                            "-".into()
-                        }
-                    };
+                    let pct = |i: usize| super::percent(num(&rec, i));
                     gd.contact_rows.push(vec![
                         word,
                         text(&rec, count),
