@@ -345,6 +345,7 @@ impl Folder {
         let grouped = !sweep.axes.is_empty();
         let mut rec = csv::ByteRecord::new();
         let mut idx = vec![0u64; sweep.axes.len()];
+        let mut vals = vec![0.0; res_c.len()];
         while rd
             .read_byte_record(&mut rec)
             .map_err(|e| bad_row(&path, e))?
@@ -374,7 +375,9 @@ impl Folder {
             } else if let Some(k) = contact {
                 self.by_contact[k] += 1;
             }
-            let vals: Vec<f64> = res_c.iter().map(|&i| num(&rec, i)).collect();
+            for (v, &i) in vals.iter_mut().zip(&res_c) {
+                *v = num(&rec, i);
+            }
             // The grid point and its axis indices (last axis fastest).
             let point = lane / samples;
             let mut rest = point;

@@ -62,15 +62,7 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
         .collect();
     names.sort();
     assert_eq!(
-        names,
-        [
-            ".tswm.lock",
-            "lanes.csv",
-            "report.html",
-            "summary.csv",
-            "sweep.resolved.toml",
-            "traces.csv"
-        ],
+        names, RUN_FILES,
         "only the run's files (its sweep traces both lanes) and the folder's lock"
     );
 }

@@ -13,6 +13,17 @@ pub fn fixture(name: &str) -> PathBuf {
     root().join("tests/fixtures").join(name)
 }
 
+/// What a finished run of `sweeps/paper.toml` (which traces both its
+/// lanes) leaves in its folder, sorted: its files and the folder's lock.
+pub const RUN_FILES: [&str; 6] = [
+    ".tswm.lock",
+    "lanes.csv",
+    "report.html",
+    "summary.csv",
+    "sweep.resolved.toml",
+    "traces.csv",
+];
+
 /// Runs the `tswm` binary.
 pub fn tswm(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tswm"))

@@ -123,17 +123,7 @@ fn partial_files_of_a_killed_run_are_removed_by_the_next() {
         ],
         dir.path(),
     );
-    assert_eq!(
-        names(&out),
-        [
-            ".tswm.lock",
-            "lanes.csv",
-            "report.html",
-            "summary.csv",
-            "sweep.resolved.toml",
-            "traces.csv"
-        ]
-    );
+    assert_eq!(names(&out), RUN_FILES);
 }
 
 /// SIGINT and SIGTERM stop a run with 128 + the signal and leave no
@@ -190,18 +180,7 @@ fn sigint_and_sigterm_leave_no_partial_file() {
             "SIG{name}: {}",
             String::from_utf8_lossy(&r.stderr)
         );
-        assert_eq!(
-            names(&out),
-            [
-                ".tswm.lock",
-                "lanes.csv",
-                "report.html",
-                "summary.csv",
-                "sweep.resolved.toml",
-                "traces.csv"
-            ],
-            "SIG{name}"
-        );
+        assert_eq!(names(&out), RUN_FILES, "SIG{name}");
         assert_eq!(
             std::fs::read(out.join("lanes.csv")).unwrap(),
             before,
@@ -271,17 +250,7 @@ fn a_full_disk_leaves_the_old_results_together() {
         "{}",
         String::from_utf8_lossy(&r.stderr)
     );
-    assert_eq!(
-        left,
-        [
-            ".tswm.lock",
-            "lanes.csv",
-            "report.html",
-            "summary.csv",
-            "sweep.resolved.toml",
-            "traces.csv"
-        ]
-    );
+    assert_eq!(left, RUN_FILES);
     assert_eq!(old.0.unwrap(), new.0.unwrap());
     assert_eq!(old.1.unwrap(), new.1.unwrap());
 }
