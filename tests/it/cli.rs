@@ -70,19 +70,7 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
 #[test]
 fn fixture_lane_table_end_to_end() {
     let dir = tempfile::tempdir().unwrap();
-    let lanes = fixture("paper_lanes.csv");
-    let (_, h, rows) = run_ok(
-        &[
-            "run",
-            "--lanes",
-            lanes.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
-        dir.path(),
-    );
+    let (h, rows) = run_fixture_lanes(dir.path());
     let (eh, expected) = read_csv(&fixture("paper_expected.csv"));
     assert_eq!(rows.len(), 5);
     for (row, e) in rows.iter().zip(&expected) {

@@ -71,6 +71,23 @@ pub fn run_ok(args: &[&str], dir: &Path) -> (Output, Vec<String>, Vec<Vec<String
     (out, h, rows)
 }
 
+/// Runs the MODEL.md section 7 lane table on the CPU into `dir/o`; the
+/// header and rows of its lanes.csv.
+pub fn run_fixture_lanes(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let lanes = fixture("paper_lanes.csv");
+    let args = [
+        "run",
+        "--lanes",
+        lanes.to_str().unwrap(),
+        "--out",
+        "o",
+        "--backend",
+        "cpu",
+    ];
+    let (_, h, rows) = run_ok(&args, dir);
+    (h, rows)
+}
+
 /// Checks results of the five MODEL.md section 7 cases against the
 /// fixture: identical discrete fields, first switch within `t_bound` s,
 /// x1, v1 and the works within `v_bound` of max(1, |value|). Returns the

@@ -68,19 +68,7 @@ fn engineering_columns_reproduce_the_fixture_on_cpu() {
 #[test]
 fn lanes_csv_has_the_engineering_columns() {
     let dir = tempfile::tempdir().unwrap();
-    let lanes = fixture("paper_lanes.csv");
-    let (_, h, rows) = run_ok(
-        &[
-            "run",
-            "--lanes",
-            lanes.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
-        dir.path(),
-    );
+    let (h, rows) = run_fixture_lanes(dir.path());
     let at = |c: &str| h.iter().position(|x| x == c).unwrap();
     assert_eq!(at("w1_in"), at("steps") + 1);
     assert_eq!(at("lock_margin_deg"), at("w1_in") + 8);
