@@ -8,6 +8,9 @@
 //!   GPU this is upload, all dispatches and read-back of the states.
 //! - `end_to_end/{cpu,gpu}/N`: `runner::run` on a sweep file of N lanes:
 //!   lane generation, integration and `lanes.csv` written to disk.
+//! - `table/{lanes.csv,lanes.parquet}/N`: the results table alone, N rows
+//!   of integrated lanes formatted, encoded and committed (the file sizes
+//!   are printed).
 //!
 //! GPU benchmarks use the best adapter (`Gpu::new(false)`) and are skipped,
 //! with a message, when there is none. Set TSWM_BENCH_MAX=100000 to stop
@@ -19,6 +22,7 @@ use tswm::gpu::layout::{GpuGlobals, GpuLane};
 use tswm::gpu::{Gpu, GpuBackend};
 use tswm::integrator::Settings;
 use tswm::lanes::Source;
+use tswm::lanes_file::{row_cells, Format, LanesWriter};
 use tswm::model::Lane;
 use tswm::params::Params;
 use tswm::testmodels::paper_like;
@@ -107,9 +111,52 @@ fn kernel(c: &mut Criterion) {
 }
 
 /// One end-to-end run: lanes.csv streamed, synced and renamed into place.
-fn write_table(src: &Source, be: &mut dyn Backend, csv: &std::path::Path) {
-    let written = tswm::runner::run(src, be, csv, None, false).unwrap();
-    tswm::outdir::commit_together(vec![written.lanes.into_file()], &[]).unwrap();
+fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
+    let target = tswm::runner::Target {
+        dir,
+        format: Format::Csv,
+        range: None,
+    };
+    let written = tswm::runner::run(src, be, target, None, false).unwrap();
+    let mut files = vec![written.lanes];
+    files.extend(written.stats);
+    tswm::outdir::commit_together(files, &[]).unwrap();
+}
+
+/// Writing the results table alone, both formats: the rows of N
+/// paper-like lanes (integrated once, outside the timing) formatted,
+/// encoded, synced and renamed into place. Prints each file's size.
+fn table(c: &mut Criterion) {
+    let n = *sizes().last().unwrap();
+    let params = lanes(n);
+    let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
+    let mut results = Vec::new();
+    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = c.benchmark_group("table");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(n as u64));
+    for format in [Format::Csv, Format::Parquet] {
+        let write = || {
+            let mut w = LanesWriter::create(dir.path(), format).unwrap();
+            let mut cells = Vec::new();
+            for (i, (p, r)) in params.iter().zip(&results).enumerate() {
+                row_cells(i as u64, p, r, &mut cells);
+                w.write(&cells).unwrap();
+            }
+            tswm::outdir::commit_together(vec![w.into_file().unwrap()], &[]).unwrap();
+        };
+        write();
+        let path = dir.path().join(format.file_name());
+        eprintln!(
+            "table: {} for {n} lanes: {} bytes ({:.1} bytes a lane)",
+            format.file_name(),
+            std::fs::metadata(&path).unwrap().len(),
+            std::fs::metadata(&path).unwrap().len() as f64 / n as f64
+        );
+        g.bench_function(BenchmarkId::new(format.file_name(), n), |b| b.iter(write));
+    }
+    g.finish();
 }
 
 fn end_to_end(c: &mut Criterion) {
@@ -126,21 +173,21 @@ fn end_to_end(c: &mut Criterion) {
         )
         .unwrap();
         let src = Source::open(Some(&sweep), None).unwrap();
-        let csv = dir.path().join("lanes.csv");
+        let csv = dir.path();
         g.throughput(Throughput::Elements(n as u64));
         g.bench_function(BenchmarkId::new("cpu", n), |b| {
-            b.iter(|| write_table(&src, &mut cpu, &csv))
+            b.iter(|| write_table(&src, &mut cpu, csv))
         });
         if let Some(be) = gpu.as_mut() {
             g.bench_function(BenchmarkId::new("gpu", n), |b| {
-                b.iter(|| write_table(&src, be, &csv))
+                b.iter(|| write_table(&src, be, csv))
             });
         }
     }
     g.finish();
 }
 
-criterion_group!(benches, cpu_threads, kernel, end_to_end);
+criterion_group!(benches, cpu_threads, kernel, end_to_end, table);
 
 fn main() {
     // Mesa's Vulkan drivers print an error line without XDG_RUNTIME_DIR;

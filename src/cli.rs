@@ -8,6 +8,7 @@ use crate::backend::Choice;
 use crate::error::{Error, Result};
 use crate::integrator::Settings;
 use crate::lanes::Source;
+use crate::lanes_file::Format;
 use crate::sweep::TraceSpec;
 
 /// Simulate thousands to millions of worm-drive (TSWM) variants.
@@ -53,6 +54,29 @@ pub enum Command {
         #[arg(long, value_name = "DT")]
         trace_dt: Option<f64>,
         /// Do not write DIR/report.html.
+        #[arg(long)]
+        no_report: bool,
+        /// Run only shard K (0-based) of N: a contiguous range of lanes, for
+        /// a cluster's job array; join the shards with `tswm merge`.
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Format of the results table: lanes.csv or lanes.parquet.
+        #[arg(long, value_enum, default_value_t = Format::Csv)]
+        format: Format,
+    },
+    /// Join the shard folders of one sweep into OUT: the table exactly as
+    /// one run writes it, traces, summary.csv and report.html.
+    Merge {
+        /// Shard folders (`tswm run --shard K/N --out DIR`), each shard once.
+        #[arg(value_name = "DIR", required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(long, value_name = "OUT")]
+        out: PathBuf,
+        /// Format of the merged table.
+        #[arg(long, value_enum, default_value_t = Format::Csv)]
+        format: Format,
+        /// Do not write OUT/report.html.
         #[arg(long)]
         no_report: bool,
     },

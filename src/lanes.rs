@@ -144,12 +144,19 @@ impl Source {
 
     /// A reader from the first lane.
     pub fn reader(&self) -> Result<LaneReader<'_>> {
+        // Not lane_count(): a table's rows are counted with this reader.
+        self.reader_range(0, u64::MAX)
+    }
+
+    /// A reader of lanes `start..end` (a shard's); a lane's parameters do
+    /// not depend on the range it is read in.
+    pub fn reader_range(&self, start: u64, end: u64) -> Result<LaneReader<'_>> {
         match self {
             Source::Sweep { sweep, file } => Ok(LaneReader::Sweep {
                 sweep,
                 file,
-                next: 0,
-                total: sweep.lane_count(),
+                next: start,
+                total: end.min(sweep.lane_count()),
                 u: sweep.uniforms(),
             }),
             Source::Table {
@@ -185,14 +192,26 @@ impl Source {
                     }
                     cols.push(p);
                 }
+                let mut rec = csv::StringRecord::new();
+                // Rows before the range: read past (they were validated
+                // when the source was opened).
+                for row in 0..start {
+                    if !rd
+                        .read_record(&mut rec)
+                        .map_err(|e| csv_error(path, row + 1, e))?
+                    {
+                        break;
+                    }
+                }
                 Ok(LaneReader::Table {
                     path,
                     base,
                     has_table: table.is_some(),
                     cols,
                     rd,
-                    rec: csv::StringRecord::new(),
-                    row: 0,
+                    rec,
+                    row: start,
+                    end,
                 })
             }
         }
@@ -230,6 +249,8 @@ pub enum LaneReader<'a> {
         rec: csv::StringRecord,
         /// Rows read so far.
         row: u64,
+        /// One past the last row to read.
+        end: u64,
     },
 }
 
@@ -262,8 +283,9 @@ impl LaneReader<'_> {
                 rd,
                 rec,
                 row,
+                end,
             } => {
-                while out.len() < max {
+                while out.len() < max && *row < *end {
                     let more = rd
                         .read_record(rec)
                         .map_err(|e| csv_error(path, *row + 1, e))?;

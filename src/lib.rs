@@ -7,8 +7,10 @@
 //! automaton), [`sweep`], [`sampling`] and [`lanes`] (where lanes come
 //! from), [`backend`] (CPU path, choosing a backend) and [`gpu`] (the
 //! WGSL path), [`runner`] and [`output`] (chunked runs streamed to
-//! `lanes.csv`), [`stats`] (`summary.csv`), [`check`] (CPU against GPU),
-//! [`cli`].
+//! `lanes.csv`), [`lanes_file`] (the table as CSV or Parquet), [`stats`]
+//! (`summary.csv`), [`report`] (`report.html`), [`shard`] and [`merge`]
+//! (runs split across machines, joined again), [`check`] (CPU against
+//! GPU), [`cli`].
 
 // `!(x > 0.0)` is used on purpose throughout: it also rejects NaN, which
 // `x <= 0.0` would let through.
@@ -21,6 +23,8 @@ pub mod error;
 pub mod gpu;
 pub mod integrator;
 pub mod lanes;
+pub mod lanes_file;
+pub mod merge;
 pub mod model;
 pub mod outdir;
 pub mod output;
@@ -28,6 +32,7 @@ pub mod params;
 pub mod report;
 pub mod runner;
 pub mod sampling;
+pub mod shard;
 pub mod stats;
 pub mod sweep;
 pub mod testmodels;

@@ -1,7 +1,7 @@
 //! `tswm`: parse, plan, run; one error line and exit code 2 for bad input.
 
 use std::io::{IsTerminal, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
@@ -9,7 +9,9 @@ use tswm::backend::{self, Choice, CpuBackend};
 use tswm::cli::{Cli, Command, LanesArgs};
 use tswm::error::{Error, Result};
 use tswm::gpu::{Gpu, GpuBackend};
+use tswm::lanes_file::Format;
 use tswm::outdir::{commit_together, remove_partials_on_signal, AtomicFile, OutDir};
+use tswm::shard::{backend_kind, sweep_hash, Manifest, Shard, MANIFEST};
 use tswm::{check, output, runner};
 
 fn main() -> ExitCode {
@@ -27,7 +29,24 @@ fn main() -> ExitCode {
             trace,
             trace_dt,
             no_report,
-        } => run(&lanes, &out, backend, &trace, trace_dt, !no_report),
+            shard,
+            format,
+        } => run(
+            &lanes,
+            &out,
+            backend,
+            &trace,
+            trace_dt,
+            !no_report,
+            shard.as_deref(),
+            format,
+        ),
+        Command::Merge {
+            dirs,
+            out,
+            format,
+            no_report,
+        } => merge(&dirs, &out, format, !no_report),
         Command::Report { dir } => report(&dir),
         Command::Check {
             lanes,
@@ -53,6 +72,7 @@ fn quiet_mesa() {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn run(
     lanes: &LanesArgs,
     out: &Path,
@@ -60,42 +80,150 @@ fn run(
     trace: &[u64],
     trace_dt: Option<f64>,
     with_report: bool,
+    shard: Option<&str>,
+    format: Format,
 ) -> Result<()> {
+    let shard = shard.map(Shard::parse).transpose()?;
     let plan = lanes.plan()?;
     let trace = tswm::cli::trace_plan(trace, trace_dt, &plan.source)?;
-    let mut be = backend::open(
-        choice,
-        plan.source.lane_count(),
-        plan.threads,
-        plan.settings,
-    )?;
     let dir = OutDir::open(out)?;
-    let csv = dir.join("lanes.csv");
+    let total = plan.source.lane_count();
+    let shard = match shard {
+        None => None,
+        Some(s) => {
+            let hash = sweep_hash(&plan.source, trace.as_ref())?;
+            // A scheduler retries a task with the same index: a complete
+            // result of this very shard is kept, not computed again.
+            if let Some(m) = Manifest::read(dir.path()).ok().flatten() {
+                if m.sweep_hash == hash
+                    && (m.shard, m.shards) == (s.k, s.n)
+                    && m.format == format
+                    && m.version == env!("CARGO_PKG_VERSION")
+                    && m.incomplete(dir.path()).is_none()
+                {
+                    println!(
+                        "tswm: shard {}/{} is already complete in {} ({} lanes, {} to {}, {}); nothing to do",
+                        s.k,
+                        s.n,
+                        dir.path().display(),
+                        m.rows,
+                        m.lane_start,
+                        m.lane_end.max(1) - 1,
+                        m.backend_name
+                    );
+                    return Ok(());
+                }
+            }
+            // Anything else here is redone from scratch; the old manifest
+            // goes first, so it can never stand beside new files.
+            remove_if_there(&dir.join(MANIFEST))?;
+            Some((s, s.range(total), hash))
+        }
+    };
+    let mut be = backend::open(choice, total, plan.threads, plan.settings)?;
     let progress = std::io::stderr().is_terminal();
-    let written = runner::run(&plan.source, be.as_mut(), &csv, trace.as_ref(), progress)?;
-    let mut resolved = AtomicFile::create(&dir.join("sweep.resolved.toml"))?;
+    let target = runner::Target {
+        dir: dir.path(),
+        format,
+        range: shard.as_ref().map(|s| s.1),
+    };
+    let written = runner::run(&plan.source, be.as_mut(), target, trace.as_ref(), progress)?;
     let text = output::provenance(
         &plan.source,
         &be.name(),
         be.tolerance(),
         written.summary.seconds,
+        shard.as_ref().map(|s| (s.0, s.1)),
     );
-    resolved
-        .writer()
-        .write_all(text.as_bytes())
-        .map_err(|e| Error::io(&dir.join("sweep.resolved.toml"), e))?;
-    // lanes.csv last: its appearance means the run is complete. A run
-    // without traces removes an earlier run's traces.csv, which would not
-    // belong to it; the report is built from the committed files, so an
-    // earlier run's report goes with the old results.
-    let mut files = vec![resolved, written.stats];
-    files.extend(written.traces.map(|t| t.into_file()));
-    files.push(written.lanes.into_file());
-    commit_together(files, &[&dir.join("traces.csv"), &dir.join("report.html")])?;
-    let mut line = written.summary.line(&be.name(), &csv);
-    if with_report {
+    let resolved = small_file(&dir.join("sweep.resolved.toml"), &text)?;
+    // The table last, or for a shard its manifest: its appearance means
+    // the run is complete. Files of an earlier run that this one does not
+    // write would not belong to it and are removed: its traces, the other
+    // format's table, a shard's manifest or an unsharded run's summary and
+    // report (the report is built from the committed files).
+    let table = dir.join(format.file_name());
+    let mut stale = vec![
+        dir.join(format.other().file_name()),
+        dir.join("report.html"),
+        dir.join(MANIFEST),
+        dir.join("traces.csv"),
+        dir.join("summary.csv"),
+    ];
+    let mut files = vec![resolved];
+    files.extend(written.stats);
+    let mut traces = written.traces.map(|t| t.into_file());
+    let traces_bytes = traces.as_mut().map(|t| t.flushed_len()).transpose()?;
+    files.extend(traces);
+    let mut lanes_file = written.lanes;
+    let lanes_bytes = lanes_file.flushed_len()?;
+    files.push(lanes_file);
+    if let Some((s, (a, b), hash)) = &shard {
+        let m = Manifest {
+            tool: "tswm".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            sweep_hash: hash.clone(),
+            shard: s.k,
+            shards: s.n,
+            lane_start: *a,
+            lane_end: *b,
+            lanes_total: total,
+            rows: written.summary.lanes,
+            backend: backend_kind(&be.name()).into(),
+            backend_name: be.name(),
+            format,
+            lanes_bytes,
+            traces_bytes,
+            seconds: written.summary.seconds,
+        };
+        files.push(small_file(&dir.join(MANIFEST), &m.text())?);
+    }
+    let kept: Vec<PathBuf> = files.iter().map(|f| f.dest().to_path_buf()).collect();
+    stale.retain(|p| !kept.contains(p));
+    let stale: Vec<&Path> = stale.iter().map(|p| p.as_path()).collect();
+    commit_together(files, &stale)?;
+    let mut line = written.summary.line(&be.name(), &table);
+    if let Some((s, (a, b), _)) = &shard {
+        line.push_str(&format!(
+            "; shard {}/{} (lanes {a} to {}) with {MANIFEST}",
+            s.k,
+            s.n,
+            b.max(&1) - 1
+        ));
+    } else if with_report {
         let start = std::time::Instant::now();
         tswm::report::write(dir.path())?;
+        line.push_str(&format!(
+            "; report.html in {:.2} s",
+            start.elapsed().as_secs_f64()
+        ));
+    }
+    println!("{line}");
+    Ok(())
+}
+
+/// A small file, whole, not yet committed.
+fn small_file(path: &Path, text: &str) -> Result<AtomicFile> {
+    let mut f = AtomicFile::create(path)?;
+    f.writer()
+        .write_all(text.as_bytes())
+        .map_err(|e| Error::io(path, e))?;
+    Ok(f)
+}
+
+fn remove_if_there(path: &Path) -> Result<()> {
+    match std::fs::remove_file(path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(Error::io(path, e)),
+    }
+}
+
+fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) -> Result<()> {
+    let merged = tswm::merge::merge(dirs, out, format)?;
+    let mut line = merged.line();
+    if with_report {
+        let start = std::time::Instant::now();
+        tswm::report::write(out)?;
         line.push_str(&format!(
             "; report.html in {:.2} s",
             start.elapsed().as_secs_f64()

@@ -15,7 +15,7 @@
 //!   beside another run's `sweep.resolved.toml`.
 
 use std::fs::{File, TryLockError};
-use std::io::BufWriter;
+use std::io::{BufWriter, Write as _};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
@@ -175,6 +175,33 @@ impl AtomicFile {
         self.w.as_mut().expect("writer used after commit")
     }
 
+    /// The final name.
+    pub fn dest(&self) -> &Path {
+        &self.dest
+    }
+
+    /// Bytes written so far (flushes the buffer).
+    pub fn flushed_len(&mut self) -> Result<u64> {
+        let (w, tmp) = (
+            self.w.as_mut().expect("writer used after commit"),
+            &self.tmp,
+        );
+        w.flush().map_err(|e| Error::io(tmp, e))?;
+        let len = w.get_ref().metadata().map_err(|e| Error::io(tmp, e))?.len();
+        Ok(len)
+    }
+
+    /// Takes the writer, for a writer that must own it (Parquet's); give
+    /// it back with [`AtomicFile::restore_writer`] before the commit.
+    pub fn take_writer(&mut self) -> BufWriter<File> {
+        self.w.take().expect("writer taken twice")
+    }
+
+    /// Gives back the writer taken by [`AtomicFile::take_writer`].
+    pub fn restore_writer(&mut self, w: BufWriter<File>) {
+        self.w = Some(w);
+    }
+
     /// Flushes and syncs the temporary file (everything but the rename).
     fn sync(&mut self) -> Result<()> {
         let w = self.w.take().expect("synced twice");
@@ -230,7 +257,6 @@ pub fn commit_together(mut files: Vec<AtomicFile>, stale: &[&Path]) -> Result<()
 
 /// Writes a whole small file under `dest` (committed on its own).
 pub fn write_atomic(dest: &Path, bytes: &[u8]) -> Result<()> {
-    use std::io::Write;
     let mut f = AtomicFile::create(dest)?;
     f.writer()
         .write_all(bytes)

@@ -9,10 +9,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::integrator::LaneResult;
 use crate::lanes::Source;
 use crate::outdir::AtomicFile;
-use crate::params::{Param, Params};
 
 /// Result columns, after the parameter columns.
 pub const RESULT_COLUMNS: [&str; 24] = [
@@ -82,84 +80,24 @@ impl CsvLines {
     }
 }
 
-/// Streams rows of `lanes.csv`.
-pub struct LanesCsv(CsvLines);
-
 /// A float cell: empty for NaN (not applicable, or no such event), else
 /// the shortest text that reads back to the same f64.
-fn push_f64(s: &mut String, v: f64) {
+pub(crate) fn push_f64(s: &mut String, v: f64) {
     if !v.is_nan() {
         let _ = write!(s, "{v:?}");
     }
 }
 
-impl LanesCsv {
-    /// Starts `path` and writes the header.
-    pub fn create(path: &Path) -> Result<LanesCsv> {
-        let header: Vec<&str> = Param::COLUMNS
-            .iter()
-            .map(|p| p.name())
-            .chain(RESULT_COLUMNS.iter().copied())
-            .collect();
-        CsvLines::create(path, &header.join(",")).map(LanesCsv)
-    }
-
-    /// Appends lane `lane`'s row.
-    pub fn write(&mut self, lane: u64, p: &Params, r: &LaneResult) -> Result<()> {
-        let s = self.0.line();
-        for c in Param::COLUMNS {
-            match c {
-                Param::Motor => s.push_str(p.motor.name()),
-                Param::Friction => s.push_str(p.friction.name()),
-                Param::Num(n) => push_f64(s, p.get(n)),
-            }
-            s.push(',');
-        }
-        let _ = write!(s, "{lane},{},{},", r.status.name(), r.switches);
-        push_f64(s, r.t_first_switch);
-        let _ = write!(s, ",{},{},{},", r.reversals, r.sticks, r.contact_end.name());
-        let ok = r.status == crate::integrator::Status::Ok;
-        // A lane that could not be finished reports no numbers.
-        for v in [
-            r.x1_end,
-            r.v1_end,
-            r.w_motor,
-            r.w_load,
-            r.w_friction,
-            r.eta_end,
-        ] {
-            push_f64(s, if ok { v } else { f64::NAN });
-            s.push(',');
-        }
-        let _ = write!(s, "{}", r.steps);
-        for v in [
-            r.w1_in,
-            r.w1_out,
-            r.w2_in,
-            r.w2_out,
-            r.eta_direct,
-            r.eta_inverse,
-            r.eta_direct_ss,
-            r.eta_inverse_ss,
-            r.lock_margin_deg,
-        ] {
-            s.push(',');
-            push_f64(s, if ok { v } else { f64::NAN });
-        }
-        let _ = write!(s, ",{}", r.path.name());
-        self.0.end_line()
-    }
-
-    /// The finished file, to be committed with the run's other files.
-    pub fn into_file(self) -> AtomicFile {
-        self.0.into_file()
-    }
-}
-
 /// The text of `sweep.resolved.toml`: a header naming the tool, backend,
-/// tolerance and run time (`seconds`), then the sweep with every lane's
-/// source spelled out.
-pub fn provenance(source: &Source, backend: &str, tol: f64, seconds: f64) -> String {
+/// tolerance, run time (`seconds`) and, for a shard, its lanes; then the
+/// sweep with every lane's source spelled out.
+pub fn provenance(
+    source: &Source,
+    backend: &str,
+    tol: f64,
+    seconds: f64,
+    shard: Option<(crate::shard::Shard, (u64, u64))>,
+) -> String {
     let (from, resolved) = match source {
         Source::Sweep { sweep, .. } => (
             "every lane of lanes.csv follows from this file".to_string(),
@@ -192,13 +130,40 @@ pub fn provenance(source: &Source, backend: &str, tol: f64, seconds: f64) -> Str
             )
         }
     };
+    let (shard_line, run) = match shard {
+        Some((s, (a, b))) => (
+            format!(
+                "{SHARD_LINE}{}/{} (lanes {a} to {}, {} lanes)\n",
+                s.k,
+                s.n,
+                b.max(1) - 1,
+                b - a
+            ),
+            b - a,
+        ),
+        None => (String::new(), source.lane_count()),
+    };
     format!(
         "# tswm {} resolved sweep: {from}\n\
          # backend: {backend}, tol: {tol:e}, lanes: {}\n\
-         # time: {seconds:.3} s ({:.0} lanes/s)\n{resolved}",
+         {shard_line}{}{resolved}",
         env!("CARGO_PKG_VERSION"),
         source.lane_count(),
-        source.lane_count() as f64 / seconds.max(1e-9),
+        time_line(seconds, run),
+    )
+}
+
+/// How a shard's `sweep.resolved.toml` names the shard (a merge drops
+/// the line).
+pub const SHARD_LINE: &str = "# shard: ";
+/// How `sweep.resolved.toml` begins its line of the run time.
+pub const TIME_LINE: &str = "# time: ";
+
+/// The line of the run time of `lanes` lanes in `seconds`.
+pub fn time_line(seconds: f64, lanes: u64) -> String {
+    format!(
+        "{TIME_LINE}{seconds:.3} s ({:.0} lanes/s)\n",
+        lanes as f64 / seconds.max(1e-9)
     )
 }
 

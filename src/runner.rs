@@ -18,9 +18,10 @@ use crate::integrator::trace::simulate_traced;
 use crate::integrator::Settings;
 use crate::integrator::{Contact, LaneResult, RowPath, Status};
 use crate::lanes::Source;
+use crate::lanes_file::{row_cells, Cell, Format, LanesWriter};
 use crate::model::{FrictionTable, Lane};
 use crate::outdir::AtomicFile;
-use crate::output::{LanesCsv, TracesCsv};
+use crate::output::TracesCsv;
 use crate::params::Params;
 use crate::stats::{Grouping, Stats};
 use crate::sweep::TraceSpec;
@@ -112,13 +113,15 @@ impl Summary {
     }
 }
 
-/// The results table as a sink: rows streamed to `lanes.csv`, counted for
-/// the summary line and into `summary.csv`; traced lanes streamed to
-/// `traces.csv`.
-struct CsvSink {
-    csv: LanesCsv,
+/// The results table as a sink: rows streamed to `lanes.csv` (or
+/// `lanes.parquet`), counted for the summary line and into `summary.csv`
+/// (not for a shard: a shard's statistics would be of part of a group);
+/// traced lanes streamed to `traces.csv`.
+struct TableSink {
+    table: LanesWriter,
+    cells: Vec<Cell>,
     summary: Summary,
-    stats: Stats,
+    stats: Option<Stats>,
     traces: Option<Tracer>,
 }
 
@@ -156,12 +159,15 @@ impl Tracer {
     }
 }
 
-impl Sink for CsvSink {
+impl Sink for TableSink {
     type Output = Written;
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
         for (i, (p, r)) in params.iter().zip(results).enumerate() {
-            self.csv.write(first + i as u64, p, r)?;
-            self.stats.add(first + i as u64, p, r)?;
+            row_cells(first + i as u64, p, r, &mut self.cells);
+            self.table.write(&self.cells)?;
+            if let Some(s) = self.stats.as_mut() {
+                s.add(first + i as u64, p, r)?;
+            }
             self.summary.add(r);
         }
         if let Some(t) = self.traces.as_mut() {
@@ -171,8 +177,8 @@ impl Sink for CsvSink {
     }
     fn finish(self) -> Result<Self::Output> {
         Ok(Written {
-            lanes: self.csv,
-            stats: self.stats.finish()?,
+            lanes: self.table.into_file()?,
+            stats: self.stats.map(Stats::finish).transpose()?,
             traces: self.traces.map(|t| t.out),
             summary: self.summary,
         })
@@ -181,49 +187,86 @@ impl Sink for CsvSink {
 
 /// What a run wrote, not yet committed.
 pub struct Written {
-    /// `lanes.csv`.
-    pub lanes: LanesCsv,
-    /// `summary.csv`.
-    pub stats: AtomicFile,
+    /// `lanes.csv` or `lanes.parquet`.
+    pub lanes: AtomicFile,
+    /// `summary.csv` (not for a shard).
+    pub stats: Option<AtomicFile>,
     /// `traces.csv`, when lanes were traced.
     pub traces: Option<TracesCsv>,
     /// Counts for the summary line.
     pub summary: Summary,
 }
 
-/// Runs every lane of `source` on `backend`, streaming rows to a temporary
-/// file for `out_csv` (and the traced lanes' rows to one for
-/// `traces.csv` beside it); the caller commits them (with the run's other
-/// files) or drops them. `progress` shows a bar on stderr when it is a
-/// terminal.
+/// Where a run's table goes and which lanes it runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Target<'a> {
+    /// The output folder.
+    pub dir: &'a Path,
+    /// The table's format.
+    pub format: Format,
+    /// Lanes `start..end` (a shard's), or every lane.
+    pub range: Option<(u64, u64)>,
+}
+
+/// Runs the lanes of `source` that `target` names on `backend`, streaming
+/// rows to a temporary file for the table (and the traced lanes' rows to
+/// one for `traces.csv` beside it, and statistics to one for
+/// `summary.csv` when every lane is run); the caller commits them (with
+/// the run's other files) or drops them. `progress` shows a bar on stderr
+/// when it is a terminal.
 pub fn run(
     source: &Source,
     backend: &mut dyn Backend,
-    out_csv: &Path,
+    target: Target<'_>,
     trace: Option<&TraceSpec>,
     progress: bool,
 ) -> Result<Written> {
     let start = Instant::now();
+    let dir = target.dir;
+    let (first, end) = target.range.unwrap_or((0, source.lane_count()));
     let traces = match trace {
-        Some(spec) => Some(Tracer {
-            spec: spec.clone(),
-            next: 0,
-            out: TracesCsv::create(&out_csv.with_file_name("traces.csv"))?,
-            table: source.friction_table().copied(),
-        }),
+        Some(spec) => {
+            // A shard traces the traced lanes in its range.
+            let lanes: Vec<u64> = spec
+                .lanes
+                .iter()
+                .copied()
+                .filter(|l| (first..end).contains(l))
+                .collect();
+            if lanes.is_empty() {
+                None
+            } else {
+                Some(Tracer {
+                    spec: TraceSpec { lanes, dt: spec.dt },
+                    next: 0,
+                    out: TracesCsv::create(&dir.join("traces.csv"))?,
+                    table: source.friction_table().copied(),
+                })
+            }
+        }
         None => None,
     };
-    let sink = CsvSink {
-        csv: LanesCsv::create(out_csv)?,
-        stats: Stats::create(&out_csv.with_file_name("summary.csv"), Grouping::of(source))?,
+    let stats = match target.range {
+        None => Some(Stats::create(
+            &dir.join("summary.csv"),
+            Grouping::of(source),
+        )?),
+        Some(_) => None,
+    };
+    let sink = TableSink {
+        table: LanesWriter::create(dir, target.format)?,
+        cells: Vec::with_capacity(64),
+        stats,
         summary: Summary::default(),
         traces,
     };
+    let table = dir.join(target.format.file_name());
     // On failure the sink's partial files are dropped, and so removed.
-    let mut written = pipeline(source, backend, progress, sink).map_err(|e| match e {
-        Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", out_csv.display())),
-        e => e,
-    })?;
+    let mut written =
+        pipeline_range(source, (first, end), backend, progress, sink).map_err(|e| match e {
+            Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", table.display())),
+            e => e,
+        })?;
     written.summary.seconds = start.elapsed().as_secs_f64();
     Ok(written)
 }
@@ -253,12 +296,24 @@ pub fn pipeline<S: Sink>(
     source: &Source,
     backend: &mut dyn Backend,
     progress: bool,
+    sink: S,
+) -> Result<S::Output> {
+    pipeline_range(source, (0, source.lane_count()), backend, progress, sink)
+}
+
+/// Runs lanes `start..end` of `source` through `backend` into `sink`,
+/// chunk by chunk, in lane order.
+pub fn pipeline_range<S: Sink>(
+    source: &Source,
+    (start, end): (u64, u64),
+    backend: &mut dyn Backend,
+    progress: bool,
     mut sink: S,
 ) -> Result<S::Output> {
     let table = source.friction_table().copied();
-    let bar = progress_bar(progress, source.lane_count());
+    let bar = progress_bar(progress, end - start);
     let chunk = backend.chunk_lanes().max(1);
-    let mut reader = source.reader()?;
+    let mut reader = source.reader_range(start, end)?;
 
     const IN_FLIGHT: usize = 1;
     let (to_backend, from_producer) = std::sync::mpsc::sync_channel::<Result<Batch>>(IN_FLIGHT);
@@ -267,7 +322,7 @@ pub fn pipeline<S: Sink>(
 
     let outcome = std::thread::scope(|scope| -> Result<S::Output> {
         scope.spawn(move || {
-            let mut first = 0u64;
+            let mut first = start;
             loop {
                 let (_, mut params, results) = recycled
                     .try_recv()
@@ -308,7 +363,7 @@ pub fn pipeline<S: Sink>(
             if to_sink.send((first, params, results)).is_err() {
                 break; // the sink failed; its error is reported below
             }
-            bar.set_position(first + n);
+            bar.set_position(first + n - start);
         }
         // Stop the producer (it sees the closed channel) and the sink.
         drop(from_producer);

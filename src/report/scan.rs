@@ -326,9 +326,10 @@ impl Folder {
     }
 
     fn scan_lanes(&mut self, dir: &Path, sweep: &Sweep, samples: u64) -> Result<()> {
-        let path = dir.join("lanes.csv");
-        let mut rd = open_csv(&path)?;
-        let head = rd.byte_headers().map_err(|e| bad_row(&path, e))?.clone();
+        // lanes.csv or lanes.parquet, read alike as text records.
+        let mut rd = crate::lanes_file::RowReader::open_folder(dir)?;
+        let path = rd.path().to_path_buf();
+        let head = rd.header().clone();
         let c = |n: &str| column(&path, &head, n);
         let (lane_c, status_c, contact_c, lock_c) = (
             c("lane")?,
@@ -346,10 +347,7 @@ impl Folder {
         let mut rec = csv::ByteRecord::new();
         let mut idx = vec![0u64; sweep.axes.len()];
         let mut vals = vec![0.0; res_c.len()];
-        while rd
-            .read_byte_record(&mut rec)
-            .map_err(|e| bad_row(&path, e))?
-        {
+        while rd.read(&mut rec)? {
             self.lanes += 1;
             let lane = num(&rec, lane_c) as u64;
             let status = &rec[status_c];

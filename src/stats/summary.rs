@@ -213,6 +213,20 @@ impl Stats {
 
     /// Adds lane `lane` (lanes come in order).
     pub fn add(&mut self, lane: u64, p: &Params, r: &LaneResult) -> Result<()> {
+        self.add_values(lane, r.status, r.contact_end, &numbers(r), |n| p.get(n))
+    }
+
+    /// Adds lane `lane` as its row of `lanes.csv` gives it: its status,
+    /// final contact, [`NUMBER_COLUMNS`] values (NaN for an empty cell) and
+    /// parameters (`input`, for the sampled ones). Lanes come in order.
+    pub fn add_values(
+        &mut self,
+        lane: u64,
+        status: Status,
+        contact_end: Contact,
+        values: &[f64; 20],
+        input: impl Fn(Num) -> f64,
+    ) -> Result<()> {
         let id = self.grouping.group_of(lane);
         if self.group.as_ref().is_some_and(|g| g.id != id) {
             let g = self.group.take().expect("checked");
@@ -231,19 +245,15 @@ impl Stats {
             kept: vec![Vec::new(); NUMBER_COLUMNS.len() + inputs.len()],
         });
         g.lanes += 1;
-        g.by_status[Status::ALL.iter().position(|&s| s == r.status).unwrap_or(0)] += 1;
-        if r.status == Status::Ok {
-            g.by_contact[CONTACTS
-                .iter()
-                .position(|&c| c == r.contact_end)
-                .unwrap_or(0)] += 1;
+        g.by_status[Status::ALL.iter().position(|&s| s == status).unwrap_or(0)] += 1;
+        if status == Status::Ok {
+            g.by_contact[CONTACTS.iter().position(|&c| c == contact_end).unwrap_or(0)] += 1;
         }
-        let values = numbers(r);
-        for (c, &x) in g.cols.iter_mut().zip(&values) {
+        for (c, &x) in g.cols.iter_mut().zip(values) {
             c.add(x);
         }
         if g.kept[0].len() < EXACT_MAX {
-            let ins = inputs.iter().map(|&n| p.get(n));
+            let ins = inputs.iter().map(|&n| input(n));
             for (k, x) in g.kept.iter_mut().zip(values.iter().copied().chain(ins)) {
                 k.push(x);
             }

@@ -295,8 +295,12 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
     let dir = tempfile::tempdir().unwrap();
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut be = Failing(CpuBackend::new(1, Settings::default()).unwrap());
-    let csv = dir.path().join("lanes.csv");
-    let err = match tswm::runner::run(&src, &mut be, &csv, None, false) {
+    let target = tswm::runner::Target {
+        dir: dir.path(),
+        format: tswm::lanes_file::Format::Csv,
+        range: None,
+    };
+    let err = match tswm::runner::run(&src, &mut be, target, None, false) {
         Ok(_) => panic!("the run must fail"),
         Err(e) => e.to_string(),
     };

@@ -3,6 +3,7 @@
 mod accuracy;
 mod bad_input;
 mod cli;
+mod cluster;
 mod common;
 mod engineering;
 mod fixtures;
@@ -12,5 +13,6 @@ mod output;
 mod reference;
 mod report;
 mod shader;
+mod shards;
 mod stats;
 mod traces;

@@ -1,0 +1,504 @@
+//! The results table on disk, in either format: `lanes.csv` (text, the
+//! default) or `lanes.parquet` (typed columns, MODEL.md section 9 order,
+//! empty cells as nulls). One row is a list of [`Cell`]s, built once
+//! ([`row_cells`]) and written by either writer; either file reads back as
+//! the same text records ([`RowReader`]), the float cells spelled as
+//! `lanes.csv` spells them (the shortest text that reads back to the same
+//! f64), so `merge` and `report` treat both alike and a CSV written from a
+//! Parquet file is byte-identical to one written directly.
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use parquet::basic::{Compression, Repetition, Type as Physical};
+use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
+use parquet::file::properties::WriterProperties;
+use parquet::file::reader::FileReader;
+use parquet::file::serialized_reader::SerializedFileReader;
+use parquet::file::writer::SerializedFileWriter;
+use parquet::record::Field;
+use parquet::schema::types::Type;
+
+use crate::error::{Error, Result};
+use crate::integrator::{LaneResult, Status};
+use crate::outdir::AtomicFile;
+use crate::output::{push_f64, CsvLines, RESULT_COLUMNS};
+use crate::params::{Param, Params};
+
+/// The format of the results table.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// `lanes.csv`.
+    Csv,
+    /// `lanes.parquet`.
+    Parquet,
+}
+
+impl Format {
+    /// The table's file name in an output folder.
+    pub fn file_name(self) -> &'static str {
+        match self {
+            Format::Csv => "lanes.csv",
+            Format::Parquet => "lanes.parquet",
+        }
+    }
+
+    /// The other format's file name (an earlier run's, stale beside ours).
+    pub fn other(self) -> Format {
+        match self {
+            Format::Csv => Format::Parquet,
+            Format::Parquet => Format::Csv,
+        }
+    }
+
+    /// The results table of the folder `dir`: `lanes.csv`, else
+    /// `lanes.parquet`; an error naming the folder when neither is there.
+    pub fn of_folder(dir: &Path) -> Result<Format> {
+        for f in [Format::Csv, Format::Parquet] {
+            if dir.join(f.file_name()).is_file() {
+                return Ok(f);
+            }
+        }
+        Err(Error::input(
+            dir,
+            None,
+            None,
+            "holds no lanes.csv or lanes.parquet; allowed: a folder written by `tswm run` or `tswm merge`",
+        ))
+    }
+}
+
+/// The kind of a column, which is its Parquet type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// f64; an empty cell (NaN: not applicable) is a null.
+    Float,
+    /// A count or index (i64, never empty).
+    Int,
+    /// A word (`motor`, `status`, ...).
+    Text,
+}
+
+/// The columns of the results table, in order, with their kinds.
+pub fn columns() -> Vec<(&'static str, Kind)> {
+    let mut c: Vec<(&'static str, Kind)> = Param::COLUMNS
+        .iter()
+        .map(|p| match p {
+            Param::Num(_) => (p.name(), Kind::Float),
+            _ => (p.name(), Kind::Text),
+        })
+        .collect();
+    c.extend(RESULT_COLUMNS.iter().map(|&n| {
+        let k = match n {
+            "lane" | "switches" | "reversals" | "sticks" | "steps" => Kind::Int,
+            "status" | "contact_end" | "path" => Kind::Text,
+            _ => Kind::Float,
+        };
+        (n, k)
+    }));
+    c
+}
+
+/// One cell of a row.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cell {
+    /// A float column's value (NaN: empty).
+    F(f64),
+    /// An integer column's value.
+    I(u64),
+    /// A word.
+    S(String),
+}
+
+/// Lane `lane`'s row, in [`columns`] order, into `out` (cleared first).
+pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
+    out.clear();
+    for c in Param::COLUMNS {
+        out.push(match c {
+            Param::Motor => Cell::S(p.motor.name().into()),
+            Param::Friction => Cell::S(p.friction.name().into()),
+            Param::Num(n) => Cell::F(p.get(n)),
+        });
+    }
+    // A lane that could not be finished reports no numbers, only counts.
+    let ok = r.status == Status::Ok;
+    let v = |x: f64| Cell::F(if ok { x } else { f64::NAN });
+    out.extend([
+        Cell::I(lane),
+        Cell::S(r.status.name().into()),
+        Cell::I(r.switches as u64),
+        Cell::F(r.t_first_switch),
+        Cell::I(r.reversals as u64),
+        Cell::I(r.sticks as u64),
+        Cell::S(r.contact_end.name().into()),
+        v(r.x1_end),
+        v(r.v1_end),
+        v(r.w_motor),
+        v(r.w_load),
+        v(r.w_friction),
+        v(r.eta_end),
+        Cell::I(r.steps as u64),
+        v(r.w1_in),
+        v(r.w1_out),
+        v(r.w2_in),
+        v(r.w2_out),
+        v(r.eta_direct),
+        v(r.eta_inverse),
+        v(r.eta_direct_ss),
+        v(r.eta_inverse_ss),
+        v(r.lock_margin_deg),
+        Cell::S(r.path.name()),
+    ]);
+}
+
+/// Writes rows to the results table in either format, under a temporary
+/// name; committed with the run's other files.
+pub enum LanesWriter {
+    /// `lanes.csv`.
+    Csv(CsvLines),
+    /// `lanes.parquet`.
+    Parquet(Box<ParquetLanes>),
+}
+
+impl LanesWriter {
+    /// Starts the table `dir/lanes.{csv,parquet}`.
+    pub fn create(dir: &Path, format: Format) -> Result<LanesWriter> {
+        let path = dir.join(format.file_name());
+        Ok(match format {
+            Format::Csv => {
+                let header: Vec<&str> = columns().iter().map(|c| c.0).collect();
+                LanesWriter::Csv(CsvLines::create(&path, &header.join(","))?)
+            }
+            Format::Parquet => LanesWriter::Parquet(Box::new(ParquetLanes::create(&path)?)),
+        })
+    }
+
+    /// Appends a row of cells, in [`columns`] order.
+    pub fn write(&mut self, cells: &[Cell]) -> Result<()> {
+        match self {
+            LanesWriter::Csv(w) => {
+                let s = w.line();
+                for (i, c) in cells.iter().enumerate() {
+                    if i > 0 {
+                        s.push(',');
+                    }
+                    match c {
+                        Cell::F(v) => push_f64(s, *v),
+                        Cell::I(v) => {
+                            use std::fmt::Write as _;
+                            let _ = write!(s, "{v}");
+                        }
+                        Cell::S(t) => s.push_str(t),
+                    }
+                }
+                w.end_line()
+            }
+            LanesWriter::Parquet(w) => w.write(cells),
+        }
+    }
+
+    /// Appends a row read back by a [`RowReader`] (its text cells).
+    pub fn write_record(&mut self, rec: &csv::ByteRecord, cells: &mut Vec<Cell>) -> Result<()> {
+        match self {
+            LanesWriter::Csv(w) => {
+                let s = w.line();
+                for (i, f) in rec.iter().enumerate() {
+                    if i > 0 {
+                        s.push(',');
+                    }
+                    s.push_str(std::str::from_utf8(f).unwrap_or(""));
+                }
+                w.end_line()
+            }
+            LanesWriter::Parquet(w) => {
+                cells.clear();
+                for ((_, kind), f) in w.cols.iter().zip(rec.iter()) {
+                    let t = std::str::from_utf8(f).unwrap_or("");
+                    cells.push(match kind {
+                        Kind::Float => Cell::F(t.parse().unwrap_or(f64::NAN)),
+                        Kind::Int => Cell::I(t.parse().unwrap_or(0)),
+                        Kind::Text => Cell::S(t.to_string()),
+                    });
+                }
+                w.write(cells)
+            }
+        }
+    }
+
+    /// The finished file, to be committed with the run's other files.
+    pub fn into_file(self) -> Result<AtomicFile> {
+        match self {
+            LanesWriter::Csv(w) => Ok(w.into_file()),
+            LanesWriter::Parquet(w) => w.finish(),
+        }
+    }
+}
+
+/// Rows buffered per row group: 64 Ki rows of ~60 columns is ~30 MB, and
+/// row groups this size compress and scan well.
+const ROW_GROUP: usize = 1 << 16;
+
+/// One column's values of the row group being filled.
+enum Buffer {
+    Float(Vec<f64>, Vec<i16>),
+    Int(Vec<i64>),
+    Text(Vec<ByteArray>),
+}
+
+/// `lanes.parquet`, written a row group at a time (bounded memory).
+pub struct ParquetLanes {
+    file: AtomicFile,
+    path: PathBuf,
+    writer: Option<SerializedFileWriter<std::io::BufWriter<File>>>,
+    cols: Vec<(&'static str, Kind)>,
+    bufs: Vec<Buffer>,
+    rows: usize,
+}
+
+/// The Parquet schema of the results table.
+fn schema() -> Result<Type> {
+    let fields = columns()
+        .into_iter()
+        .map(|(name, kind)| {
+            let b = match kind {
+                Kind::Float => Type::primitive_type_builder(name, Physical::DOUBLE)
+                    .with_repetition(Repetition::OPTIONAL),
+                Kind::Int => Type::primitive_type_builder(name, Physical::INT64)
+                    .with_repetition(Repetition::REQUIRED),
+                Kind::Text => Type::primitive_type_builder(name, Physical::BYTE_ARRAY)
+                    .with_repetition(Repetition::REQUIRED)
+                    .with_logical_type(Some(parquet::basic::LogicalType::String)),
+            };
+            b.build().map(Arc::new)
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()
+        .map_err(|e| Error::Internal(format!("parquet schema: {e}")))?;
+    Type::group_type_builder("tswm_lanes")
+        .with_fields(fields)
+        .build()
+        .map_err(|e| Error::Internal(format!("parquet schema: {e}")))
+}
+
+fn parquet_error(path: &Path, e: parquet::errors::ParquetError) -> Error {
+    Error::io(path, std::io::Error::other(e.to_string()))
+}
+
+impl ParquetLanes {
+    fn create(path: &Path) -> Result<ParquetLanes> {
+        let mut file = AtomicFile::create(path)?;
+        let props = WriterProperties::builder()
+            // Snappy: fast, and read by every Parquet reader.
+            .set_compression(Compression::SNAPPY)
+            .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")))
+            .build();
+        let writer =
+            SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), Arc::new(props))
+                .map_err(|e| parquet_error(path, e))?;
+        let cols = columns();
+        let bufs = cols
+            .iter()
+            .map(|(_, k)| match k {
+                Kind::Float => Buffer::Float(Vec::new(), Vec::new()),
+                Kind::Int => Buffer::Int(Vec::new()),
+                Kind::Text => Buffer::Text(Vec::new()),
+            })
+            .collect();
+        Ok(ParquetLanes {
+            file,
+            path: path.to_path_buf(),
+            writer: Some(writer),
+            cols,
+            bufs,
+            rows: 0,
+        })
+    }
+
+    fn write(&mut self, cells: &[Cell]) -> Result<()> {
+        for (b, c) in self.bufs.iter_mut().zip(cells) {
+            match (b, c) {
+                (Buffer::Float(v, def), Cell::F(x)) => {
+                    if x.is_nan() {
+                        def.push(0);
+                    } else {
+                        def.push(1);
+                        v.push(*x);
+                    }
+                }
+                (Buffer::Int(v), Cell::I(x)) => v.push(*x as i64),
+                (Buffer::Text(v), Cell::S(t)) => v.push(ByteArray::from(t.as_str())),
+                _ => return Err(Error::Internal("a cell of the wrong kind".into())),
+            }
+        }
+        self.rows += 1;
+        if self.rows == ROW_GROUP {
+            self.flush_group()?;
+        }
+        Ok(())
+    }
+
+    fn flush_group(&mut self) -> Result<()> {
+        if self.rows == 0 {
+            return Ok(());
+        }
+        let path = &self.path;
+        let w = self.writer.as_mut().expect("open");
+        let mut rg = w.next_row_group().map_err(|e| parquet_error(path, e))?;
+        for b in self.bufs.iter_mut() {
+            let mut col = rg
+                .next_column()
+                .map_err(|e| parquet_error(path, e))?
+                .ok_or_else(|| Error::Internal("parquet: fewer columns than the schema".into()))?;
+            let r = match b {
+                Buffer::Float(v, def) => {
+                    let r = col.typed::<DoubleType>().write_batch(v, Some(def), None);
+                    v.clear();
+                    def.clear();
+                    r
+                }
+                Buffer::Int(v) => {
+                    let r = col.typed::<Int64Type>().write_batch(v, None, None);
+                    v.clear();
+                    r
+                }
+                Buffer::Text(v) => {
+                    let r = col.typed::<ByteArrayType>().write_batch(v, None, None);
+                    v.clear();
+                    r
+                }
+            };
+            r.map_err(|e| parquet_error(path, e))?;
+            col.close().map_err(|e| parquet_error(path, e))?;
+        }
+        rg.close().map_err(|e| parquet_error(path, e))?;
+        self.rows = 0;
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<AtomicFile> {
+        self.flush_group()?;
+        let w = self.writer.take().expect("open");
+        let inner = w.into_inner().map_err(|e| parquet_error(&self.path, e))?;
+        self.file.restore_writer(inner);
+        Ok(self.file)
+    }
+}
+
+/// Reads a results table, either format, as text records (the header
+/// first, through [`RowReader::header`]).
+pub struct RowReader {
+    path: PathBuf,
+    header: csv::ByteRecord,
+    inner: Inner,
+    rows: u64,
+}
+
+enum Inner {
+    Csv(csv::Reader<File>),
+    Parquet(parquet::record::reader::RowIter<'static>),
+}
+
+impl RowReader {
+    /// Opens the results table of `dir` (`lanes.csv` or `lanes.parquet`).
+    pub fn open_folder(dir: &Path) -> Result<RowReader> {
+        let f = Format::of_folder(dir)?;
+        RowReader::open(&dir.join(f.file_name()), f)
+    }
+
+    /// Opens `path` in `format`.
+    pub fn open(path: &Path, format: Format) -> Result<RowReader> {
+        let bad = |m: String| Error::input(path, None, None, m);
+        match format {
+            Format::Csv => {
+                let mut rd = csv::Reader::from_path(path)
+                    .map_err(|e| bad(format!("cannot read it: {e}")))?;
+                let header = rd
+                    .byte_headers()
+                    .map_err(|e| bad(format!("not a tswm table: {e}")))?
+                    .clone();
+                Ok(RowReader {
+                    path: path.into(),
+                    header,
+                    inner: Inner::Csv(rd),
+                    rows: 0,
+                })
+            }
+            Format::Parquet => {
+                let f = File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+                let rd = SerializedFileReader::new(f)
+                    .map_err(|e| bad(format!("not a Parquet file: {e}")))?;
+                let mut header = csv::ByteRecord::new();
+                for field in rd.metadata().file_metadata().schema().get_fields() {
+                    header.push_field(field.name().as_bytes());
+                }
+                Ok(RowReader {
+                    path: path.into(),
+                    header,
+                    inner: Inner::Parquet(rd.into_iter()),
+                    rows: 0,
+                })
+            }
+        }
+    }
+
+    /// The column names.
+    pub fn header(&self) -> &csv::ByteRecord {
+        &self.header
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Reads the next row into `rec`; false at the end.
+    pub fn read(&mut self, rec: &mut csv::ByteRecord) -> Result<bool> {
+        let path = &self.path;
+        let more = match &mut self.inner {
+            Inner::Csv(rd) => rd.read_byte_record(rec).map_err(|e| {
+                let line = e.position().map(|p| format!("line {}", p.line()));
+                Error::input(path, line, None, format!("not a tswm table: {e}"))
+            })?,
+            Inner::Parquet(it) => match it.next() {
+                None => false,
+                Some(row) => {
+                    let row = row.map_err(|e| {
+                        Error::input(
+                            path,
+                            Some(format!("row {}", self.rows + 1)),
+                            None,
+                            format!("not a tswm table: {e}"),
+                        )
+                    })?;
+                    rec.clear();
+                    let mut s = String::new();
+                    for (_, f) in row.get_column_iter() {
+                        s.clear();
+                        match f {
+                            Field::Null => {}
+                            Field::Double(v) => push_f64(&mut s, *v),
+                            Field::Long(v) => {
+                                use std::fmt::Write as _;
+                                let _ = write!(s, "{v}");
+                            }
+                            Field::Str(t) => s.push_str(t),
+                            other => {
+                                use std::fmt::Write as _;
+                                let _ = write!(s, "{other}");
+                            }
+                        }
+                        rec.push_field(s.as_bytes());
+                    }
+                    true
+                }
+            },
+        };
+        if more {
+            self.rows += 1;
+        }
+        Ok(more)
+    }
+}

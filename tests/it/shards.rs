@@ -1,0 +1,491 @@
+//! Shards and `tswm merge`: a split run joins into exactly what one run
+//! writes; a missing, doubled, truncated or foreign shard is refused; a
+//! complete shard is not run again; `lanes.parquet` holds what
+//! `lanes.csv` holds.
+
+use std::fs;
+use std::os::unix::fs::MetadataExt;
+use std::path::{Path, PathBuf};
+
+use crate::common::{root, tswm};
+
+fn sweep(name: &str) -> String {
+    root().join("sweeps").join(name).display().to_string()
+}
+
+/// Runs `tswm`, asserting success; its stdout.
+fn ok(args: &[&str], cwd: &Path) -> String {
+    let out = tswm(args, cwd);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Runs shards 0..n of `sweep` into `dir/s{k}`; their folders.
+fn shards(sweep: &str, n: u64, dir: &Path, extra: &[&str]) -> Vec<PathBuf> {
+    (0..n)
+        .map(|k| {
+            let out = dir.join(format!("s{k}"));
+            let spec = format!("{k}/{n}");
+            let mut args = vec!["run", sweep, "--backend", "cpu", "--shard", &spec];
+            let o = out.display().to_string();
+            args.extend(["--out", &o]);
+            args.extend(extra);
+            ok(&args, dir);
+            out
+        })
+        .collect()
+}
+
+fn merge_args<'a>(dirs: &'a [String], out: &'a str) -> Vec<&'a str> {
+    let mut a = vec!["merge"];
+    a.extend(dirs.iter().map(String::as_str));
+    a.extend(["--out", out]);
+    a
+}
+
+fn names(dirs: &[PathBuf]) -> Vec<String> {
+    dirs.iter().map(|d| d.display().to_string()).collect()
+}
+
+fn bytes(p: &Path) -> Vec<u8> {
+    fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// 4 shards merged equal the unsharded run byte for byte: the table,
+/// the statistics and the traces.
+fn merged_equals_unsharded(name: &str) {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    ok(
+        &["run", &sweep(name), "--backend", "cpu", "--out", "full"],
+        dir,
+    );
+    let parts = shards(&sweep(name), 4, dir, &[]);
+    let out = ok(&merge_args(&names(&parts), "merged"), dir);
+    assert!(out.contains("from 4 shards"), "{out}");
+    for f in ["lanes.csv", "summary.csv", "traces.csv"] {
+        let (a, b) = (dir.join("full").join(f), dir.join("merged").join(f));
+        assert_eq!(a.exists(), b.exists(), "{name}: {f}");
+        if a.exists() {
+            assert!(
+                bytes(&a) == bytes(&b),
+                "{name}: merged {f} differs from the unsharded one"
+            );
+        }
+    }
+    let report = fs::read_to_string(dir.join("merged/report.html")).unwrap();
+    assert!(
+        report.contains("<svg"),
+        "{name}: the merged report has no plot"
+    );
+    // Shards hold their part only: no statistics or report of their own.
+    assert!(!parts[0].join("summary.csv").exists() && !parts[0].join("report.html").exists());
+}
+
+#[test]
+fn four_shards_of_the_tolerance_study_merge_to_the_unsharded_table() {
+    merged_equals_unsharded("tolerance.toml");
+}
+
+#[test]
+fn four_shards_of_a_grid_merge_to_the_unsharded_table() {
+    merged_equals_unsharded("efficiency_map.toml");
+}
+
+#[test]
+fn traced_lanes_and_empty_shards_merge_too() {
+    // Two lanes in four shards: two shards are empty, each traced lane
+    // falls in its own shard.
+    merged_equals_unsharded("paper.toml");
+}
+
+#[test]
+fn the_lanes_of_a_shard_do_not_depend_on_the_split() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let s = sweep("self_locking.toml");
+    ok(
+        &[
+            "run",
+            &s,
+            "--backend",
+            "cpu",
+            "--shard",
+            "1/3",
+            "--out",
+            "a",
+        ],
+        dir,
+    );
+    ok(
+        &[
+            "run",
+            &s,
+            "--backend",
+            "cpu",
+            "--shard",
+            "2/7",
+            "--out",
+            "b",
+        ],
+        dir,
+    );
+    let read = |p: &str| crate::common::read_csv(&dir.join(p).join("lanes.csv"));
+    let ((h, a), (_, b)) = (read("a"), read("b"));
+    let lane = h.iter().position(|c| c == "lane").unwrap();
+    let mut common = 0;
+    for r in &a {
+        if let Some(q) = b.iter().find(|q| q[lane] == r[lane]) {
+            assert_eq!(r, q, "lane {} differs between splits", r[lane]);
+            common += 1;
+        }
+    }
+    // 1/3 holds lanes 8333..16666, 2/7 lanes 7142..10714.
+    assert_eq!(common, 10714 - 8333);
+}
+
+/// Shards of the tolerance study in `dir`, for the refusals.
+fn refusal_setup(dir: &Path) -> Vec<String> {
+    names(&shards(&sweep("tolerance.toml"), 4, dir, &[]))
+}
+
+/// `tswm merge` fails with exit 2 and one line naming `named`, and
+/// writes nothing.
+fn refused(args: &[&str], dir: &Path, named: &str, why: &str) {
+    let out = tswm(args, dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(named) && err.contains(why), "{err}");
+    assert!(
+        !dir.join("out").exists(),
+        "a refused merge wrote {}",
+        dir.join("out").display()
+    );
+}
+
+#[test]
+fn merge_refuses_a_missing_shard() {
+    let t = tempfile::tempdir().unwrap();
+    let d = refusal_setup(t.path());
+    let given = [d[0].clone(), d[1].clone(), d[3].clone()];
+    refused(&merge_args(&given, "out"), t.path(), "shard 2/4", "missing");
+    // A shard folder that is not there at all.
+    let gone = [
+        d[0].clone(),
+        d[1].clone(),
+        d[2].clone(),
+        format!("{}-gone", d[3]),
+    ];
+    refused(&merge_args(&gone, "out"), t.path(), "s3-gone", "missing");
+}
+
+#[test]
+fn merge_refuses_a_doubled_shard() {
+    let t = tempfile::tempdir().unwrap();
+    let d = refusal_setup(t.path());
+    let copy = t.path().join("s2-copy");
+    fs::create_dir(&copy).unwrap();
+    for f in ["lanes.csv", "shard.toml", "sweep.resolved.toml"] {
+        fs::copy(Path::new(&d[2]).join(f), copy.join(f)).unwrap();
+    }
+    let mut given = d.clone();
+    given.push(copy.display().to_string());
+    refused(
+        &merge_args(&given, "out"),
+        t.path(),
+        "s2-copy",
+        "doubled shard",
+    );
+}
+
+#[test]
+fn merge_refuses_a_truncated_shard() {
+    let t = tempfile::tempdir().unwrap();
+    let d = refusal_setup(t.path());
+    let f = Path::new(&d[1]).join("lanes.csv");
+    let b = bytes(&f);
+    fs::write(&f, &b[..b.len() / 2]).unwrap();
+    refused(&merge_args(&d, "out"), t.path(), "s1", "truncated");
+    // A shard whose run never finished has no manifest.
+    let t2 = tempfile::tempdir().unwrap();
+    let d2 = refusal_setup(t2.path());
+    fs::remove_file(Path::new(&d2[3]).join("shard.toml")).unwrap();
+    refused(&merge_args(&d2, "out"), t2.path(), "s3", "incomplete shard");
+}
+
+#[test]
+fn merge_refuses_a_foreign_shard() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let d = refusal_setup(dir);
+    // The same sweep with one value changed is another sweep.
+    let text = fs::read_to_string(sweep("tolerance.toml")).unwrap();
+    fs::write(
+        dir.join("other.toml"),
+        text.replace("seed = 20031001", "seed = 7"),
+    )
+    .unwrap();
+    ok(
+        &[
+            "run",
+            "other.toml",
+            "--backend",
+            "cpu",
+            "--shard",
+            "2/4",
+            "--out",
+            "other",
+        ],
+        dir,
+    );
+    let given = [d[0].clone(), d[1].clone(), "other".into(), d[3].clone()];
+    refused(&merge_args(&given, "out"), dir, "other", "foreign shard");
+    // So is a shard of another split of the same sweep.
+    ok(
+        &[
+            "run",
+            &sweep("tolerance.toml"),
+            "--backend",
+            "cpu",
+            "--shard",
+            "2/5",
+            "--out",
+            "split5",
+        ],
+        dir,
+    );
+    let given = [d[0].clone(), d[1].clone(), "split5".into(), d[3].clone()];
+    refused(&merge_args(&given, "out"), dir, "split5", "foreign shard");
+}
+
+#[test]
+fn a_complete_shard_is_not_run_again_an_incomplete_one_is_redone() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let s = sweep("tolerance.toml");
+    let args = [
+        "run",
+        s.as_str(),
+        "--backend",
+        "cpu",
+        "--shard",
+        "1/4",
+        "--out",
+        "s",
+    ];
+    ok(&args, dir);
+    let table = dir.join("s/lanes.csv");
+    let before = fs::metadata(&table).unwrap();
+    let content = bytes(&table);
+    // The retry finds the complete result: it names it and integrates
+    // nothing (the table is the very file written before: same inode,
+    // same modification time; a run writes a new file and renames it).
+    let out = ok(&args, dir);
+    assert!(
+        out.contains("already complete") && out.contains("nothing to do"),
+        "{out}"
+    );
+    assert!(!out.contains("lanes/s"), "{out}");
+    let after = fs::metadata(&table).unwrap();
+    assert_eq!(
+        (before.ino(), before.mtime_nsec()),
+        (after.ino(), after.mtime_nsec())
+    );
+    // An incomplete one (a truncated table; no manifest) is redone.
+    fs::write(&table, &content[..1000]).unwrap();
+    let out = ok(&args, dir);
+    assert!(
+        out.contains("lanes/s") && !out.contains("already complete"),
+        "{out}"
+    );
+    assert!(bytes(&table) == content);
+    fs::remove_file(dir.join("s/shard.toml")).unwrap();
+    let out = ok(&args, dir);
+    assert!(out.contains("lanes/s"), "{out}");
+    assert!(bytes(&table) == content && dir.join("s/shard.toml").exists());
+    // Another split into the same folder is not "complete" either.
+    let out = ok(
+        &[
+            "run",
+            s.as_str(),
+            "--backend",
+            "cpu",
+            "--shard",
+            "1/5",
+            "--out",
+            "s",
+        ],
+        dir,
+    );
+    assert!(out.contains("lanes/s"), "{out}");
+}
+
+/// A row's cells as text, None for a null.
+type Row = Vec<Option<String>>;
+
+/// Every row of a Parquet file as text cells, read with the Apache
+/// implementation's own row API, with the column types.
+fn parquet_rows(path: &Path) -> (Vec<(String, String)>, Vec<Row>) {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    let r = SerializedFileReader::new(fs::File::open(path).unwrap()).unwrap();
+    let schema = r.metadata().file_metadata().schema_descr_ptr();
+    let cols = schema
+        .columns()
+        .iter()
+        .map(|c| {
+            let logical = c
+                .logical_type_ref()
+                .map(|l| format!("{l:?}"))
+                .unwrap_or_default();
+            (
+                c.name().to_string(),
+                format!("{:?}{logical}", c.physical_type()),
+            )
+        })
+        .collect();
+    let rows = r
+        .get_row_iter(None)
+        .unwrap()
+        .map(|row| {
+            row.unwrap()
+                .get_column_iter()
+                .map(|(_, f)| match f {
+                    Field::Null => None,
+                    Field::Double(v) => Some(format!("{v:?}")),
+                    Field::Long(v) => Some(v.to_string()),
+                    Field::Str(s) => Some(s.clone()),
+                    other => panic!("unexpected field {other:?}"),
+                })
+                .collect()
+        })
+        .collect();
+    (cols, rows)
+}
+
+/// A Parquet table equals a CSV table value for value: floats bit for
+/// bit, nulls where the CSV cell is empty, the same words and counts.
+fn assert_same_values(parquet: &Path, csv: &Path) {
+    let (cols, prows) = parquet_rows(parquet);
+    let (header, crows) = crate::common::read_csv(csv);
+    let names: Vec<&str> = cols.iter().map(|c| c.0.as_str()).collect();
+    assert_eq!(names, header.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(prows.len(), crows.len());
+    for (i, (p, c)) in prows.iter().zip(&crows).enumerate() {
+        for (j, (pv, cv)) in p.iter().zip(c).enumerate() {
+            let ty = &cols[j].1;
+            match pv {
+                None => {
+                    assert!(
+                        cv.is_empty(),
+                        "row {i} {}: null but csv has {cv}",
+                        cols[j].0
+                    );
+                    assert!(ty.starts_with("DOUBLE"), "{} is nullable", cols[j].0);
+                }
+                Some(v) if ty.starts_with("DOUBLE") => {
+                    let (a, b): (f64, f64) = (v.parse().unwrap(), cv.parse().unwrap());
+                    assert_eq!(a.to_bits(), b.to_bits(), "row {i} {}", cols[j].0);
+                }
+                Some(v) => assert_eq!(v, cv, "row {i} {}", cols[j].0),
+            }
+        }
+    }
+    // Typed: counts are integers, words are strings.
+    let ty = |n: &str| cols.iter().find(|c| c.0 == n).unwrap().1.clone();
+    assert_eq!(ty("lane"), "INT64");
+    assert_eq!(ty("steps"), "INT64");
+    assert_eq!(ty("w_friction"), "DOUBLE");
+    assert!(
+        ty("status").starts_with("BYTE_ARRAYString"),
+        "{}",
+        ty("status")
+    );
+}
+
+#[test]
+fn lanes_parquet_holds_the_values_of_lanes_csv() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    // The tolerance study (every cell set) and the self-locking one, whose
+    // unswitched lanes leave t_first_switch empty.
+    for name in ["tolerance.toml", "self_locking.toml"] {
+        let s = sweep(name);
+        ok(
+            &["run", &s, "--backend", "cpu", "--no-report", "--out", "c"],
+            dir,
+        );
+        ok(
+            &[
+                "run",
+                &s,
+                "--backend",
+                "cpu",
+                "--format",
+                "parquet",
+                "--out",
+                "p",
+            ],
+            dir,
+        );
+        assert_same_values(&dir.join("p/lanes.parquet"), &dir.join("c/lanes.csv"));
+        assert!(!dir.join("p/lanes.csv").exists());
+        assert!(bytes(&dir.join("c/summary.csv")) == bytes(&dir.join("p/summary.csv")));
+        // The report reads either format.
+        let page = fs::read_to_string(dir.join("p/report.html")).unwrap();
+        assert!(
+            page.contains("<svg"),
+            "{name}: report of a Parquet run has no plot"
+        );
+    }
+}
+
+#[test]
+fn parquet_shards_merge_to_the_unsharded_csv() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let s = sweep("tolerance.toml");
+    ok(
+        &[
+            "run",
+            &s,
+            "--backend",
+            "cpu",
+            "--no-report",
+            "--out",
+            "full",
+        ],
+        dir,
+    );
+    let parts = shards(&s, 3, dir, &["--format", "parquet"]);
+    // The shards' files, read one after the other, are the table: a
+    // dataset readers take as one table without a merge.
+    let (header, csv_rows) = crate::common::read_csv(&dir.join("full/lanes.csv"));
+    let mut rows = Vec::new();
+    for p in &parts {
+        let (cols, r) = parquet_rows(&p.join("lanes.parquet"));
+        assert_eq!(cols.len(), header.len());
+        rows.extend(r);
+    }
+    assert_eq!(rows.len(), csv_rows.len());
+    for (p, c) in rows.iter().zip(&csv_rows) {
+        let lane = header.iter().position(|h| h == "lane").unwrap();
+        assert_eq!(p[lane].as_deref(), Some(c[lane].as_str()));
+    }
+    ok(&merge_args(&names(&parts), "merged"), dir);
+    assert!(bytes(&dir.join("merged/lanes.csv")) == bytes(&dir.join("full/lanes.csv")));
+    ok(
+        &[
+            &merge_args(&names(&parts), "mp")[..],
+            &["--format", "parquet"],
+        ]
+        .concat(),
+        dir,
+    );
+    assert_same_values(&dir.join("mp/lanes.parquet"), &dir.join("full/lanes.csv"));
+}
