@@ -129,15 +129,16 @@ pub fn build(dir: &Path) -> Result<String> {
         traces(&mut page, &folder);
     }
     page.section("About this page");
-    page.note(
-        "Written by tswm from the files of its output folder: lanes.csv (one row per lane), \
+    page.note(&format!(
+        "Written by tswm from the files of its output folder: {} (one row per lane), \
          summary.csv (statistics), traces.csv (traced lanes) and sweep.resolved.toml. \
          Efficiencies are energy-averaged over each lane's run (MODEL.md section 10): eta_direct = \
          w2_out / w1_in (worm drives wheel), eta_inverse = w1_out / w2_in (wheel drives worm); the \
          _ss values are the steady efficiencies at the final sliding speed; lock_margin_deg = \
          atan(mu_s) - gamma > 0 means the drive holds its load with the motor off. Grey cells have \
          no value (the lane did not finish, or the efficiency is undefined).",
-    );
+        folder.table
+    ));
     Ok(page.finish(&title))
 }
 
@@ -181,8 +182,9 @@ fn outcomes(page: &mut Page, f: &Folder) {
         page.table(&head, &f.unfinished);
         if f.unfinished_total > f.unfinished.len() as u64 {
             page.note(&format!(
-                "{} more in lanes.csv (status other than ok).",
-                f.unfinished_total - f.unfinished.len() as u64
+                "{} more in {} (status other than ok).",
+                f.unfinished_total - f.unfinished.len() as u64,
+                f.table
             ));
         }
     }

@@ -29,6 +29,8 @@ const TRACE_ROWS: usize = 8000;
 
 /// What the report needs from an output folder.
 pub struct Folder {
+    /// The table's file name (`lanes.csv` or `lanes.parquet`).
+    pub table: &'static str,
     pub lanes: u64,
     pub by_status: BTreeMap<String, u64>,
     pub by_contact: [u64; 3],
@@ -110,6 +112,7 @@ impl Folder {
             shown_params.extend(st.params.iter().map(|t| t.param));
         }
         let mut f = Folder {
+            table: crate::lanes_file::Format::of_folder(dir)?.file_name(),
             lanes: 0,
             by_status: BTreeMap::new(),
             by_contact: [0; 3],
