@@ -97,6 +97,30 @@ impl Source {
         })
     }
 
+    /// The sweep with every lane's source spelled out, as TOML: the sweep
+    /// file resolved, or for a lane table the `[base]`,
+    /// `[friction_table]` and `[report]` under its cells.
+    pub fn resolved_text(&self) -> String {
+        let resolved = match self {
+            Source::Sweep { sweep, .. } => sweep.resolved_toml(),
+            Source::Table {
+                base,
+                table,
+                report,
+                ..
+            } => Sweep {
+                base: base.clone(),
+                axes: Vec::new(),
+                study: None,
+                table: *table,
+                trace: None,
+                report: report.clone(),
+            }
+            .resolved_toml(),
+        };
+        toml::to_string(&resolved).unwrap_or_default()
+    }
+
     /// The friction table lanes may refer to.
     pub fn friction_table(&self) -> Option<&FrictionTable> {
         match self {

@@ -98,38 +98,16 @@ pub fn provenance(
     seconds: f64,
     shard: Option<(crate::shard::Shard, (u64, u64))>,
 ) -> String {
-    let (from, resolved) = match source {
-        Source::Sweep { sweep, .. } => (
-            "every lane of lanes.csv follows from this file".to_string(),
-            toml::to_string(&sweep.resolved_toml()).unwrap_or_default(),
+    let from = match source {
+        Source::Sweep { .. } => "every lane of lanes.csv follows from this file".to_string(),
+        Source::Table { path, .. } => format!(
+            "every lane of lanes.csv follows from the lane table {} ({} rows) \
+             over the [base] and [friction_table] below",
+            path.display(),
+            source.lane_count()
         ),
-        Source::Table {
-            path,
-            base,
-            table,
-            report,
-            ..
-        } => {
-            // The lane table's cells over this [base] and [friction_table].
-            let under = crate::sweep::Sweep {
-                base: base.clone(),
-                axes: Vec::new(),
-                study: None,
-                table: *table,
-                trace: None,
-                report: report.clone(),
-            };
-            (
-                format!(
-                    "every lane of lanes.csv follows from the lane table {} ({} rows) \
-                     over the [base] and [friction_table] below",
-                    path.display(),
-                    source.lane_count()
-                ),
-                toml::to_string(&under.resolved_toml()).unwrap_or_default(),
-            )
-        }
     };
+    let resolved = source.resolved_text();
     let (shard_line, run) = match shard {
         Some((s, (a, b))) => (
             format!(

@@ -118,36 +118,17 @@ pub fn backend_kind(name: &str) -> &'static str {
 pub fn sweep_hash(source: &Source, trace: Option<&TraceSpec>) -> Result<String> {
     let mut h = Sha256::new();
     h.update(b"tswm sweep hash v1\n");
-    match source {
-        Source::Sweep { sweep, .. } => {
-            h.update(toml::to_string(&sweep.resolved_toml()).unwrap_or_default());
-        }
-        Source::Table {
-            path,
-            base,
-            table,
-            report,
-            ..
-        } => {
-            let under = crate::sweep::Sweep {
-                base: base.clone(),
-                axes: Vec::new(),
-                study: None,
-                table: *table,
-                trace: None,
-                report: report.clone(),
-            };
-            h.update(toml::to_string(&under.resolved_toml()).unwrap_or_default());
-            h.update(b"\nlane table:\n");
-            let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-            let mut buf = vec![0u8; 1 << 16];
-            loop {
-                let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
-                if n == 0 {
-                    break;
-                }
-                h.update(&buf[..n]);
+    h.update(source.resolved_text());
+    if let Source::Table { path, .. } = source {
+        h.update(b"\nlane table:\n");
+        let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut buf = vec![0u8; 1 << 16];
+        loop {
+            let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
+            if n == 0 {
+                break;
             }
+            h.update(&buf[..n]);
         }
     }
     if let Some(t) = trace {
