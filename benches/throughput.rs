@@ -8,9 +8,9 @@
 //!   GPU this is upload, all dispatches and read-back of the states.
 //! - `end_to_end/{cpu,gpu}/N`: `runner::run` on a sweep file of N lanes:
 //!   lane generation, integration and `lanes.csv` written to disk.
-//! - `table/{lanes.csv,lanes.parquet}/N`: the results table alone, N rows
-//!   of integrated lanes formatted, encoded and committed (the file sizes
-//!   are printed).
+//! - `table/{lanes.csv/1-thread,lanes.csv/C-threads,lanes.parquet}/N`:
+//!   the results table alone, N rows of integrated lanes formatted,
+//!   encoded and committed (the file sizes are printed).
 //!
 //! GPU benchmarks use the best adapter (`Gpu::new(false)`) and are skipped,
 //! with a message, when there is none. Set TSWM_BENCH_MAX=100000 to stop
@@ -22,7 +22,7 @@ use tswm::gpu::layout::{GpuGlobals, GpuLane};
 use tswm::gpu::{Gpu, GpuBackend};
 use tswm::integrator::Settings;
 use tswm::lanes::Source;
-use tswm::lanes_file::{row_cells, Format, LanesWriter};
+use tswm::lanes_file::{Format, LanesWriter};
 use tswm::model::Lane;
 use tswm::params::Params;
 use tswm::testmodels::paper_like;
@@ -116,6 +116,7 @@ fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
         dir,
         format: Format::Csv,
         range: None,
+        threads: 0,
     };
     let written = tswm::runner::run(src, be, target, None, false).unwrap();
     let mut files = vec![written.lanes];
@@ -123,9 +124,11 @@ fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
     tswm::outdir::commit_together(files, &[]).unwrap();
 }
 
-/// Writing the results table alone, both formats: the rows of N
-/// paper-like lanes (integrated once, outside the timing) formatted,
-/// encoded, synced and renamed into place. Prints each file's size.
+/// Writing the results table alone: the rows of N paper-like lanes
+/// (integrated once, outside the timing) formatted, encoded, synced and
+/// renamed into place, in chunks of the CPU backend's size, as a run
+/// writes them. CSV rows are formatted on 1 thread and on all cores;
+/// Parquet's encoder runs on one. Prints each file's size.
 fn table(c: &mut Criterion) {
     let n = *sizes().last().unwrap();
     let params = lanes(n);
@@ -136,25 +139,36 @@ fn table(c: &mut Criterion) {
     let mut g = c.benchmark_group("table");
     g.sample_size(10);
     g.throughput(Throughput::Elements(n as u64));
-    for format in [Format::Csv, Format::Parquet] {
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let runs = [
+        (Format::Csv, 1, "lanes.csv/1-thread".to_string()),
+        (Format::Csv, cores, format!("lanes.csv/{cores}-threads")),
+        (Format::Parquet, 1, "lanes.parquet".to_string()),
+    ];
+    for (format, threads, name) in runs {
+        let writers = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         let write = || {
             let mut w = LanesWriter::create(dir.path(), format).unwrap();
             let mut cells = Vec::new();
-            for (i, (p, r)) in params.iter().zip(&results).enumerate() {
-                row_cells(i as u64, p, r, &mut cells);
-                w.write(&cells).unwrap();
+            const CHUNK: usize = 16384;
+            for (k, (p, r)) in params.chunks(CHUNK).zip(results.chunks(CHUNK)).enumerate() {
+                w.write_lanes(&writers, (k * CHUNK) as u64, p, r, &mut cells)
+                    .unwrap();
             }
             tswm::outdir::commit_together(vec![w.into_file().unwrap()], &[]).unwrap();
         };
         write();
         let path = dir.path().join(format.file_name());
+        let size = std::fs::metadata(&path).unwrap().len();
         eprintln!(
-            "table: {} for {n} lanes: {} bytes ({:.1} bytes a lane)",
+            "table: {} for {n} lanes: {size} bytes ({:.1} bytes a lane)",
             format.file_name(),
-            std::fs::metadata(&path).unwrap().len(),
-            std::fs::metadata(&path).unwrap().len() as f64 / n as f64
+            size as f64 / n as f64
         );
-        g.bench_function(BenchmarkId::new(format.file_name(), n), |b| b.iter(write));
+        g.bench_function(BenchmarkId::new(name, n), |b| b.iter(write));
     }
     g.finish();
 }

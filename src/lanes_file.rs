@@ -7,6 +7,7 @@
 //! f64), so `merge` and `report` treat both alike and a CSV written from a
 //! Parquet file is byte-identical to one written directly.
 
+use std::borrow::Cow;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -21,7 +22,7 @@ use parquet::record::Field;
 use parquet::schema::types::Type;
 
 use crate::error::{Error, Result};
-use crate::integrator::{LaneResult, Status};
+use crate::integrator::{LaneResult, RowPath, Status};
 use crate::outdir::AtomicFile;
 use crate::output::{push_f64, CsvLines, RESULT_COLUMNS};
 use crate::params::{Param, Params};
@@ -110,8 +111,8 @@ pub enum Cell {
     F(f64),
     /// An integer column's value.
     I(u64),
-    /// A word.
-    S(String),
+    /// A word (borrowed when it is one of the fixed ones).
+    S(Cow<'static, str>),
 }
 
 /// Lane `lane`'s row, in [`columns`] order, into `out` (cleared first).
@@ -119,8 +120,8 @@ pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
     out.clear();
     for c in Param::COLUMNS {
         out.push(match c {
-            Param::Motor => Cell::S(p.motor.name().into()),
-            Param::Friction => Cell::S(p.friction.name().into()),
+            Param::Motor => Cell::S(Cow::Borrowed(p.motor.name())),
+            Param::Friction => Cell::S(Cow::Borrowed(p.friction.name())),
             Param::Num(n) => Cell::F(p.get(n)),
         });
     }
@@ -129,12 +130,12 @@ pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
     let v = |x: f64| Cell::F(if ok { x } else { f64::NAN });
     out.extend([
         Cell::I(lane),
-        Cell::S(r.status.name().into()),
+        Cell::S(Cow::Borrowed(r.status.name())),
         Cell::I(r.switches as u64),
         Cell::F(r.t_first_switch),
         Cell::I(r.reversals as u64),
         Cell::I(r.sticks as u64),
-        Cell::S(r.contact_end.name().into()),
+        Cell::S(Cow::Borrowed(r.contact_end.name())),
         v(r.x1_end),
         v(r.v1_end),
         v(r.w_motor),
@@ -151,8 +152,30 @@ pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
         v(r.eta_direct_ss),
         v(r.eta_inverse_ss),
         v(r.lock_margin_deg),
-        Cell::S(r.path.name()),
+        Cell::S(match r.path {
+            RowPath::Cpu => Cow::Borrowed("cpu"),
+            RowPath::Gpu => Cow::Borrowed("gpu"),
+            p => Cow::Owned(p.name()),
+        }),
     ]);
+}
+
+/// A row of `lanes.csv`, without its line end: the cells joined by
+/// commas, floats as their shortest round-trip text, NaN as an empty cell.
+fn push_csv_row(s: &mut String, cells: &[Cell]) {
+    use std::fmt::Write as _;
+    for (i, c) in cells.iter().enumerate() {
+        if i > 0 {
+            s.push(',');
+        }
+        match c {
+            Cell::F(v) => push_f64(s, *v),
+            Cell::I(v) => {
+                let _ = write!(s, "{v}");
+            }
+            Cell::S(t) => s.push_str(t),
+        }
+    }
 }
 
 /// Writes rows to the results table in either format, under a temporary
@@ -181,23 +204,60 @@ impl LanesWriter {
     pub fn write(&mut self, cells: &[Cell]) -> Result<()> {
         match self {
             LanesWriter::Csv(w) => {
-                let s = w.line();
-                for (i, c) in cells.iter().enumerate() {
-                    if i > 0 {
-                        s.push(',');
-                    }
-                    match c {
-                        Cell::F(v) => push_f64(s, *v),
-                        Cell::I(v) => {
-                            use std::fmt::Write as _;
-                            let _ = write!(s, "{v}");
-                        }
-                        Cell::S(t) => s.push_str(t),
-                    }
-                }
+                push_csv_row(w.line(), cells);
                 w.end_line()
             }
             LanesWriter::Parquet(w) => w.write(cells),
+        }
+    }
+
+    /// Appends the rows of lanes `first..first + params.len()`. CSV rows
+    /// are formatted in parallel on `pool`, blocks of rows at a time, and
+    /// written in lane order; Parquet rows go to the column buffers.
+    pub fn write_lanes(
+        &mut self,
+        pool: &rayon::ThreadPool,
+        first: u64,
+        params: &[Params],
+        results: &[LaneResult],
+        cells: &mut Vec<Cell>,
+    ) -> Result<()> {
+        match self {
+            LanesWriter::Csv(w) => {
+                use rayon::prelude::*;
+                // Blocks big enough that a task's overhead is nothing
+                // beside formatting its rows, small enough to share a
+                // chunk among every thread.
+                const BLOCK: usize = 512;
+                let blocks: Vec<String> = pool.install(|| {
+                    params
+                        .par_chunks(BLOCK)
+                        .zip(results.par_chunks(BLOCK))
+                        .enumerate()
+                        .map(|(b, (ps, rs))| {
+                            let mut s = String::with_capacity(ps.len() * 448);
+                            let mut cells = Vec::with_capacity(64);
+                            for (i, (p, r)) in ps.iter().zip(rs).enumerate() {
+                                row_cells(first + (b * BLOCK + i) as u64, p, r, &mut cells);
+                                push_csv_row(&mut s, &cells);
+                                s.push('\n');
+                            }
+                            s
+                        })
+                        .collect()
+                });
+                for b in blocks {
+                    w.write_raw(b.as_bytes())?;
+                }
+                Ok(())
+            }
+            LanesWriter::Parquet(w) => {
+                for (i, (p, r)) in params.iter().zip(results).enumerate() {
+                    row_cells(first + i as u64, p, r, cells);
+                    w.write(cells)?;
+                }
+                Ok(())
+            }
         }
     }
 
@@ -221,7 +281,7 @@ impl LanesWriter {
                     cells.push(match kind {
                         Kind::Float => Cell::F(t.parse().unwrap_or(f64::NAN)),
                         Kind::Int => Cell::I(t.parse().unwrap_or(0)),
-                        Kind::Text => Cell::S(t.to_string()),
+                        Kind::Text => Cell::S(Cow::Owned(t.to_string())),
                     });
                 }
                 w.write(cells)
@@ -329,7 +389,7 @@ impl ParquetLanes {
                     }
                 }
                 (Buffer::Int(v), Cell::I(x)) => v.push(*x as i64),
-                (Buffer::Text(v), Cell::S(t)) => v.push(ByteArray::from(t.as_str())),
+                (Buffer::Text(v), Cell::S(t)) => v.push(ByteArray::from(t.as_ref())),
                 _ => return Err(Error::Internal("a cell of the wrong kind".into())),
             }
         }

@@ -126,6 +126,7 @@ fn run(
         dir: dir.path(),
         format,
         range: shard.as_ref().map(|s| s.1),
+        threads: plan.threads,
     };
     let written = runner::run(&plan.source, be.as_mut(), target, trace.as_ref(), progress)?;
     let text = output::provenance(

@@ -74,6 +74,14 @@ impl CsvLines {
         r.map_err(|e| Error::io(&self.path, e))
     }
 
+    /// Writes whole lines, already formatted.
+    pub fn write_raw(&mut self, lines: &[u8]) -> Result<()> {
+        self.file
+            .writer()
+            .write_all(lines)
+            .map_err(|e| Error::io(&self.path, e))
+    }
+
     /// The finished file, to be committed with the run's other files.
     pub fn into_file(self) -> AtomicFile {
         self.file

@@ -18,7 +18,7 @@ use crate::integrator::trace::simulate_traced;
 use crate::integrator::Settings;
 use crate::integrator::{Contact, LaneResult, RowPath, Status};
 use crate::lanes::Source;
-use crate::lanes_file::{row_cells, Cell, Format, LanesWriter};
+use crate::lanes_file::{Cell, Format, LanesWriter};
 use crate::model::{FrictionTable, Lane};
 use crate::outdir::AtomicFile;
 use crate::output::TracesCsv;
@@ -119,6 +119,8 @@ impl Summary {
 /// traced lanes streamed to `traces.csv`.
 struct TableSink {
     table: LanesWriter,
+    /// Formats the table's rows in parallel.
+    pool: rayon::ThreadPool,
     cells: Vec<Cell>,
     summary: Summary,
     stats: Option<Stats>,
@@ -162,9 +164,9 @@ impl Tracer {
 impl Sink for TableSink {
     type Output = Written;
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+        self.table
+            .write_lanes(&self.pool, first, params, results, &mut self.cells)?;
         for (i, (p, r)) in params.iter().zip(results).enumerate() {
-            row_cells(first + i as u64, p, r, &mut self.cells);
-            self.table.write(&self.cells)?;
             if let Some(s) = self.stats.as_mut() {
                 s.add(first + i as u64, p, r)?;
             }
@@ -206,6 +208,8 @@ pub struct Target<'a> {
     pub format: Format,
     /// Lanes `start..end` (a shard's), or every lane.
     pub range: Option<(u64, u64)>,
+    /// Threads that format the table's rows (0: all cores).
+    pub threads: usize,
 }
 
 /// Runs the lanes of `source` that `target` names on `backend`, streaming
@@ -253,8 +257,14 @@ pub fn run(
         )?),
         Some(_) => None,
     };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(target.threads)
+        .thread_name(|i| format!("tswm-writer-{i}"))
+        .build()
+        .map_err(|e| Error::Internal(format!("writer threads: {e}")))?;
     let sink = TableSink {
         table: LanesWriter::create(dir, target.format)?,
+        pool,
         cells: Vec::with_capacity(64),
         stats,
         summary: Summary::default(),

@@ -299,6 +299,7 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
         dir: dir.path(),
         format: tswm::lanes_file::Format::Csv,
         range: None,
+        threads: 1,
     };
     let err = match tswm::runner::run(&src, &mut be, target, None, false) {
         Ok(_) => panic!("the run must fail"),
