@@ -8,6 +8,9 @@
 //!   GPU this is upload, all dispatches and read-back of the states.
 //! - `end_to_end/{cpu,gpu}/N`: `runner::run` on a sweep file of N lanes:
 //!   lane generation, integration and `lanes.csv` written to disk.
+//! - `heterogeneous/{sweep-order,sorted-by-steps}/N`: the GPU backend on
+//!   `sweeps/heterogeneous.toml` (t_end 0.2 to 7.8 s), in sweep order and
+//!   sorted by step count.
 //! - `table/{lanes.csv/1-thread,lanes.csv/C-threads,lanes.parquet}/N`:
 //!   the results table alone, N rows of integrated lanes formatted,
 //!   encoded and committed (the file sizes are printed).
@@ -96,7 +99,7 @@ fn kernel(c: &mut Criterion) {
                 .map(|p| GpuLane::from(&Lane::new(p, None)))
                 .collect();
             let globals = GpuGlobals::new(&Settings::default(), None);
-            let chunk = tswm::gpu::CHUNK_LANES.min(dev.max_chunk_lanes());
+            let chunk = tswm::gpu::WorkSize::of(&dev.info, &dev.limits).chunk_lanes;
             let mut states = Vec::new();
             g.bench_with_input(BenchmarkId::new("gpu", n), &l32, |b, l| {
                 b.iter(|| {
@@ -173,6 +176,43 @@ fn table(c: &mut Criterion) {
     g.finish();
 }
 
+/// Lanes of very different lengths (`sweeps/heterogeneous.toml`, 200,000
+/// lanes) through the GPU backend (conversion, chunks, the check), in
+/// their sweep order and sorted by their f64 step counts, in one run: the
+/// cost of lanes of unlike length sharing a chunk.
+fn heterogeneous(c: &mut Criterion) {
+    let Some(dev) = gpu() else { return };
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps/heterogeneous.toml");
+    let src = Source::open(Some(&path), None).unwrap();
+    let mut params = Vec::new();
+    src.reader().unwrap().fill(usize::MAX, &mut params).unwrap();
+    let max = *sizes().last().unwrap();
+    params.truncate(max);
+    let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
+    let mut results = Vec::new();
+    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
+    let mut order: Vec<usize> = (0..params.len()).collect();
+    order.sort_by_key(|&i| results[i].steps);
+    let sorted: Vec<Params> = order.iter().map(|&i| params[i]).collect();
+    let mut be = GpuBackend::new(dev, Settings::default());
+    let chunk = be.chunk_lanes();
+    let mut g = c.benchmark_group("heterogeneous");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(params.len() as u64));
+    let mut out = Vec::new();
+    for (name, lanes) in [("sweep-order", &params), ("sorted-by-steps", &sorted)] {
+        g.bench_function(BenchmarkId::new(name, lanes.len()), |b| {
+            b.iter(|| {
+                for (k, part) in lanes.chunks(chunk).enumerate() {
+                    be.run_chunk((k * chunk) as u64, part, None, &mut out)
+                        .unwrap();
+                }
+            })
+        });
+    }
+    g.finish();
+}
+
 fn end_to_end(c: &mut Criterion) {
     let mut g = c.benchmark_group("end_to_end");
     g.sample_size(10);
@@ -201,7 +241,14 @@ fn end_to_end(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, cpu_threads, kernel, end_to_end, table);
+criterion_group!(
+    benches,
+    cpu_threads,
+    kernel,
+    end_to_end,
+    table,
+    heterogeneous
+);
 
 fn main() {
     // Mesa's Vulkan drivers print an error line without XDG_RUNTIME_DIR;

@@ -14,7 +14,7 @@
 //   src/integrator/flow.rs        dense_slope, split, dense_w, step_flow
 //   src/integrator/automaton.rs   State, init, set_side, check_mode, come_to_rest,
 //                                 depart, cut_motor, reach_time_event, prepare,
-//                                 step_factor, finish_step, step_to_event, advance
+//                                 step_factor, finish_step, step_to_event, attempt
 //   src/integrator/batch.rs       Globals, bindings, the entry point
 // Structs and constants shared with the host are mirrored in
 // src/gpu/layout.rs and src/model.rs; tests read them from this file with
@@ -623,16 +623,13 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, 
     if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
 }
 
-fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
-    var left = budget;
-    loop {
-        if (has(st, F_DONE) || left == 0u) { break; }
-        left -= 1u;
-        let plan = prepare(l, st);
-        if (plan.ok) {
-            let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol);
-            finish_step(l, st, plan, tr);
-        }
+// One step attempt (accepted or rejected). The Rust `advance` loops over
+// it; here `main` does, refilling slots between attempts.
+fn attempt(l: Lane, st: ptr<function, State>) {
+    let plan = prepare(l, st);
+    if (plan.ok) {
+        let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol);
+        finish_step(l, st, plan, tr);
     }
 }
 
@@ -642,26 +639,53 @@ fn advance(l: Lane, st: ptr<function, State>, budget: u32) {
 struct Globals {
     n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
     tol: f32, h_initial: f32, table_n: u32, row_lanes: u32,
+    n_slots: u32, pad0: u32, pad1: u32, pad2: u32,
     table_vs: array<vec4<f32>, 8>,
     table_mu: array<vec4<f32>, 8>,
+}
+
+// Keep in sync with `GpuControl` in src/gpu/layout.rs.
+struct Control {
+    // Slots that still hold an unfinished lane after this dispatch.
+    n_active: atomic<u32>,
+    // The next lane no slot has taken yet.
+    next_lane: atomic<u32>,
 }
 
 @group(0) @binding(0) var<uniform> g: Globals;
 @group(0) @binding(1) var<storage, read> lanes: array<Lane>;
 @group(0) @binding(2) var<storage, read_write> states: array<State>;
-@group(0) @binding(3) var<storage, read_write> n_active: atomic<u32>;
+@group(0) @binding(3) var<storage, read_write> ctl: Control;
+@group(0) @binding(4) var<storage, read_write> slot_lane: array<u32>;
 
-// One lane per invocation; its state stays in `states` between
-// dispatches of at most `g.budget` step attempts.
+// One slot per invocation, each working through lanes: its lane's state
+// stays in `states` between dispatches of at most `g.budget` step
+// attempts, and when the lane finishes the slot takes the next lane not
+// yet started, so an invocation stays busy until the chunk runs out of
+// lanes rather than idling after its own lane ends. Each lane's result
+// is in its own slot of `states`, whichever invocation ran it. The
+// refill sits inside the one loop of attempts, so the invocations of a
+// SIMD group keep stepping together; a second loop for the new lane would
+// run it alone, the others masked.
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let idx = gid.x + gid.y * g.row_lanes;
+    let slot = gid.x + gid.y * g.row_lanes;
+    if (slot >= g.n_slots) { return; }
+    var idx = slot_lane[slot];
     if (idx >= g.n_lanes) { return; }
     var st = states[idx];
-    if (((st.flags & F_DONE) != 0u)) { return; }
     let l = lanes[idx];
     if ((st.flags & F_STARTED) == 0u) { init(l, &st); }
-    advance(l, &st, g.budget);
+    var left = g.budget;
+    loop {
+        if (((st.flags & F_DONE) != 0u) || left == 0u) { break; }
+        left -= 1u;
+        attempt(l, &st);
+    }
     states[idx] = st;
-    if ((st.flags & F_DONE) == 0u) { atomicAdd(&n_active, 1u); }
+    if ((st.flags & F_DONE) != 0u) {
+        idx = atomicAdd(&ctl.next_lane, 1u);
+    }
+    slot_lane[slot] = min(idx, g.n_lanes);
+    if (idx < g.n_lanes) { atomicAdd(&ctl.n_active, 1u); }
 }

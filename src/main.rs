@@ -278,9 +278,11 @@ fn devices() -> Result<()> {
     }
     for a in list {
         let l = &a.limits;
+        let w = tswm::gpu::WorkSize::of(&a.info, l);
         println!(
             "{} ({:?}, {:?}, driver {} {})\n  max_storage_buffer_binding_size {} B, max_buffer_size {} B, \
-             max_compute_workgroups_per_dimension {}, max_compute_invocations_per_workgroup {}",
+             max_compute_workgroups_per_dimension {}, max_compute_invocations_per_workgroup {}\n  \
+             chunks: {} lanes on {} slots ({}; at most {} lanes by the limits)",
             a.info.name,
             a.info.device_type,
             a.info.backend,
@@ -289,7 +291,15 @@ fn devices() -> Result<()> {
             l.max_storage_buffer_binding_size,
             l.max_buffer_size,
             l.max_compute_workgroups_per_dimension,
-            l.max_compute_invocations_per_workgroup
+            l.max_compute_invocations_per_workgroup,
+            w.chunk_lanes,
+            w.slots,
+            if tswm::gpu::is_hardware(&a.info) {
+                "hardware: a slot for each invocation an H100 keeps resident, 2 lanes a slot"
+            } else {
+                "software: 2048 slots a core, 16 lanes a slot"
+            },
+            tswm::gpu::max_chunk_lanes(l),
         );
     }
     Ok(())

@@ -30,9 +30,6 @@ pub struct GpuBackend {
     redo_out: Vec<LaneResult>,
 }
 
-/// Default lanes per chunk (capped by the device's limits).
-pub const CHUNK_LANES: usize = 1 << 16;
-
 impl GpuBackend {
     /// A backend on an opened device; rows it does not trust are
     /// recomputed on all cores.
@@ -43,7 +40,7 @@ impl GpuBackend {
 
     /// A backend whose recomputed rows run on `cpu`.
     pub fn with_cpu(gpu: Gpu, settings: Settings, cpu: CpuBackend) -> GpuBackend {
-        let chunk = CHUNK_LANES.min(gpu.max_chunk_lanes()).max(1);
+        let chunk = super::WorkSize::of(&gpu.info, &gpu.limits).chunk_lanes;
         GpuBackend {
             gpu,
             settings,
@@ -94,6 +91,12 @@ impl Backend for GpuBackend {
                 self.redo.push((i, Recheck::F32Range));
             }
         }
+        // Lanes of like length side by side: neighbouring invocations
+        // step in lockstep, and a lane's result does not depend on where
+        // it runs (each goes back to its own row through `on_gpu`).
+        let l64 = &self.lanes64;
+        self.on_gpu
+            .sort_by(|&a, &b| l64[a].t_end.total_cmp(&l64[b].t_end));
         self.lanes32.clear();
         let l64 = &self.lanes64;
         self.lanes32

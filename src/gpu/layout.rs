@@ -167,10 +167,26 @@ pub struct GpuGlobals {
     pub tol: f32,
     pub h_initial: f32,
     pub table_n: u32,
-    /// Lanes per row of a 2-D dispatch.
+    /// Invocations per row of a 2-D dispatch.
     pub row_lanes: u32,
+    /// Slots (invocations) working through the chunk's lanes.
+    pub n_slots: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
     pub table_vs: [[f32; 4]; MAX_TABLE_POINTS / 4],
     pub table_mu: [[f32; 4]; MAX_TABLE_POINTS / 4],
+}
+
+/// The counters slots share. Keep in sync with `Control` in
+/// shaders/tswm.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuControl {
+    /// Slots still holding an unfinished lane after a dispatch.
+    pub n_active: u32,
+    /// The next lane no slot has taken yet.
+    pub next_lane: u32,
 }
 
 /// Per-step tolerance of the f32 path: the tightest at which f32 rounding
@@ -192,6 +208,10 @@ impl GpuGlobals {
             h_initial: crate::integrator::H_INITIAL as f32,
             table_n: 0,
             row_lanes: 0,
+            n_slots: 0,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
             table_vs: [[0.0; 4]; MAX_TABLE_POINTS / 4],
             table_mu: [[0.0; 4]; MAX_TABLE_POINTS / 4],
         };

@@ -10,7 +10,7 @@ mod backend;
 pub mod layout;
 pub mod verify;
 
-pub use backend::{GpuBackend, CHUNK_LANES};
+pub use backend::GpuBackend;
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -18,7 +18,7 @@ use std::time::Duration;
 use wgpu::util::DeviceExt;
 
 use crate::error::{Error, Result};
-use layout::{GpuGlobals, GpuLane, GpuState};
+use layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
 
 /// The shader source.
 pub const SHADER: &str = include_str!("../../shaders/tswm.wgsl");
@@ -30,6 +30,8 @@ pub const WORKGROUP: u32 = 64;
 /// f32 steps, so most finish in one dispatch; a dispatch stays well under a
 /// second even on a software adapter at the default chunk size.
 pub const BUDGET: u32 = 64;
+/// Dispatches a round trip to the host (see [`Gpu::dispatches_per_sync`]).
+pub const DISPATCHES_PER_SYNC: u32 = 1;
 
 /// Longest wait for one submission before the run is called hung.
 const POLL_TIMEOUT: Duration = Duration::from_secs(120);
@@ -94,6 +96,13 @@ pub struct Gpu {
     lost: Arc<Mutex<Option<String>>>,
     /// Step attempts per lane per dispatch (default [`BUDGET`]).
     pub budget: u32,
+    /// Dispatches recorded before the host reads back whether any slot
+    /// is still active (default [`DISPATCHES_PER_SYNC`]).
+    pub dispatches_per_sync: u32,
+    /// Invocations ("slots") that work through a chunk's lanes, each
+    /// taking the next unstarted lane when its own finishes (default:
+    /// [`Gpu::default_slots`]).
+    pub slots: u32,
 }
 
 fn gpu_err(chunk: u64, what: impl std::fmt::Display) -> Error {
@@ -167,7 +176,20 @@ impl Gpu {
             pipeline,
             lost,
             budget: BUDGET,
-        })
+            dispatches_per_sync: DISPATCHES_PER_SYNC,
+            slots: u32::MAX,
+        }
+        .with_default_slots())
+    }
+
+    fn with_default_slots(mut self) -> Gpu {
+        self.slots = self.default_slots();
+        self
+    }
+
+    /// Slots a chunk gets unless set: [`WorkSize::of`] this device.
+    pub fn default_slots(&self) -> u32 {
+        WorkSize::of(&self.info, &self.limits).slots
     }
 
     /// Short description: "NAME (type, backend)".
@@ -178,18 +200,9 @@ impl Gpu {
         )
     }
 
-    /// Most lanes one chunk may hold on this device: the state buffer must
-    /// fit one storage binding and the dispatch the workgroup-count limits.
+    /// Most lanes one chunk may hold on this device: see [`max_chunk_lanes`].
     pub fn max_chunk_lanes(&self) -> usize {
-        let by_binding =
-            self.limits.max_storage_buffer_binding_size / std::mem::size_of::<GpuState>() as u64;
-        let by_buffer = self.limits.max_buffer_size / std::mem::size_of::<GpuState>() as u64;
-        let per_dim = self.limits.max_compute_workgroups_per_dimension as u64;
-        let by_dispatch = per_dim * per_dim * WORKGROUP as u64;
-        by_binding
-            .min(by_buffer)
-            .min(by_dispatch)
-            .min(u32::MAX as u64) as usize
+        max_chunk_lanes(&self.limits)
     }
 
     fn check_lost(&self, chunk: u64) -> Result<()> {
@@ -246,20 +259,29 @@ impl Gpu {
             return Ok(());
         }
         let n = lanes.len() as u32;
-        let groups = n.div_ceil(WORKGROUP);
+        let slots = n.min(self.slots.max(1));
+        let groups = slots.div_ceil(WORKGROUP);
         let gx = groups.min(self.limits.max_compute_workgroups_per_dimension);
         let gy = groups.div_ceil(gx);
         globals.n_lanes = n;
+        globals.n_slots = slots;
         globals.budget = self.budget;
         globals.row_lanes = gx * WORKGROUP;
-        let b = self.chunk_buffers(chunk, lanes, &globals)?;
+        let b = self.chunk_buffers(chunk, lanes, slots, &globals)?;
         let mut bytes = Vec::new();
-        // Enough rounds for max_steps accepted steps plus as many rejections.
-        let max_rounds = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
-        for _round in 0..max_rounds {
+        // Enough rounds for every lane of the busiest slot to take
+        // max_steps accepted steps plus as many rejections.
+        let per_lane = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
+        let max_rounds = per_lane * (n as u64).div_ceil(slots as u64);
+        // Several dispatches a round trip: slots refill at every dispatch,
+        // while the host waits for the count of active slots only once.
+        let per_sync = self.dispatches_per_sync.max(1) as u64;
+        for _round in 0..max_rounds.div_ceil(per_sync) {
             let mut enc = self.device.create_command_encoder(&Default::default());
-            enc.clear_buffer(&b.active, 0, None);
-            {
+            for _ in 0..per_sync {
+                // Only the count of active slots starts again each
+                // dispatch; the next-lane counter carries on.
+                enc.clear_buffer(&b.active, 0, Some(4));
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("advance"),
                     timestamp_writes: None,
@@ -289,6 +311,7 @@ impl Gpu {
         &self,
         chunk: u64,
         lanes: &[GpuLane],
+        slots: u32,
         globals: &GpuGlobals,
     ) -> Result<ChunkBuffers> {
         let state_bytes = (lanes.len() * std::mem::size_of::<GpuState>()) as u64;
@@ -315,7 +338,19 @@ impl Gpu {
         let lanes_buf = init("lanes", bytemuck::cast_slice(lanes), U::STORAGE);
         // New buffers are zeroed: every lane starts "not started".
         let states = plain("states", state_bytes, U::STORAGE | U::COPY_SRC);
-        let active = plain("active", 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
+        // Slot s starts on lane s; the next lane to take is the first
+        // after them.
+        let control = GpuControl {
+            n_active: 0,
+            next_lane: slots,
+        };
+        let active = init(
+            "control",
+            bytemuck::bytes_of(&control),
+            U::STORAGE | U::COPY_SRC | U::COPY_DST,
+        );
+        let first: Vec<u32> = (0..slots).collect();
+        let slot_lane = init("slot lanes", bytemuck::cast_slice(&first), U::STORAGE);
         let active_read = plain("active read-back", 4, U::MAP_READ | U::COPY_DST);
         let states_read = plain("states read-back", state_bytes, U::MAP_READ | U::COPY_DST);
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -326,6 +361,7 @@ impl Gpu {
                 bind_entry(1, &lanes_buf),
                 bind_entry(2, &states),
                 bind_entry(3, &active),
+                bind_entry(4, &slot_lane),
             ],
         });
         if let Some(e) = pollster::block_on(vscope.pop()) {
@@ -344,6 +380,67 @@ impl Gpu {
             states_read,
             bind,
         })
+    }
+}
+
+/// Most lanes one chunk may hold under `limits`: the state buffer must fit
+/// one storage binding and the dispatch the workgroup-count limits.
+pub fn max_chunk_lanes(limits: &wgpu::Limits) -> usize {
+    let by_binding =
+        limits.max_storage_buffer_binding_size / std::mem::size_of::<GpuState>() as u64;
+    let by_buffer = limits.max_buffer_size / std::mem::size_of::<GpuState>() as u64;
+    let per_dim = limits.max_compute_workgroups_per_dimension as u64;
+    let by_dispatch = per_dim * per_dim * WORKGROUP as u64;
+    by_binding
+        .min(by_buffer)
+        .min(by_dispatch)
+        .min(u32::MAX as u64) as usize
+}
+
+/// Invocations a hardware GPU keeps resident, which wgpu does not report:
+/// an H100's 132 SMs x 2,048.
+pub const HW_RESIDENT: u64 = 132 * 2048;
+/// Slots a core of a software adapter (lavapipe): measured on
+/// `sweeps/heterogeneous.toml`, 2,048 a core (4,096 on 2 cores) ran its
+/// lanes 7 % faster than a slot a lane, and fewer slots a dispatch cost
+/// more in dispatch overhead than they saved (README, "GPU path").
+pub const SW_SLOTS_PER_CORE: u64 = 8192;
+/// Lanes a chunk holds per slot on a software adapter (65,536 on 2 cores).
+pub const SW_LANES_PER_SLOT: u64 = 4;
+/// Lanes a chunk holds per slot on a hardware GPU: one slot for each
+/// resident invocation, each working through two lanes (about 0.5 M lanes
+/// a chunk); not measured on one (none was lent).
+pub const HW_LANES_PER_SLOT: u64 = 2;
+
+/// How a device's work is cut: slots (invocations) a chunk runs on and
+/// lanes a chunk holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WorkSize {
+    /// Slots a chunk runs on.
+    pub slots: u32,
+    /// Lanes a chunk holds.
+    pub chunk_lanes: usize,
+}
+
+impl WorkSize {
+    /// The work size for an adapter: on a hardware GPU one slot for each
+    /// resident invocation ([`HW_RESIDENT`], as wgpu does not tell) and
+    /// [`HW_LANES_PER_SLOT`] lanes a slot; on a software adapter
+    /// [`SW_SLOTS_PER_CORE`] slots a core and [`SW_LANES_PER_SLOT`] lanes a
+    /// slot; within the adapter's limits ([`max_chunk_lanes`]).
+    pub fn of(info: &wgpu::AdapterInfo, limits: &wgpu::Limits) -> WorkSize {
+        let (slots, per_slot) = if is_hardware(info) {
+            (HW_RESIDENT, HW_LANES_PER_SLOT)
+        } else {
+            let cores = std::thread::available_parallelism().map_or(1, |c| c.get()) as u64;
+            (SW_SLOTS_PER_CORE * cores, SW_LANES_PER_SLOT)
+        };
+        let max = max_chunk_lanes(limits).max(1) as u64;
+        let slots = slots.clamp(WORKGROUP as u64, max);
+        WorkSize {
+            slots: slots as u32,
+            chunk_lanes: (per_slot * slots).min(max) as usize,
+        }
     }
 }
 

@@ -377,10 +377,16 @@ pub fn advance(
     let mut left = budget;
     while !st.done && left > 0 {
         left -= 1;
-        if let Some(plan) = prepare(lane, table, st) {
-            let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set.tol);
-            finish_step(lane, table, set, st, &plan, &trial);
-        }
+        attempt(lane, table, set, st);
     }
     st.done
+}
+
+/// One step attempt (accepted or rejected). The shader's entry point loops
+/// over it as [`advance`] does, taking a new lane when one finishes.
+pub fn attempt(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &mut LaneState) {
+    if let Some(plan) = prepare(lane, table, st) {
+        let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set.tol);
+        finish_step(lane, table, set, st, &plan, &trial);
+    }
 }

@@ -350,3 +350,33 @@ fn engineering_columns_on_gpu() {
     let worst = crate::engineering::check_engineering(&res, 5e-5);
     eprintln!("GPU, section 10 fixture: worst deviation {worst:.2e} (bound 5e-5)");
 }
+
+/// Lane refill: a lane's end state is the same bit for bit whichever slot
+/// ran it and however many lanes that slot worked through before (a slot
+/// a lane, 64 slots, 7 slots), on lanes of very unlike length.
+#[test]
+fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
+    use tswm::gpu::layout::{GpuGlobals, GpuLane};
+    if gpu("a_lanes_result_does_not_depend_on_the_slot_that_ran_it").is_none() {
+        return;
+    }
+    let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
+    let mut params = Vec::new();
+    src.reader().unwrap().fill(2000, &mut params).unwrap();
+    let lanes: Vec<GpuLane> = params
+        .iter()
+        .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
+        .collect();
+    let mut dev = Gpu::new(false).unwrap();
+    let globals = GpuGlobals::new(&Settings::default(), None);
+    let mut runs = Vec::new();
+    for slots in [u32::MAX, 64, 7] {
+        dev.slots = slots;
+        let mut states = Vec::new();
+        dev.run(0, &lanes, globals, &mut states).unwrap();
+        assert_eq!(states.len(), lanes.len());
+        runs.push(bytemuck::cast_slice::<_, u8>(&states).to_vec());
+    }
+    assert!(runs[1] == runs[0], "64 slots differ from a slot a lane");
+    assert!(runs[2] == runs[0], "7 slots differ from a slot a lane");
+}

@@ -5,7 +5,7 @@
 use std::mem::{offset_of, size_of};
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use tswm::gpu::layout::{GpuGlobals, GpuLane, GpuState};
+use tswm::gpu::layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
 
 fn module() -> naga::Module {
     naga::front::wgsl::parse_str(tswm::gpu::SHADER)
@@ -55,8 +55,10 @@ fn host_structs_match_the_shader() {
         status, switches, reversals, sticks, steps, events, pad0, pad1, pad2, pad3, pad4);
     assert_eq!(wgsl_layout(&m, "State"), state);
     let globals = rust_layout!(GpuGlobals; n_lanes, budget, max_steps, max_events, tol, h_initial, table_n, row_lanes,
-        table_vs, table_mu);
+        n_slots, pad0, pad1, pad2, table_vs, table_mu);
     assert_eq!(wgsl_layout(&m, "Globals"), globals);
+    let control = rust_layout!(GpuControl; n_active, next_lane);
+    assert_eq!(wgsl_layout(&m, "Control"), control);
 }
 
 /// The value of the shader's module-scope `const NAME`, as naga's
