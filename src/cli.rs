@@ -96,6 +96,15 @@ pub enum Command {
     },
     /// List GPU adapters and their limits.
     Devices,
+    /// Integrate a sweep's lanes on a backend and print lanes/s, writing
+    /// nothing (integration, the f32 check and recomputation; no table).
+    Bench {
+        #[command(flatten)]
+        lanes: LanesArgs,
+        /// Backend.
+        #[arg(long, value_enum, default_value_t = Choice::Auto)]
+        backend: Choice,
+    },
 }
 
 /// A validated run.

@@ -53,6 +53,7 @@ fn main() -> ExitCode {
             disagreements,
         } => check(&lanes, disagreements.as_deref()),
         Command::Devices => devices(),
+        Command::Bench { lanes, backend } => bench(&lanes, backend),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -271,6 +272,44 @@ fn check(lanes: &LanesArgs, disagreements: Option<&Path>) -> Result<()> {
     }
 }
 
+/// Counts the lanes of each chunk and drops them.
+struct Discard(u64);
+
+impl runner::Sink for Discard {
+    type Output = u64;
+    fn chunk(
+        &mut self,
+        _first: u64,
+        params: &[tswm::params::Params],
+        _results: &[tswm::integrator::LaneResult],
+    ) -> Result<()> {
+        self.0 += params.len() as u64;
+        Ok(())
+    }
+    fn finish(self) -> Result<u64> {
+        Ok(self.0)
+    }
+}
+
+fn bench(lanes: &LanesArgs, choice: Choice) -> Result<()> {
+    let plan = lanes.plan()?;
+    let mut be = backend::open(
+        choice,
+        plan.source.lane_count(),
+        plan.threads,
+        plan.settings,
+    )?;
+    let start = std::time::Instant::now();
+    let n = runner::pipeline(&plan.source, be.as_mut(), false, Discard(0))?;
+    let s = start.elapsed().as_secs_f64();
+    println!(
+        "tswm bench: {n} lanes in {s:.3} s ({:.0} lanes/s, {}); nothing written",
+        n as f64 / s.max(1e-9),
+        be.name()
+    );
+    Ok(())
+}
+
 fn devices() -> Result<()> {
     let list = tswm::gpu::adapters();
     if list.is_empty() {
@@ -295,9 +334,16 @@ fn devices() -> Result<()> {
             w.chunk_lanes,
             w.slots,
             if tswm::gpu::is_hardware(&a.info) {
-                "hardware: a slot for each invocation an H100 keeps resident, 2 lanes a slot"
+                format!(
+                    "hardware: a slot for each invocation an H100 keeps resident, {} lanes a slot",
+                    tswm::gpu::HW_LANES_PER_SLOT
+                )
             } else {
-                "software: 2048 slots a core, 16 lanes a slot"
+                format!(
+                    "software: {} slots a core, {} lanes a slot",
+                    tswm::gpu::SW_SLOTS_PER_CORE,
+                    tswm::gpu::SW_LANES_PER_SLOT
+                )
             },
             tswm::gpu::max_chunk_lanes(l),
         );

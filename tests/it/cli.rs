@@ -173,6 +173,9 @@ fn shipped_sweeps_parse_and_have_the_documented_size() {
         ("paper.toml", 2u64),
         ("efficiency_map.toml", 3480),
         ("tolerance.toml", 5000),
+        ("self_locking.toml", 25000),
+        ("million.toml", 1_000_000),
+        ("heterogeneous.toml", 200_000),
     ] {
         let src = tswm::lanes::Source::open(Some(&root().join("sweeps").join(f)), None).unwrap();
         assert_eq!(src.lane_count(), n, "{f}");

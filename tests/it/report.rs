@@ -7,12 +7,13 @@ use std::process::Command;
 
 use crate::common::{rejected, root, run_ok, tswm};
 
-const SHIPPED: [&str; 5] = [
+const SHIPPED: [&str; 6] = [
     "paper",
     "efficiency_map",
     "tolerance",
     "self_locking",
     "million",
+    "heterogeneous",
 ];
 
 /// Runs a shipped sweep on the CPU into `dir/o` and returns the report.
@@ -225,6 +226,7 @@ fn every_shipped_sweep_gets_a_self_contained_report_that_renders() {
             ],
             "tolerance" => &["Tolerance study", "what moves eta_direct", "empirical CDF"],
             "million" => &["Results against f2", "1000000 lanes"],
+            "heterogeneous" => &["Tolerance study", "empirical CDF", "200000 lanes"],
             _ => &[
                 "Final contact against gamma_deg",
                 "held, 95 % interval",
