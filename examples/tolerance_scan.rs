@@ -27,6 +27,7 @@ fn main() {
                 None,
                 &Settings {
                     tol: 1e-13,
+                    refine: false,
                     ..Settings::default()
                 },
             )

@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use crate::backend::Backend;
 use crate::error::{Error, Result};
+use crate::integrator::accuracy::settings_for;
 use crate::integrator::trace::simulate_traced;
 use crate::integrator::Settings;
 use crate::integrator::{Contact, LaneResult, RowPath, Status};
@@ -62,7 +63,8 @@ impl Summary {
     }
 
     /// "; gpu rows: N checked, M recomputed in f64 (why n, ...)" for runs
-    /// with GPU rows; empty for CPU runs.
+    /// with GPU rows, and "; N lanes refined (...)" when the f64 path ran
+    /// lanes again; empty otherwise.
     fn recompute_note(&self) -> String {
         let redone: Vec<String> = self
             .by_path
@@ -72,13 +74,20 @@ impl Summary {
                 _ => None,
             })
             .collect();
-        let cpu = self.by_path.get(&RowPath::Cpu).copied().unwrap_or(0);
+        let count = |p: RowPath| self.by_path.get(&p).copied().unwrap_or(0);
+        let refined = count(RowPath::Refined);
+        let refined_note = if refined > 0 {
+            format!("; {refined} lanes refined (run again at a tenth of the tolerance: their error estimate was over the bound)")
+        } else {
+            String::new()
+        };
+        let cpu = count(RowPath::Cpu) + refined;
         if cpu == self.lanes {
-            return String::new();
+            return refined_note;
         }
         let n: u64 = self.lanes - cpu - self.by_path.get(&RowPath::Gpu).copied().unwrap_or(0);
         format!(
-            "; gpu rows: {} trusted, {n} recomputed in f64{}",
+            "; gpu rows: {} trusted, {n} recomputed in f64{}{refined_note}",
             self.by_path.get(&RowPath::Gpu).copied().unwrap_or(0),
             if redone.is_empty() {
                 String::new()
@@ -147,7 +156,9 @@ impl Tracer {
             let l = Lane::new(&params[(lane - first) as usize], self.table.as_ref());
             let mut failed = None;
             let (out, table) = (&mut self.out, self.table.as_ref());
-            simulate_traced(&l, table, &Settings::default(), self.spec.dt, &mut |row| {
+            // The settings the lane's f64 row comes from, refined or not.
+            let set = settings_for(&l, table, &Settings::default());
+            simulate_traced(&l, table, &set, self.spec.dt, &mut |row| {
                 if failed.is_none() {
                     failed = out.write(lane, row).err();
                 }

@@ -7,6 +7,7 @@
 //! to its end in one call (CPU) or in slices (the shader keeps the state
 //! between dispatches). No allocation, no recursion.
 
+use super::accuracy::ErrorBudget;
 use super::events::{earliest_event, EventFn};
 use super::flow::step_flow;
 use super::result::{EndState, Status};
@@ -45,6 +46,8 @@ pub struct LaneState {
     pub k1_valid: bool,
     /// w1_in, w1_out, w2_in, w2_out so far (see `flow`).
     pub flow: [f64; 4],
+    /// The estimate of the results' error so far (see `accuracy`).
+    pub budget: ErrorBudget,
 }
 
 impl LaneState {
@@ -110,6 +113,7 @@ pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
         k1: [0.0; NY],
         k1_valid: false,
         flow: [0.0; 4],
+        budget: ErrorBudget::default(),
     };
     if v == 0.0 {
         come_to_rest(lane, table, &mut st);
@@ -327,6 +331,7 @@ pub fn finish_step(
 /// Adds an accepted step's energy flow (from `st`, before it moves).
 fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
     let d = step_flow(&st.k1, trial, h);
+    st.budget.add_step(&st.k1, trial, &d);
     for (f, d) in st.flow.iter_mut().zip(d) {
         *f += d;
     }
@@ -346,7 +351,7 @@ fn step_to_event(
     h_next: f64,
 ) {
     let h_ev = theta * plan.h;
-    let ev = try_step(lane, table, plan.mode, &st.y, &st.k1, h_ev, set.tol);
+    let ev = try_step(lane, table, plan.mode, &st.y, &st.k1, h_ev, set);
     add_flow(st, &ev, h_ev);
     st.t += h_ev;
     st.y = ev.y1;
@@ -386,7 +391,7 @@ pub fn advance(
 /// over it as [`advance`] does, taking a new lane when one finishes.
 pub fn attempt(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &mut LaneState) {
     if let Some(plan) = prepare(lane, table, st) {
-        let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set.tol);
+        let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set);
         finish_step(lane, table, set, st, &plan, &trial);
     }
 }

@@ -2,8 +2,9 @@
 //! thread (the CPU path), as the shader's entry point runs one lane per
 //! invocation (the GPU path).
 
-use super::automaton::{advance, finish_step, init, prepare, StepPlan};
-use super::result::LaneResult;
+use super::accuracy::{needs_refining, ErrorBudget};
+use super::automaton::{advance, finish_step, init, prepare, LaneState, StepPlan};
+use super::result::{LaneResult, RowPath};
 use super::stepper::try_steps;
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};
@@ -15,19 +16,45 @@ pub const INTERLEAVE: usize = 4;
 
 /// Runs `lanes` to their ends, `out[i]` for `lanes[i]`, interleaving
 /// [`INTERLEAVE`] lanes on this thread: each slot takes the next lane when
-/// its lane finishes. Per lane the arithmetic is exactly [`simulate`]'s.
+/// its lane finishes. Lanes whose error estimate asks for it are then run
+/// again, interleaved too, at [`Settings::tighter`]. Per lane the
+/// arithmetic is exactly [`simulate`]'s.
 pub fn simulate_batch(
     lanes: &[Lane],
     table: Option<&FrictionTable>,
     set: &Settings,
     out: &mut [LaneResult],
 ) {
-    const N: usize = INTERLEAVE;
     assert_eq!(lanes.len(), out.len());
+    let mut redo = Vec::new();
+    interleaved(lanes, 0..lanes.len(), table, set, |i, st| {
+        out[i] = st.end_state().result(&lanes[i], table);
+        if needs_refining(set, &out[i], &st.budget) {
+            redo.push(i);
+        }
+    });
+    if !redo.is_empty() {
+        let tight = set.tighter();
+        interleaved(lanes, redo.into_iter(), table, &tight, |i, st| {
+            out[i] = st.end_state().result(&lanes[i], table);
+            out[i].path = RowPath::Refined;
+        });
+    }
+}
+
+/// Runs the lanes `order` names to their ends, [`INTERLEAVE`] at a time,
+/// handing each finished lane's index and end state to `done`.
+fn interleaved(
+    lanes: &[Lane],
+    mut order: impl Iterator<Item = usize>,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+    mut done: impl FnMut(usize, &LaneState),
+) {
+    const N: usize = INTERLEAVE;
     if lanes.is_empty() {
         return;
     }
-    let mut next = 0;
     let mut slot: [Option<usize>; N] = [None; N];
     let mut st = [init(&lanes[0], table); N];
     loop {
@@ -37,13 +64,12 @@ pub fn simulate_batch(
                 if !st[j].done {
                     continue;
                 }
-                out[i] = st[j].end_state().result(&lanes[i], table);
+                done(i, &st[j]);
                 slot[j] = None;
             }
-            if next < lanes.len() {
+            if let Some(next) = order.next() {
                 st[j] = init(&lanes[next], table);
                 slot[j] = Some(next);
-                next += 1;
             }
         }
         if slot.iter().all(Option::is_none) {
@@ -75,7 +101,7 @@ pub fn simulate_batch(
             &k1,
             std::array::from_fn(|j| plan[j].h),
             active,
-            set.tol,
+            set,
         );
         for j in (0..N).filter(|&j| active[j]) {
             finish_step(lane[j], table, set, &mut st[j], &plan[j], &trial[j]);
@@ -83,9 +109,30 @@ pub fn simulate_batch(
     }
 }
 
-/// Runs one lane from t = 0 to its end.
+/// Runs one lane from t = 0 to its end, and again at the tighter
+/// settings when its error estimate asks for it (see `accuracy`).
 pub fn simulate(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> LaneResult {
+    let (r, budget) = run_lane(lane, table, set);
+    if needs_refining(set, &r, &budget) {
+        return refined(lane, table, set);
+    }
+    r
+}
+
+/// One run of a lane under `set`: its result and its error estimate.
+pub(crate) fn run_lane(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+) -> (LaneResult, ErrorBudget) {
     let mut st = init(lane, table);
     advance(lane, table, set, &mut st, u32::MAX);
-    st.end_state().result(lane, table)
+    (st.end_state().result(lane, table), st.budget)
+}
+
+/// The lane run again at [`Settings::tighter`]; its row says so.
+fn refined(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> LaneResult {
+    let (mut r, _) = run_lane(lane, table, &set.tighter());
+    r.path = RowPath::Refined;
+    r
 }

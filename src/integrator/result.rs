@@ -140,6 +140,9 @@ pub enum RowPath {
     Gpu,
     /// Computed on the GPU, not trusted, recomputed on the f64 path.
     Recomputed(Recheck),
+    /// The f64 CPU path, run again at tighter settings because the lane's
+    /// error estimate was over the bound (`accuracy`).
+    Refined,
 }
 
 impl RowPath {
@@ -149,6 +152,7 @@ impl RowPath {
             RowPath::Cpu => "cpu".into(),
             RowPath::Gpu => "gpu".into(),
             RowPath::Recomputed(r) => format!("cpu:{}", r.name()),
+            RowPath::Refined => "cpu:refined".into(),
         }
     }
 }

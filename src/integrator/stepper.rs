@@ -7,7 +7,7 @@
 //! shader's `try_step` (section `src/integrator/stepper.rs` of
 //! `shaders/tswm.wgsl`) for one, line for line.
 
-use super::NY;
+use super::{Settings, NY};
 use crate::model::{motion, FrictionTable, Lane};
 
 // Dormand–Prince 5(4) tableau. Keep in sync with the shader (a test reads
@@ -154,6 +154,9 @@ pub struct Trial {
     /// one that needs the inner stages; `flow::dense_w` forms the rest).
     pub(crate) dw: [f64; 2],
     pub(crate) dw_r4: [f64; 2],
+    /// The embedded error estimate of each component and, last, of ∫p2 dt
+    /// (absolute; the accuracy budget adds them up, see `accuracy`).
+    pub(crate) est: [f64; NY + 1],
 }
 
 /// One trial step of size h from (y, k1).
@@ -165,9 +168,9 @@ pub(crate) fn try_step(
     y: &[f64; NY],
     k1: &[f64; NY],
     h: f64,
-    tol: f64,
+    set: &Settings,
 ) -> Trial {
-    try_steps::<1>([lane], table, [mode], &[*y], &[*k1], [h], [true], tol)[0]
+    try_steps::<1>([lane], table, [mode], &[*y], &[*k1], [h], [true], set)[0]
 }
 
 /// Trial steps of N lanes at once (lanes with `active[j]` false are
@@ -185,8 +188,16 @@ pub(crate) fn try_steps<const N: usize>(
     k1: &[[f64; NY]; N],
     h: [f64; N],
     active: [bool; N],
-    tol: f64,
+    set: &Settings,
 ) -> [Trial; N] {
+    // x1 and ẋ1 may be held tighter than the works (`Settings::traj_weight`).
+    let tol_of = |i: usize| {
+        if i < 2 {
+            set.tol * set.traj_weight
+        } else {
+            set.tol
+        }
+    };
     let z = [[0.0; NY]; N];
     let (mut k2, mut k3, mut k4, mut k5, mut k6, mut k7) = (z, z, z, z, z, z);
     let mut tr = [Trial::default(); N];
@@ -225,7 +236,8 @@ pub(crate) fn try_steps<const N: usize>(
         let mut err: f64 = 0.0;
         for i in 0..NY {
             let e = error_term(h, k1[i], k3[i], k4[i], k5[i], k6[i], k7[i]);
-            err = err.max(e.abs() / error_scale(tol, y[j][i], t.y1[i]));
+            err = err.max(e.abs() / error_scale(tol_of(i), y[j][i], t.y1[i]));
+            t.est[i] = e.abs();
         }
         t.err = if err.is_finite() { err } else { f64::INFINITY };
         t.k7 = *k7;
@@ -243,6 +255,7 @@ pub(crate) fn try_steps<const N: usize>(
             dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
             dense_r5(h, a, c, d, e, f, g),
         ];
+        t.est[NY] = error_term(h, a, c, d, e, f, g).abs();
     }
     tr
 }

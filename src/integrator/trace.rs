@@ -114,7 +114,7 @@ pub fn simulate_traced(
                 }
             }
             Some(plan) => {
-                let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set.tol);
+                let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set);
                 let from = st;
                 finish_step(lane, table, set, &mut st, &plan, &trial);
                 if st.t > from.t {

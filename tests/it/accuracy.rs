@@ -30,6 +30,7 @@ fn random_lanes_match_a_tight_reference() {
     let specs = random_user_lanes(N, 2026);
     let reference = Settings {
         tol: 1e-13,
+        refine: false,
         ..Settings::default()
     };
     let pairs: Vec<(LaneResult, LaneResult)> = specs
