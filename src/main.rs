@@ -321,7 +321,8 @@ fn devices() -> Result<()> {
         println!(
             "{} ({:?}, {:?}, driver {} {})\n  max_storage_buffer_binding_size {} B, max_buffer_size {} B, \
              max_compute_workgroups_per_dimension {}, max_compute_invocations_per_workgroup {}\n  \
-             chunks: {} lanes on {} slots ({}; at most {} lanes by the limits)",
+             chunks: {} lanes, cut into parts of {} lanes, {} in flight at once, each on {} slots \
+             ({}; at most {} lanes a part by the limits)",
             a.info.name,
             a.info.device_type,
             a.info.backend,
@@ -331,7 +332,9 @@ fn devices() -> Result<()> {
             l.max_buffer_size,
             l.max_compute_workgroups_per_dimension,
             l.max_compute_invocations_per_workgroup,
+            w.in_flight * w.chunk_lanes,
             w.chunk_lanes,
+            w.in_flight,
             w.slots,
             if tswm::gpu::is_hardware(&a.info) {
                 format!(

@@ -15,7 +15,11 @@ use crate::params::Params;
 pub struct GpuBackend {
     gpu: Gpu,
     settings: Settings,
-    chunk: usize,
+    /// Lanes of a part of a chunk (a chunk holds `in_flight` parts; from
+    /// [`super::WorkSize`], settable for tests and measurements).
+    pub part: usize,
+    /// Parts in flight at once (likewise).
+    pub in_flight: usize,
     /// The f64 path for rows the check does not trust.
     cpu: CpuBackend,
     /// Check every row and recompute the untrusted ones (on by default;
@@ -25,6 +29,7 @@ pub struct GpuBackend {
     lanes32: Vec<GpuLane>,
     on_gpu: Vec<usize>,
     states: Vec<GpuState>,
+    part_states: Vec<Vec<GpuState>>,
     redo: Vec<(usize, Recheck)>,
     redo_params: Vec<Params>,
     redo_out: Vec<LaneResult>,
@@ -40,17 +45,21 @@ impl GpuBackend {
 
     /// A backend whose recomputed rows run on `cpu`.
     pub fn with_cpu(gpu: Gpu, settings: Settings, cpu: CpuBackend) -> GpuBackend {
-        let chunk = super::WorkSize::of(&gpu.info, &gpu.limits).chunk_lanes;
+        // Each part of a chunk is the work size the device is tuned for;
+        // `in_flight` of them overlap (`Gpu::run_parts`).
+        let work = super::WorkSize::of(&gpu.info, &gpu.limits);
         GpuBackend {
             gpu,
             settings,
-            chunk,
+            part: work.chunk_lanes,
+            in_flight: work.in_flight,
             cpu,
             self_check: true,
             lanes64: Vec::new(),
             lanes32: Vec::new(),
             on_gpu: Vec::new(),
             states: Vec::new(),
+            part_states: Vec::new(),
             redo: Vec::new(),
             redo_params: Vec::new(),
             redo_out: Vec::new(),
@@ -66,7 +75,7 @@ impl Backend for GpuBackend {
         GPU_TOL_F64
     }
     fn chunk_lanes(&self) -> usize {
-        self.chunk
+        self.in_flight * self.part
     }
     fn run_chunk(
         &mut self,
@@ -75,7 +84,7 @@ impl Backend for GpuBackend {
         table: Option<&FrictionTable>,
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
-        let chunk = first / self.chunk as u64;
+        let chunk = first / self.chunk_lanes() as u64;
         self.lanes64.clear();
         self.lanes64
             .extend(lanes.iter().map(|p| Lane::new(p, table)));
@@ -102,8 +111,18 @@ impl Backend for GpuBackend {
         self.lanes32
             .extend(self.on_gpu.iter().map(|&i| GpuLane::from(&l64[i])));
         let globals = GpuGlobals::new(&self.settings, table);
+        // Parts of like length (the lanes are sorted), in flight together.
+        let n_parts = self.lanes32.len().div_ceil(self.part).max(1);
+        let size = self.lanes32.len().div_ceil(n_parts).max(1);
+        let parts: Vec<&[GpuLane]> = self.lanes32.chunks(size).collect();
+        self.part_states.resize_with(parts.len(), Vec::new);
+        let outs = &mut self.part_states[..parts.len()];
         self.gpu
-            .run(chunk, &self.lanes32, globals, &mut self.states)?;
+            .run_parts(chunk, &parts, globals, outs, self.in_flight, None)?;
+        self.states.clear();
+        for s in outs.iter() {
+            self.states.extend_from_slice(s);
+        }
         for (&i, st) in self.on_gpu.iter().zip(&self.states) {
             let mut r = st.end_state().result(&self.lanes64[i], table);
             r.path = RowPath::Gpu;

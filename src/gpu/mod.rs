@@ -13,7 +13,7 @@ pub mod verify;
 pub use backend::GpuBackend;
 
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use wgpu::util::DeviceExt;
 
@@ -212,52 +212,104 @@ impl Gpu {
         }
     }
 
-    fn wait(&self, chunk: u64) -> Result<()> {
-        self.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: Some(POLL_TIMEOUT),
-            })
-            .map_err(|e| gpu_err(chunk, format!("the GPU did not finish ({e})")))?;
-        self.check_lost(chunk)
-    }
-
-    fn read_back(&self, chunk: u64, buf: &wgpu::Buffer, out: &mut Vec<u8>) -> Result<()> {
-        let res = Arc::new(Mutex::new(None));
-        let r2 = res.clone();
-        buf.slice(..)
-            .map_async(wgpu::MapMode::Read, move |r| *r2.lock().unwrap() = Some(r));
-        self.wait(chunk)?;
-        match res.lock().unwrap().take() {
-            Some(Ok(())) => {}
-            Some(Err(e)) => return Err(gpu_err(chunk, format!("read-back failed: {e}"))),
-            None => return Err(gpu_err(chunk, "read-back did not complete")),
-        }
-        out.clear();
-        {
-            let view = buf
-                .slice(..)
-                .get_mapped_range()
-                .map_err(|e| gpu_err(chunk, format!("read-back failed: {e:?}")))?;
-            out.extend_from_slice(&view);
-        }
-        buf.unmap();
-        Ok(())
-    }
-
     /// Integrates `lanes` to their ends; `out` gets one state per lane.
     /// `chunk` names the chunk in errors.
     pub fn run(
         &self,
         chunk: u64,
         lanes: &[GpuLane],
-        mut globals: GpuGlobals,
+        globals: GpuGlobals,
         out: &mut Vec<GpuState>,
     ) -> Result<()> {
-        out.clear();
-        if lanes.is_empty() {
-            return Ok(());
+        let mut outs = [std::mem::take(out)];
+        self.run_parts(chunk, &[lanes], globals, &mut outs, 1, None)?;
+        let [o] = outs;
+        *out = o;
+        Ok(())
+    }
+
+    /// Integrates the parts of a chunk, up to `in_flight` of them on the
+    /// device at once (at least 1), each on all slots: while the host waits for one
+    /// part's count of active slots or copies out its states, the other's
+    /// dispatches run, and a part that ends makes room for the next one's
+    /// upload. `outs[i]` gets part i's states; `log`, when given, gets the
+    /// span of every upload, round of dispatches and read-back.
+    pub fn run_parts(
+        &self,
+        chunk: u64,
+        parts: &[&[GpuLane]],
+        globals: GpuGlobals,
+        outs: &mut [Vec<GpuState>],
+        in_flight: usize,
+        mut log: Option<&mut Vec<Span>>,
+    ) -> Result<()> {
+        assert_eq!(parts.len(), outs.len());
+        let in_flight = in_flight.max(1);
+        let mut live: std::collections::VecDeque<Part> = Default::default();
+        let mut next = 0;
+        while next < parts.len() || !live.is_empty() {
+            // Start parts while there is room.
+            while next < parts.len() && live.len() < in_flight {
+                outs[next].clear();
+                if !parts[next].is_empty() {
+                    let t0 = Instant::now();
+                    let mut p = self.start_part(chunk, next, parts[next], globals)?;
+                    if let Some(l) = log.as_deref_mut() {
+                        l.push(Span::new(next, Phase::Upload, t0));
+                    }
+                    p.submitted = Instant::now();
+                    p.last = Some(self.submit_round(&p));
+                    live.push_back(p);
+                }
+                next += 1;
+            }
+            let Some(mut p) = live.pop_front() else {
+                continue;
+            };
+            // Only this part's work: the other part's may still run.
+            self.wait_for(chunk, p.last.take())?;
+            if p.reading {
+                let mut bytes = Vec::new();
+                self.copy_mapped(chunk, &p.b.states_read, &mut bytes)?;
+                outs[p.index].extend_from_slice(bytemuck::cast_slice(&bytes));
+                if let Some(l) = log.as_deref_mut() {
+                    l.push(Span::new(p.index, Phase::ReadBack, p.submitted));
+                }
+                continue;
+            }
+            let mut bytes = Vec::new();
+            self.copy_mapped(chunk, &p.b.active_read, &mut bytes)?;
+            if let Some(l) = log.as_deref_mut() {
+                l.push(Span::new(p.index, Phase::Compute, p.submitted));
+            }
+            p.rounds += 1;
+            let active = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+            p.submitted = Instant::now();
+            if active == 0 || p.rounds >= p.max_rounds {
+                let mut enc = self.device.create_command_encoder(&Default::default());
+                enc.copy_buffer_to_buffer(&p.b.states, 0, &p.b.states_read, 0, p.b.states.size());
+                let idx = self.queue.submit([enc.finish()]);
+                p.b.states_read
+                    .slice(..)
+                    .map_async(wgpu::MapMode::Read, |_| {});
+                p.last = Some(idx);
+                p.reading = true;
+            } else {
+                p.last = Some(self.submit_round(&p));
+            }
+            live.push_back(p);
         }
+        Ok(())
+    }
+
+    /// Uploads a part and sizes its dispatches.
+    fn start_part(
+        &self,
+        chunk: u64,
+        index: usize,
+        lanes: &[GpuLane],
+        mut globals: GpuGlobals,
+    ) -> Result<Part> {
         let n = lanes.len() as u32;
         let slots = n.min(self.slots.max(1));
         let groups = slots.div_ceil(WORKGROUP);
@@ -268,40 +320,72 @@ impl Gpu {
         globals.budget = self.budget;
         globals.row_lanes = gx * WORKGROUP;
         let b = self.chunk_buffers(chunk, lanes, slots, &globals)?;
-        let mut bytes = Vec::new();
         // Enough rounds for every lane of the busiest slot to take
         // max_steps accepted steps plus as many rejections.
         let per_lane = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
-        let max_rounds = per_lane * (n as u64).div_ceil(slots as u64);
-        // Several dispatches a round trip: slots refill at every dispatch,
-        // while the host waits for the count of active slots only once.
+        let max_dispatches = per_lane * (n as u64).div_ceil(slots as u64);
         let per_sync = self.dispatches_per_sync.max(1) as u64;
-        for _round in 0..max_rounds.div_ceil(per_sync) {
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            for _ in 0..per_sync {
-                // Only the count of active slots starts again each
-                // dispatch; the next-lane counter carries on.
-                enc.clear_buffer(&b.active, 0, Some(4));
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("advance"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &b.bind, &[]);
-                pass.dispatch_workgroups(gx, gy, 1);
-            }
-            enc.copy_buffer_to_buffer(&b.active, 0, &b.active_read, 0, 4);
-            self.queue.submit([enc.finish()]);
-            self.read_back(chunk, &b.active_read, &mut bytes)?;
-            if u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) == 0 {
-                break;
-            }
-        }
+        Ok(Part {
+            index,
+            b,
+            gx,
+            gy,
+            rounds: 0,
+            max_rounds: max_dispatches.div_ceil(per_sync),
+            reading: false,
+            last: None,
+            submitted: Instant::now(),
+        })
+    }
+
+    /// Submits a part's next round: several dispatches (slots refill at
+    /// every one), then a copy of its count of active slots, mapped for
+    /// reading when the round is done.
+    fn submit_round(&self, p: &Part) -> wgpu::SubmissionIndex {
         let mut enc = self.device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(&b.states, 0, &b.states_read, 0, b.states.size());
-        self.queue.submit([enc.finish()]);
-        self.read_back(chunk, &b.states_read, &mut bytes)?;
-        out.extend_from_slice(bytemuck::cast_slice(&bytes));
+        for _ in 0..self.dispatches_per_sync.max(1) {
+            // Only the count of active slots starts again each dispatch;
+            // the next-lane counter carries on.
+            enc.clear_buffer(&p.b.active, 0, Some(4));
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("advance"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &p.b.bind, &[]);
+            pass.dispatch_workgroups(p.gx, p.gy, 1);
+        }
+        enc.copy_buffer_to_buffer(&p.b.active, 0, &p.b.active_read, 0, 4);
+        let idx = self.queue.submit([enc.finish()]);
+        p.b.active_read
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, |_| {});
+        idx
+    }
+
+    /// Waits for one submission (all, when `None`).
+    fn wait_for(&self, chunk: u64, idx: Option<wgpu::SubmissionIndex>) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: idx,
+                timeout: Some(POLL_TIMEOUT),
+            })
+            .map_err(|e| gpu_err(chunk, format!("the GPU did not finish ({e})")))?;
+        self.check_lost(chunk)
+    }
+
+    /// Copies out a buffer whose mapping was asked for and whose last
+    /// submission is done, and unmaps it.
+    fn copy_mapped(&self, chunk: u64, buf: &wgpu::Buffer, out: &mut Vec<u8>) -> Result<()> {
+        out.clear();
+        {
+            let view = buf
+                .slice(..)
+                .get_mapped_range()
+                .map_err(|e| gpu_err(chunk, format!("read-back failed: {e:?}")))?;
+            out.extend_from_slice(&view);
+        }
+        buf.unmap();
         Ok(())
     }
 
@@ -418,8 +502,11 @@ pub const HW_LANES_PER_SLOT: u64 = 2;
 pub struct WorkSize {
     /// Slots a chunk runs on.
     pub slots: u32,
-    /// Lanes a chunk holds.
+    /// Lanes a chunk holds (a part, in [`Gpu::run_parts`]: the runner's
+    /// chunks hold `in_flight` of them).
     pub chunk_lanes: usize,
+    /// Parts in flight at once ([`HW_IN_FLIGHT`], [`SW_IN_FLIGHT`]).
+    pub in_flight: usize,
 }
 
 impl WorkSize {
@@ -429,19 +516,81 @@ impl WorkSize {
     /// [`SW_SLOTS_PER_CORE`] slots a core and [`SW_LANES_PER_SLOT`] lanes a
     /// slot; within the adapter's limits ([`max_chunk_lanes`]).
     pub fn of(info: &wgpu::AdapterInfo, limits: &wgpu::Limits) -> WorkSize {
-        let (slots, per_slot) = if is_hardware(info) {
-            (HW_RESIDENT, HW_LANES_PER_SLOT)
+        let (slots, per_slot, in_flight) = if is_hardware(info) {
+            (HW_RESIDENT, HW_LANES_PER_SLOT, HW_IN_FLIGHT)
         } else {
             let cores = std::thread::available_parallelism().map_or(1, |c| c.get()) as u64;
-            (SW_SLOTS_PER_CORE * cores, SW_LANES_PER_SLOT)
+            (SW_SLOTS_PER_CORE * cores, SW_LANES_PER_SLOT, SW_IN_FLIGHT)
         };
         let max = max_chunk_lanes(limits).max(1) as u64;
         let slots = slots.clamp(WORKGROUP as u64, max);
         WorkSize {
             slots: slots as u32,
             chunk_lanes: (per_slot * slots).min(max) as usize,
+            in_flight,
         }
     }
+}
+
+/// Parts of a chunk in flight at once on a hardware GPU (see
+/// [`Gpu::run_parts`]): while the host waits for one part or copies out
+/// its states, the device runs the other's dispatches.
+pub const HW_IN_FLIGHT: usize = 2;
+/// The same on a software adapter: 1, because its "device" is the host's
+/// own cores, so host work cannot hide behind it; measured on lavapipe
+/// (2 cores), two in flight ran 100,000 paper-like lanes 5 % slower and
+/// `sweeps/heterogeneous.toml` 3 % slower (`tswm bench --backend gpu`).
+pub const SW_IN_FLIGHT: usize = 1;
+
+/// What the host did for a part of a chunk, in a [`Span`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Its buffers made and its lanes written.
+    Upload,
+    /// A round of its dispatches, from submission to the host seeing it done.
+    Compute,
+    /// Its states copied to a read-back buffer and out to the host.
+    ReadBack,
+}
+
+/// One phase of one part, with its start and end on the host's clock.
+#[derive(Clone, Copy, Debug)]
+pub struct Span {
+    /// The part's index.
+    pub part: usize,
+    /// What was done.
+    pub phase: Phase,
+    /// When it began.
+    pub start: Instant,
+    /// When it ended.
+    pub end: Instant,
+}
+
+impl Span {
+    fn new(part: usize, phase: Phase, start: Instant) -> Span {
+        Span {
+            part,
+            phase,
+            start,
+            end: Instant::now(),
+        }
+    }
+}
+
+/// A part of a chunk in flight.
+struct Part {
+    index: usize,
+    b: ChunkBuffers,
+    gx: u32,
+    gy: u32,
+    rounds: u64,
+    max_rounds: u64,
+    /// Its states are being copied out (its last round is done).
+    reading: bool,
+    /// Its last submission, not yet waited for.
+    last: Option<wgpu::SubmissionIndex>,
+    /// When its current work was submitted.
+    submitted: Instant,
 }
 
 fn bind_entry(binding: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
@@ -459,4 +608,51 @@ struct ChunkBuffers {
     active_read: wgpu::Buffer,
     states_read: wgpu::Buffer,
     bind: wgpu::BindGroup,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn adapter(device_type: wgpu::DeviceType) -> wgpu::AdapterInfo {
+        wgpu::AdapterInfo {
+            name: "test".into(),
+            vendor: 0,
+            device: 0,
+            device_type,
+            device_pci_bus_id: String::new(),
+            driver: String::new(),
+            driver_info: String::new(),
+            backend: wgpu::Backend::Vulkan,
+            subgroup_min_size: 32,
+            subgroup_max_size: 32,
+            transient_saves_memory: None,
+            limit_bucket: None,
+        }
+    }
+
+    /// A hardware GPU keeps two parts of a chunk in flight, each a slot for
+    /// every resident invocation times HW_LANES_PER_SLOT lanes; a software
+    /// adapter one; both within the binding limit.
+    #[test]
+    fn work_size_follows_the_adapter_and_its_limits() {
+        let limits = wgpu::Limits::default();
+        let hw = WorkSize::of(&adapter(wgpu::DeviceType::DiscreteGpu), &limits);
+        assert_eq!(hw.in_flight, 2);
+        assert_eq!(
+            hw.slots as u64,
+            HW_RESIDENT.min(max_chunk_lanes(&limits) as u64)
+        );
+        assert!(hw.chunk_lanes <= max_chunk_lanes(&limits));
+        let sw = WorkSize::of(&adapter(wgpu::DeviceType::Cpu), &limits);
+        assert_eq!(sw.in_flight, 1);
+        assert!(sw.chunk_lanes <= max_chunk_lanes(&limits));
+        // A binding limit of 1,000 states caps both.
+        let small = wgpu::Limits {
+            max_storage_buffer_binding_size: 1000 * std::mem::size_of::<GpuState>() as u64,
+            ..limits
+        };
+        let capped = WorkSize::of(&adapter(wgpu::DeviceType::DiscreteGpu), &small);
+        assert_eq!(capped.chunk_lanes, 1000);
+    }
 }
