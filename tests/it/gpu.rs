@@ -35,6 +35,15 @@ fn gpu(test: &str) -> Option<MutexGuard<'static, GpuBackend>> {
     }
 }
 
+/// The first `n` lanes of `sweeps/heterogeneous.toml` (lanes of very
+/// unlike length).
+fn heterogeneous(n: usize) -> Vec<Params> {
+    let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
+    let mut params = Vec::new();
+    src.reader().unwrap().fill(n, &mut params).unwrap();
+    params
+}
+
 fn run_both(gpu: &mut GpuBackend, params: &[Params]) -> (Vec<LaneResult>, Vec<LaneResult>) {
     let mut cpu = CpuBackend::new(0, Settings::default()).unwrap();
     let (mut rc, mut rg) = (Vec::new(), Vec::new());
@@ -360,10 +369,7 @@ fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
     if gpu("a_lanes_result_does_not_depend_on_the_slot_that_ran_it").is_none() {
         return;
     }
-    let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(2000, &mut params).unwrap();
-    let lanes: Vec<GpuLane> = params
+    let lanes: Vec<GpuLane> = heterogeneous(2000)
         .iter()
         .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
         .collect();
@@ -393,10 +399,7 @@ fn parts_of_a_chunk_overlap_upload_compute_and_read_back() {
     if gpu("parts_of_a_chunk_overlap_upload_compute_and_read_back").is_none() {
         return;
     }
-    let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(3000, &mut params).unwrap();
-    let lanes: Vec<GpuLane> = params
+    let lanes: Vec<GpuLane> = heterogeneous(3000)
         .iter()
         .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
         .collect();
@@ -468,9 +471,7 @@ fn a_chunk_in_parts_gives_the_same_rows() {
     let Some(mut g) = gpu("a_chunk_in_parts_gives_the_same_rows") else {
         return;
     };
-    let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(3000, &mut params).unwrap();
+    let params = heterogeneous(3000);
     let (part, in_flight) = (g.part, g.in_flight);
     let mut whole = Vec::new();
     g.run_chunk(0, &params, None, &mut whole).unwrap();
