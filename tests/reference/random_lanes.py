@@ -4,7 +4,15 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv
+    python3 random_lanes.py N SEED OUT.csv [wide]
+
+`wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
+-12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
+constant motors (500 to 6,500 N) in 30 % of lanes and Kloss motors of
+other synchronous speeds, slips and peaks in the rest, initial speeds
+(-3 to 3 m/s) in 30 % and positions in 20 %, Coulomb friction (mu 0.01
+to 0.16, static up to 40 % above) in 40 % and the paper law with its
+three parameters within +-20 % in the rest.
 """
 import csv
 import random
@@ -12,6 +20,38 @@ import sys
 
 n, seed, out = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 rng = random.Random(seed)
+if sys.argv[4:] == ["wide"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static",
+            "motor", "f1", "v1_0", "x1_0", "fric_a", "fric_b", "fric_c", "v_sync", "v_crit", "f_crit"]
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for _ in range(n):
+            t_end = 0.5 + 5.5 * rng.random()
+            row = {c: "" for c in cols}
+            row.update(gamma_deg=2 + 28 * rng.random(), f2=-12000 + 24000 * rng.random(),
+                       m1=586 * (0.3 + 1.5 * rng.random()), m2=10275 * (0.3 + 1.5 * rng.random()),
+                       t_end=t_end, friction="paper")
+            if rng.random() < 0.35:
+                row["motor_off"] = t_end * rng.random()
+            if rng.random() < 0.3:
+                row["motor"] = "constant"
+                row["f1"] = 500 + 6000 * rng.random()
+            else:
+                vs = 2.5 + 2 * rng.random()
+                row.update(v_sync=vs, v_crit=vs * (0.4 + 0.5 * rng.random()), f_crit=2000 + 5000 * rng.random())
+            if rng.random() < 0.3:
+                row["v1_0"] = -3 + 6 * rng.random()
+            if rng.random() < 0.2:
+                row["x1_0"] = -5 + 10 * rng.random()
+            if rng.random() < 0.4:
+                mu = 0.01 + 0.15 * rng.random()
+                row.update(friction="coulomb", mu=mu, mu_static=mu * (1 + 0.4 * rng.random()))
+            else:
+                row.update(fric_a=0.174 * (0.8 + 0.4 * rng.random()), fric_b=0.612 * (0.8 + 0.4 * rng.random()),
+                           fric_c=0.14 * (0.8 + 0.4 * rng.random()))
+            w.writerow([row[c] for c in cols])
+    sys.exit(0)
 cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static"]
 with open(out, "w", newline="") as f:
     w = csv.writer(f)
