@@ -182,18 +182,7 @@ fn table(c: &mut Criterion) {
 /// cost of lanes of unlike length sharing a chunk.
 fn heterogeneous(c: &mut Criterion) {
     let Some(dev) = gpu() else { return };
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps/heterogeneous.toml");
-    let src = Source::open(Some(&path), None).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(usize::MAX, &mut params).unwrap();
-    let max = *sizes().last().unwrap();
-    params.truncate(max);
-    let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
-    let mut results = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
-    let mut order: Vec<usize> = (0..params.len()).collect();
-    order.sort_by_key(|&i| results[i].steps);
-    let sorted: Vec<Params> = order.iter().map(|&i| params[i]).collect();
+    let (params, sorted) = tswm::testmodels::heterogeneous_and_sorted(*sizes().last().unwrap());
     let mut be = GpuBackend::new(dev, Settings::default());
     let chunk = be.chunk_lanes();
     let mut g = c.benchmark_group("heterogeneous");

@@ -3,6 +3,7 @@
 //! conversion, every row checked (`verify`) and the rows it does not trust
 //! recomputed on the f64 path in the same run.
 
+use super::cost::{CostModel, MIN_LEARNT};
 use super::layout::{flags, GpuGlobals, GpuLane, GpuState, GPU_TOL_F64};
 use super::{verify, Gpu};
 use crate::backend::{Backend, CpuBackend, PLACEHOLDER};
@@ -28,6 +29,12 @@ pub struct GpuBackend {
     lanes64: Vec<Lane>,
     lanes32: Vec<GpuLane>,
     on_gpu: Vec<usize>,
+    /// Predicts each lane's steps, to order lanes (learnt during the run).
+    cost: CostModel,
+    keys: Vec<f64>,
+    order: Vec<usize>,
+    sorted: Vec<usize>,
+    steps: Vec<u32>,
     states: Vec<GpuState>,
     part_states: Vec<Vec<GpuState>>,
     redo: Vec<(usize, Recheck)>,
@@ -58,12 +65,24 @@ impl GpuBackend {
             lanes64: Vec::new(),
             lanes32: Vec::new(),
             on_gpu: Vec::new(),
+            cost: CostModel::new(),
+            keys: Vec::new(),
+            order: Vec::new(),
+            sorted: Vec::new(),
+            steps: Vec::new(),
             states: Vec::new(),
             part_states: Vec::new(),
             redo: Vec::new(),
             redo_params: Vec::new(),
             redo_out: Vec::new(),
         }
+    }
+}
+
+impl GpuBackend {
+    /// The model that orders lanes by predicted steps.
+    pub fn cost_model(&self) -> &CostModel {
+        &self.cost
     }
 }
 
@@ -100,29 +119,21 @@ impl Backend for GpuBackend {
                 self.redo.push((i, Recheck::F32Range));
             }
         }
-        // Lanes of like length side by side: neighbouring invocations
-        // step in lockstep, and a lane's result does not depend on where
-        // it runs (each goes back to its own row through `on_gpu`).
-        let l64 = &self.lanes64;
-        self.on_gpu
-            .sort_by(|&a, &b| l64[a].t_end.total_cmp(&l64[b].t_end));
-        self.lanes32.clear();
-        let l64 = &self.lanes64;
-        self.lanes32
-            .extend(self.on_gpu.iter().map(|&i| GpuLane::from(&l64[i])));
-        let globals = GpuGlobals::new(&self.settings, table);
-        // Parts of like length (the lanes are sorted), in flight together.
-        let n_parts = self.lanes32.len().div_ceil(self.part).max(1);
-        let size = self.lanes32.len().div_ceil(n_parts).max(1);
-        let parts: Vec<&[GpuLane]> = self.lanes32.chunks(size).collect();
-        self.part_states.resize_with(parts.len(), Vec::new);
-        let outs = &mut self.part_states[..parts.len()];
-        self.gpu
-            .run_parts(chunk, &parts, globals, outs, self.in_flight, None)?;
+        // Until the cost model has learnt, a pilot of the first lanes runs
+        // alone (ordered by t_end) and teaches it, so that the rest of
+        // the first chunk is ordered by predicted steps too. The pilot is
+        // one lane a slot: a single wave, which leaves the rest of a full
+        // chunk a whole number of waves.
         self.states.clear();
-        for s in outs.iter() {
-            self.states.extend_from_slice(s);
+        let mut done = 0;
+        if !self.cost.trained() {
+            let pilot = (self.gpu.slots as usize).max(MIN_LEARNT);
+            if self.on_gpu.len() >= 2 * pilot {
+                self.run_ordered(chunk, 0..pilot, table)?;
+                done = pilot;
+            }
         }
+        self.run_ordered(chunk, done..self.on_gpu.len(), table)?;
         for (&i, st) in self.on_gpu.iter().zip(&self.states) {
             let mut r = st.end_state().result(&self.lanes64[i], table);
             r.path = RowPath::Gpu;
@@ -137,6 +148,53 @@ impl Backend for GpuBackend {
 }
 
 impl GpuBackend {
+    /// Runs the lanes `on_gpu[range]` on the device ordered by predicted
+    /// cost, most steps first: lanes of like step count side by side end
+    /// together and refill together (see [`CostModel`]), and the last
+    /// lanes a part hands out are its shortest, so few slots still run
+    /// when it has none left to give. `on_gpu[range]` is left in that
+    /// order and their end states are appended to `states`, one for one.
+    /// The model then learns from the lanes' step counts.
+    fn run_ordered(
+        &mut self,
+        chunk: u64,
+        range: std::ops::Range<usize>,
+        table: Option<&FrictionTable>,
+    ) -> Result<()> {
+        let which = &mut self.on_gpu[range.clone()];
+        self.cost.keys(&self.lanes64, which, &mut self.keys);
+        self.order.clear();
+        self.order.extend(0..which.len());
+        let keys = &self.keys;
+        self.order.sort_by(|&a, &b| keys[b].total_cmp(&keys[a]));
+        self.sorted.clear();
+        self.sorted.extend(self.order.iter().map(|&k| which[k]));
+        which.copy_from_slice(&self.sorted);
+        self.lanes32.clear();
+        let l64 = &self.lanes64;
+        self.lanes32
+            .extend(which.iter().map(|&i| GpuLane::from(&l64[i])));
+        let globals = GpuGlobals::new(&self.settings, table);
+        // Parts of like cost (the lanes are sorted), in flight together.
+        let n_parts = self.lanes32.len().div_ceil(self.part).max(1);
+        let size = self.lanes32.len().div_ceil(n_parts).max(1);
+        let parts: Vec<&[GpuLane]> = self.lanes32.chunks(size).collect();
+        self.part_states.resize_with(parts.len(), Vec::new);
+        let outs = &mut self.part_states[..parts.len()];
+        self.gpu
+            .run_parts(chunk, &parts, globals, outs, self.in_flight, None)?;
+        let first = self.states.len();
+        for s in outs.iter() {
+            self.states.extend_from_slice(s);
+        }
+        self.steps.clear();
+        self.steps
+            .extend(self.states[first..].iter().map(|s| s.steps));
+        self.cost
+            .learn(&self.lanes64, &self.on_gpu[range], &self.steps);
+        Ok(())
+    }
+
     /// Recomputes the untrusted rows of a chunk on the f64 path.
     fn recompute(
         &mut self,

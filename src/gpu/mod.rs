@@ -7,6 +7,7 @@
 //! no single dispatch runs long enough to trip a driver watchdog.
 
 mod backend;
+pub mod cost;
 pub mod layout;
 pub mod verify;
 

@@ -483,3 +483,26 @@ fn a_chunk_in_parts_gives_the_same_rows() {
     run.unwrap();
     assert_eq!(format!("{whole:?}"), format!("{parts:?}"));
 }
+
+/// Lanes are ordered on the device by their predicted step counts (a
+/// model learnt from a pilot wave of the first chunk, then from every
+/// chunk): a backend on 64 slots, whose 3,000-lane chunk gets a pilot and
+/// a learnt order, writes the same rows as the shared backend.
+#[test]
+fn ordering_lanes_by_predicted_cost_changes_no_row() {
+    let Some(mut shared) = gpu("ordering_lanes_by_predicted_cost_changes_no_row") else {
+        return;
+    };
+    let params = heterogeneous(3000);
+    let mut want = Vec::new();
+    shared.run_chunk(0, &params, None, &mut want).unwrap();
+    drop(shared);
+    let mut dev = Gpu::new(false).unwrap();
+    dev.slots = 64;
+    let mut g = GpuBackend::new(dev, Settings::default());
+    assert!(!g.cost_model().trained());
+    let mut got = Vec::new();
+    g.run_chunk(0, &params, None, &mut got).unwrap();
+    assert!(g.cost_model().trained(), "the pilot wave taught the model");
+    assert_eq!(format!("{want:?}"), format!("{got:?}"));
+}
