@@ -11,7 +11,7 @@
 //! - `heterogeneous/{sweep-order,sorted-by-steps}/N`: the GPU backend on
 //!   `sweeps/heterogeneous.toml` (t_end 0.2 to 7.8 s), in sweep order and
 //!   sorted by step count.
-//! - `table/{lanes.csv/1-thread,lanes.csv/C-threads,lanes.parquet}/N`:
+//! - `table/{lanes.csv,lanes.parquet}/{1-thread,C-threads}/N`:
 //!   the results table alone, N rows of integrated lanes formatted,
 //!   encoded and committed (the file sizes are printed).
 //!
@@ -130,8 +130,9 @@ fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
 /// Writing the results table alone: the rows of N paper-like lanes
 /// (integrated once, outside the timing) formatted, encoded, synced and
 /// renamed into place, in chunks of the CPU backend's size, as a run
-/// writes them. CSV rows are formatted on 1 thread and on all cores;
-/// Parquet's encoder runs on one. Prints each file's size.
+/// writes them, on 1 thread and on all cores (CSV rows are formatted in
+/// parallel; Parquet's columns are encoded in parallel). Prints each
+/// file's size.
 fn table(c: &mut Criterion) {
     let n = *sizes().last().unwrap();
     let params = lanes(n);
@@ -146,7 +147,12 @@ fn table(c: &mut Criterion) {
     let runs = [
         (Format::Csv, 1, "lanes.csv/1-thread".to_string()),
         (Format::Csv, cores, format!("lanes.csv/{cores}-threads")),
-        (Format::Parquet, 1, "lanes.parquet".to_string()),
+        (Format::Parquet, 1, "lanes.parquet/1-thread".to_string()),
+        (
+            Format::Parquet,
+            cores,
+            format!("lanes.parquet/{cores}-threads"),
+        ),
     ];
     for (format, threads, name) in runs {
         let writers = rayon::ThreadPoolBuilder::new()

@@ -13,11 +13,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use parquet::basic::{Compression, Repetition, Type as Physical};
+use parquet::column::writer::{get_column_writer, get_typed_column_writer_mut, ColumnCloseResult};
 use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::reader::FileReader;
 use parquet::file::serialized_reader::SerializedFileReader;
-use parquet::file::writer::SerializedFileWriter;
+use parquet::file::writer::{SerializedFileWriter, SerializedPageWriter, TrackedWrite};
 use parquet::record::Field;
 use parquet::schema::types::Type;
 
@@ -254,7 +255,10 @@ impl LanesWriter {
             LanesWriter::Parquet(w) => {
                 for (i, (p, r)) in params.iter().zip(results).enumerate() {
                     row_cells(first + i as u64, p, r, cells);
-                    w.write(cells)?;
+                    w.push(cells)?;
+                    if w.rows == ROW_GROUP {
+                        w.flush_group(Some(pool))?;
+                    }
                 }
                 Ok(())
             }
@@ -309,11 +313,48 @@ enum Buffer {
     Text(Vec<ByteArray>),
 }
 
+/// Encodes one column of a row group into memory; the buffers are left
+/// empty for the next group.
+fn encode_column(
+    descr: parquet::schema::types::ColumnDescPtr,
+    props: Arc<WriterProperties>,
+    b: &mut Buffer,
+) -> parquet::errors::Result<(bytes::Bytes, ColumnCloseResult)> {
+    let mut sink = TrackedWrite::new(Vec::new());
+    let close = {
+        let pages = Box::new(SerializedPageWriter::new(&mut sink));
+        let mut col = get_column_writer(descr, props, pages);
+        match b {
+            Buffer::Float(v, def) => {
+                get_typed_column_writer_mut::<DoubleType>(&mut col).write_batch(
+                    v,
+                    Some(def),
+                    None,
+                )?;
+                v.clear();
+                def.clear();
+            }
+            Buffer::Int(v) => {
+                get_typed_column_writer_mut::<Int64Type>(&mut col).write_batch(v, None, None)?;
+                v.clear();
+            }
+            Buffer::Text(v) => {
+                get_typed_column_writer_mut::<ByteArrayType>(&mut col)
+                    .write_batch(v, None, None)?;
+                v.clear();
+            }
+        }
+        col.close()?
+    };
+    Ok((bytes::Bytes::from(sink.into_inner()?), close))
+}
+
 /// `lanes.parquet`, written a row group at a time (bounded memory).
 pub struct ParquetLanes {
     file: AtomicFile,
     path: PathBuf,
     writer: Option<SerializedFileWriter<std::io::BufWriter<File>>>,
+    props: Arc<WriterProperties>,
     cols: Vec<(&'static str, Kind)>,
     bufs: Vec<Buffer>,
     rows: usize,
@@ -355,8 +396,9 @@ impl ParquetLanes {
             .set_compression(Compression::SNAPPY)
             .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")))
             .build();
+        let props = Arc::new(props);
         let writer =
-            SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), Arc::new(props))
+            SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), props.clone())
                 .map_err(|e| parquet_error(path, e))?;
         let cols = columns();
         let bufs = cols
@@ -371,6 +413,7 @@ impl ParquetLanes {
             file,
             path: path.to_path_buf(),
             writer: Some(writer),
+            props,
             cols,
             bufs,
             rows: 0,
@@ -378,6 +421,15 @@ impl ParquetLanes {
     }
 
     fn write(&mut self, cells: &[Cell]) -> Result<()> {
+        self.push(cells)?;
+        if self.rows == ROW_GROUP {
+            self.flush_group(None)?;
+        }
+        Ok(())
+    }
+
+    /// Appends a row to the column buffers.
+    fn push(&mut self, cells: &[Cell]) -> Result<()> {
         for (b, c) in self.bufs.iter_mut().zip(cells) {
             match (b, c) {
                 (Buffer::Float(v, def), Cell::F(x)) => {
@@ -394,44 +446,40 @@ impl ParquetLanes {
             }
         }
         self.rows += 1;
-        if self.rows == ROW_GROUP {
-            self.flush_group()?;
-        }
         Ok(())
     }
 
-    fn flush_group(&mut self) -> Result<()> {
+    /// Writes the buffered rows as a row group. Its columns are encoded
+    /// and compressed each into a buffer of its own, in parallel on
+    /// `pool` when given (the encoder is most of Parquet's cost), then
+    /// spliced into the file in schema order: the same bytes either way.
+    fn flush_group(&mut self, pool: Option<&rayon::ThreadPool>) -> Result<()> {
+        use rayon::prelude::*;
         if self.rows == 0 {
             return Ok(());
         }
         let path = &self.path;
         let w = self.writer.as_mut().expect("open");
+        let descr = w.schema_descr();
+        let jobs: Vec<_> = self
+            .bufs
+            .iter_mut()
+            .enumerate()
+            .map(|(i, b)| (descr.column(i), b))
+            .collect();
+        let props = &self.props;
+        let encode = |(d, b): (parquet::schema::types::ColumnDescPtr, &mut Buffer)| {
+            encode_column(d, props.clone(), b)
+        };
+        let chunks: Vec<_> = match pool {
+            Some(pool) => pool.install(|| jobs.into_par_iter().map(encode).collect()),
+            None => jobs.into_iter().map(encode).collect(),
+        };
         let mut rg = w.next_row_group().map_err(|e| parquet_error(path, e))?;
-        for b in self.bufs.iter_mut() {
-            let mut col = rg
-                .next_column()
-                .map_err(|e| parquet_error(path, e))?
-                .ok_or_else(|| Error::Internal("parquet: fewer columns than the schema".into()))?;
-            let r = match b {
-                Buffer::Float(v, def) => {
-                    let r = col.typed::<DoubleType>().write_batch(v, Some(def), None);
-                    v.clear();
-                    def.clear();
-                    r
-                }
-                Buffer::Int(v) => {
-                    let r = col.typed::<Int64Type>().write_batch(v, None, None);
-                    v.clear();
-                    r
-                }
-                Buffer::Text(v) => {
-                    let r = col.typed::<ByteArrayType>().write_batch(v, None, None);
-                    v.clear();
-                    r
-                }
-            };
-            r.map_err(|e| parquet_error(path, e))?;
-            col.close().map_err(|e| parquet_error(path, e))?;
+        for c in chunks {
+            let (data, close) = c.map_err(|e| parquet_error(path, e))?;
+            rg.append_column(&data, close)
+                .map_err(|e| parquet_error(path, e))?;
         }
         rg.close().map_err(|e| parquet_error(path, e))?;
         self.rows = 0;
@@ -439,7 +487,7 @@ impl ParquetLanes {
     }
 
     fn finish(mut self) -> Result<AtomicFile> {
-        self.flush_group()?;
+        self.flush_group(None)?;
         let w = self.writer.take().expect("open");
         let inner = w.into_inner().map_err(|e| parquet_error(&self.path, e))?;
         self.file.restore_writer(inner);
