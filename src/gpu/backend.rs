@@ -32,8 +32,7 @@ pub struct GpuBackend {
     /// Predicts each lane's steps, to order lanes (learnt during the run).
     cost: CostModel,
     keys: Vec<f64>,
-    order: Vec<usize>,
-    sorted: Vec<usize>,
+    keyed: Vec<(f64, usize)>,
     steps: Vec<u32>,
     states: Vec<GpuState>,
     part_states: Vec<Vec<GpuState>>,
@@ -67,8 +66,7 @@ impl GpuBackend {
             on_gpu: Vec::new(),
             cost: CostModel::new(),
             keys: Vec::new(),
-            order: Vec::new(),
-            sorted: Vec::new(),
+            keyed: Vec::new(),
             steps: Vec::new(),
             states: Vec::new(),
             part_states: Vec::new(),
@@ -77,9 +75,7 @@ impl GpuBackend {
             redo_out: Vec::new(),
         }
     }
-}
 
-impl GpuBackend {
     /// The model that orders lanes by predicted steps.
     pub fn cost_model(&self) -> &CostModel {
         &self.cost
@@ -163,13 +159,13 @@ impl GpuBackend {
     ) -> Result<()> {
         let which = &mut self.on_gpu[range.clone()];
         self.cost.keys(&self.lanes64, which, &mut self.keys);
-        self.order.clear();
-        self.order.extend(0..which.len());
-        let keys = &self.keys;
-        self.order.sort_by(|&a, &b| keys[b].total_cmp(&keys[a]));
-        self.sorted.clear();
-        self.sorted.extend(self.order.iter().map(|&k| which[k]));
-        which.copy_from_slice(&self.sorted);
+        self.keyed.clear();
+        self.keyed
+            .extend(self.keys.iter().copied().zip(which.iter().copied()));
+        self.keyed.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (w, &(_, i)) in which.iter_mut().zip(&self.keyed) {
+            *w = i;
+        }
         self.lanes32.clear();
         let l64 = &self.lanes64;
         self.lanes32

@@ -77,22 +77,28 @@ struct Basis {
 }
 
 impl Basis {
-    fn of(lanes: &[Lane]) -> Basis {
-        let mut t: Vec<f64> = lanes.iter().map(|l| l.t_end).collect();
+    /// The terms for the lanes `lanes[which]`.
+    fn of(lanes: &[Lane], which: &[usize]) -> Basis {
+        let mut t: Vec<f64> = which.iter().map(|&i| lanes[i].t_end).collect();
         t.sort_by(f64::total_cmp);
         let q = |p: f64| t[((t.len() - 1) as f64 * p).round() as usize];
-        let n = lanes.len() as f64;
+        // Welford's mean and variance of each raw parameter, one pass.
+        let mut mean = [0.0; N_RAW];
+        let mut m2 = [0.0; N_RAW];
+        for (k, &i) in which.iter().enumerate() {
+            let r = raw(&lanes[i]);
+            for j in 0..N_RAW {
+                let d = r[j] - mean[j];
+                mean[j] += d / (k + 1) as f64;
+                m2[j] += d * (r[j] - mean[j]);
+            }
+        }
+        let n = which.len() as f64;
         let mut varying = Vec::new();
         for j in 0..N_RAW {
-            let mean = lanes.iter().map(|l| raw(l)[j]).sum::<f64>() / n;
-            let var = lanes
-                .iter()
-                .map(|l| (raw(l)[j] - mean).powi(2))
-                .sum::<f64>()
-                / n;
-            let sd = var.sqrt();
-            if sd > 1e-9 * (mean.abs() + 1e-300) && sd.is_finite() {
-                varying.push((j, mean, sd));
+            let sd = (m2[j] / n).sqrt();
+            if sd > 1e-9 * (mean[j].abs() + 1e-300) && sd.is_finite() {
+                varying.push((j, mean[j], sd));
             }
         }
         Basis {
@@ -150,8 +156,7 @@ impl CostModel {
     /// until trained); −∞ for lanes that never move.
     pub fn keys(&mut self, lanes: &[Lane], which: &[usize], out: &mut Vec<f64>) {
         if self.basis.is_none() && !which.is_empty() {
-            let first: Vec<Lane> = which.iter().map(|&i| lanes[i]).collect();
-            self.basis = Some(Basis::of(&first));
+            self.basis = Some(Basis::of(lanes, which));
         }
         out.clear();
         let mut x = std::mem::take(&mut self.x);
