@@ -208,7 +208,7 @@ impl LanesWriter {
                 push_csv_row(w.line(), cells);
                 w.end_line()
             }
-            LanesWriter::Parquet(w) => w.write(cells),
+            LanesWriter::Parquet(w) => w.write(cells, None),
         }
     }
 
@@ -255,10 +255,7 @@ impl LanesWriter {
             LanesWriter::Parquet(w) => {
                 for (i, (p, r)) in params.iter().zip(results).enumerate() {
                     row_cells(first + i as u64, p, r, cells);
-                    w.push(cells)?;
-                    if w.rows == ROW_GROUP {
-                        w.flush_group(Some(pool))?;
-                    }
+                    w.write(cells, Some(pool))?;
                 }
                 Ok(())
             }
@@ -288,7 +285,7 @@ impl LanesWriter {
                         Kind::Text => Cell::S(Cow::Owned(t.to_string())),
                     });
                 }
-                w.write(cells)
+                w.write(cells, None)
             }
         }
     }
@@ -354,7 +351,6 @@ pub struct ParquetLanes {
     file: AtomicFile,
     path: PathBuf,
     writer: Option<SerializedFileWriter<std::io::BufWriter<File>>>,
-    props: Arc<WriterProperties>,
     cols: Vec<(&'static str, Kind)>,
     bufs: Vec<Buffer>,
     rows: usize,
@@ -396,9 +392,8 @@ impl ParquetLanes {
             .set_compression(Compression::SNAPPY)
             .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")))
             .build();
-        let props = Arc::new(props);
         let writer =
-            SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), props.clone())
+            SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), Arc::new(props))
                 .map_err(|e| parquet_error(path, e))?;
         let cols = columns();
         let bufs = cols
@@ -413,23 +408,15 @@ impl ParquetLanes {
             file,
             path: path.to_path_buf(),
             writer: Some(writer),
-            props,
             cols,
             bufs,
             rows: 0,
         })
     }
 
-    fn write(&mut self, cells: &[Cell]) -> Result<()> {
-        self.push(cells)?;
-        if self.rows == ROW_GROUP {
-            self.flush_group(None)?;
-        }
-        Ok(())
-    }
-
-    /// Appends a row to the column buffers.
-    fn push(&mut self, cells: &[Cell]) -> Result<()> {
+    /// Appends a row to the column buffers, and writes them as a row
+    /// group when it is full (its columns encoded on `pool` when given).
+    fn write(&mut self, cells: &[Cell], pool: Option<&rayon::ThreadPool>) -> Result<()> {
         for (b, c) in self.bufs.iter_mut().zip(cells) {
             match (b, c) {
                 (Buffer::Float(v, def), Cell::F(x)) => {
@@ -446,6 +433,9 @@ impl ParquetLanes {
             }
         }
         self.rows += 1;
+        if self.rows == ROW_GROUP {
+            self.flush_group(pool)?;
+        }
         Ok(())
     }
 
@@ -467,7 +457,7 @@ impl ParquetLanes {
             .enumerate()
             .map(|(i, b)| (descr.column(i), b))
             .collect();
-        let props = &self.props;
+        let props = w.properties();
         let encode = |(d, b): (parquet::schema::types::ColumnDescPtr, &mut Buffer)| {
             encode_column(d, props.clone(), b)
         };

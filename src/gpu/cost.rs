@@ -133,7 +133,8 @@ impl Basis {
 #[derive(Clone, Debug, Default)]
 pub struct CostModel {
     basis: Option<Basis>,
-    /// Σ x xᵀ (row-major, full) and Σ x·steps over the lanes learnt.
+    /// Σ x xᵀ (row-major, upper triangle filled) and Σ x·steps over the
+    /// lanes learnt.
     xtx: Vec<f64>,
     xty: Vec<f64>,
     learnt: usize,
