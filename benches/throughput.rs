@@ -120,6 +120,7 @@ fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
         format: Format::Csv,
         range: None,
         threads: 0,
+        settings: Default::default(),
     };
     let written = tswm::runner::run(src, be, target, None, false).unwrap();
     let mut files = vec![written.lanes];
@@ -160,7 +161,7 @@ fn table(c: &mut Criterion) {
             .build()
             .unwrap();
         let write = || {
-            let mut w = LanesWriter::create(dir.path(), format).unwrap();
+            let mut w = LanesWriter::create(dir.path(), format, false).unwrap();
             let mut cells = Vec::new();
             const CHUNK: usize = 16384;
             for (k, (p, r)) in params.chunks(CHUNK).zip(results.chunks(CHUNK)).enumerate() {

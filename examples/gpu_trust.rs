@@ -46,7 +46,7 @@ fn main() {
     let mut flagged = [0usize; 4];
     println!("lane  worst    done  energy_res  sigma_k   steps  cancel  what");
     for (i, (c, st)) in cpu.iter().zip(&all).enumerate() {
-        let g = st.end_state().result(&lanes[i], None);
+        let g = st.end_state(&lanes[i]).result(&lanes[i], None);
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
         let worst = [
             rel(g.x1_end, c.x1_end),
@@ -123,7 +123,7 @@ fn main() {
     let rows: Vec<_> = all
         .iter()
         .zip(&lanes)
-        .map(|(st, l)| (st.end_state().result(l, None), st.flags & 4 != 0))
+        .map(|(st, l)| (st.end_state(l).result(l, None), st.flags & 4 != 0))
         .collect();
     let t = std::time::Instant::now();
     let mut flagged_again = 0usize;

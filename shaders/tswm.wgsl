@@ -36,7 +36,7 @@ struct Lane {
     v_sync: f32, sigma_k: f32, f_crit: f32, f1: f32,
     motor_off: f32, friction: u32, fric_a: f32, fric_b: f32,
     fric_c: f32, mu: f32, mu_s: f32, x1_0: f32,
-    v1_0: f32, t_end: f32, pad0: f32, pad1: f32,
+    v1_0: f32, t_end: f32, t_max: f32, pad1: f32,
 }
 
 // Law codes: keep in sync with src/model.rs.
@@ -301,10 +301,12 @@ fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
 // Event functions: keep in sync with `EventFn` in src/integrator/events.rs.
 const EV_SWITCH: u32 = 0u;
 const EV_REST: u32 = 1u;
+const EV_SPEEDING: u32 = 2u;
 
 fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
     if (which == EV_SWITCH) { return f32(m.side) * phi(l, v, m.motor_on); }
-    return f32(m.dir) * v;
+    if (which == EV_REST) { return f32(m.dir) * v; }
+    return -f32(m.dir) * motion(l, m.side, m.dir, m.motor_on, v).acc;
 }
 
 fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f32 {
@@ -333,7 +335,7 @@ fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f3
 }
 
 // x: θ of the earliest event (> 1: none), y: which (EV_*)
-fn earliest_event(l: Lane, m: Mode, tr: Trial) -> vec2<f32> {
+fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<f32> {
     let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
     let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
     var theta = 2.0;
@@ -342,6 +344,11 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial) -> vec2<f32> {
     if (g_switch < 0.0) {
         let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
         if (th < theta) { theta = th; which = EV_SWITCH; }
+    }
+    let g_speeding = -f32(m.dir) * tr.k7[1];
+    if (running_on && g_speeding < 0.0) {
+        let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
+        if (th < theta) { theta = th; which = EV_SPEEDING; }
     }
     return vec2<f32>(theta, f32(which));
 }
@@ -419,6 +426,8 @@ const F_MOTOR_ON: u32 = 2u;
 const F_DONE: u32 = 4u;
 const F_K1_VALID: u32 = 8u;
 const F_STARTED: u32 = 16u;
+const F_RUNNING_ON: u32 = 32u;
+const F_SPEEDING: u32 = 64u;
 
 const NO_FIRST_SWITCH: f32 = -1.0;
 
@@ -526,9 +535,20 @@ fn cut_motor(l: Lane, st: ptr<function, State>) {
     }
 }
 
+fn horizon(l: Lane, st: ptr<function, State>) -> f32 {
+    return select(l.t_end, l.t_max, has(st, F_RUNNING_ON));
+}
+
 fn reach_time_event(l: Lane, st: ptr<function, State>, t_stop: f32) {
     time_set(st, t_stop);
-    if (t_stop >= l.t_end) { set_flag(st, F_DONE, true); } else { cut_motor(l, st); }
+    if (t_stop < horizon(l, st)) {
+        cut_motor(l, st);
+    } else if (!has(st, F_RUNNING_ON) && l.t_max > l.t_end && l.motor_off < l.t_end
+        && !has(st, F_STUCK) && has(st, F_K1_VALID) && f32((*st).dir) * (*st).k1[1] < 0.0) {
+        set_flag(st, F_RUNNING_ON, true);
+    } else {
+        set_flag(st, F_DONE, true);
+    }
 }
 
 struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
@@ -536,8 +556,9 @@ struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
 fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
     var plan: StepPlan;
     plan.ok = false;
-    var t_stop = l.t_end;
-    if (has(st, F_MOTOR_ON) && l.motor_off < l.t_end) { t_stop = l.motor_off; }
+    let end = horizon(l, st);
+    var t_stop = end;
+    if (has(st, F_MOTOR_ON) && l.motor_off < end) { t_stop = l.motor_off; }
     if (has(st, F_STUCK)) {
         reach_time_event(l, st, t_stop);
         return plan;
@@ -576,7 +597,7 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
     let h_next = h * fac;
     (*st).steps += 1u;
     if ((*st).steps > g.max_steps) { finish(st, S_MAX_STEPS); return; }
-    let ev = earliest_event(l, plan.mode, tr);
+    let ev = earliest_event(l, plan.mode, tr, has(st, F_RUNNING_ON));
     if (ev.x <= 1.0) {
         step_to_event(l, st, plan, ev.x, u32(ev.y), h_next);
     } else {
@@ -619,7 +640,15 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, 
     set_flag(st, F_K1_VALID, false);
     (*st).events += 1u;
     (*st).h = max(h_next, h_ev);
-    if (which == EV_REST) { come_to_rest(l, st); } else { set_side(st, -(*st).side); check_mode(l, st); }
+    if (which == EV_REST) {
+        come_to_rest(l, st);
+    } else if (which == EV_SWITCH) {
+        set_side(st, -(*st).side);
+        check_mode(l, st);
+    } else {
+        set_flag(st, F_SPEEDING, true);
+    }
+    if (has(st, F_RUNNING_ON) && which != EV_SWITCH) { set_flag(st, F_DONE, true); }
     if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
 }
 

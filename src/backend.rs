@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::gpu::{Gpu, GpuBackend};
-use crate::integrator::{simulate_batch, Contact, LaneResult, RowPath, Settings, Status};
+use crate::integrator::{simulate_batch, LaneResult, Settings};
 use crate::model::{FrictionTable, Lane};
 use crate::params::{Num, Params, Spec};
 use crate::sampling::Uniforms;
@@ -91,31 +91,7 @@ pub fn run_cpu_lanes(
 }
 
 /// Filler overwritten by every lane's result.
-pub(crate) const PLACEHOLDER: LaneResult = LaneResult {
-    status: Status::NonFinite,
-    switches: 0,
-    t_first_switch: f64::NAN,
-    reversals: 0,
-    sticks: 0,
-    contact_end: Contact::Stick,
-    x1_end: f64::NAN,
-    v1_end: f64::NAN,
-    w_motor: f64::NAN,
-    w_load: f64::NAN,
-    w_friction: f64::NAN,
-    eta_end: f64::NAN,
-    steps: 0,
-    w1_in: f64::NAN,
-    w1_out: f64::NAN,
-    w2_in: f64::NAN,
-    w2_out: f64::NAN,
-    eta_direct: f64::NAN,
-    eta_inverse: f64::NAN,
-    eta_direct_ss: f64::NAN,
-    eta_inverse_ss: f64::NAN,
-    lock_margin_deg: f64::NAN,
-    path: RowPath::Cpu,
-};
+pub(crate) const PLACEHOLDER: LaneResult = LaneResult::EMPTY;
 
 impl Backend for CpuBackend {
     fn name(&self) -> String {

@@ -1,8 +1,10 @@
-//! CPU against GPU on the same lanes: a lane *agrees* when its
-//! status, switches, reversals, sticks and final contact are identical, its
-//! first switch is within 2e-5 s and x1, v1 and the three works are within
-//! 5e-5 of max(1, |value|). The check passes when at least 98 % of lanes
-//! agree; every other lane is listed with the reason.
+//! CPU against GPU on the same lanes: a lane *agrees* when the columns the
+//! table of result columns compares exactly (status, switches, reversals,
+//! sticks, final contact, hold) are identical, its first switch is within
+//! 2e-5 s and x1, v1, the works, the mesh energies and the stop time are
+//! within 5e-5 of max(1, |value|) (`columns::Compare`). The check passes
+//! when at least 98 % of lanes agree; every other lane is listed with the
+//! reason.
 //!
 //! The worst deviation of each column (over lanes whose discrete fields
 //! agree) and the number of lanes over each bound are reported too, the
@@ -16,6 +18,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 
 use crate::backend::{Backend, CpuBackend};
+use crate::columns::{results, Column, Compare};
 use crate::error::Result;
 use crate::integrator::LaneResult;
 use crate::lanes::Source;
@@ -23,36 +26,37 @@ use crate::model::FrictionTable;
 use crate::params::Params;
 use crate::runner::{pipeline, Sink};
 
-/// Bound on first-switch times, s.
-pub const SWITCH_BOUND: f64 = 2e-5;
-/// Bound on x1, v1 and the works, relative to max(1, |value|).
-pub const VALUE_BOUND: f64 = 5e-5;
+pub use crate::columns::{SWITCH_BOUND, VALUE_BOUND};
 /// Least share of lanes that must agree.
 pub const AGREE_SHARE: f64 = 0.98;
 
-/// The compared continuous columns.
-pub const COLUMNS: [&str; 10] = [
-    "t_first_switch",
-    "x1_end",
-    "v1_end",
-    "w_motor",
-    "w_load",
-    "w_friction",
-    "w1_in",
-    "w1_out",
-    "w2_in",
-    "w2_out",
-];
+/// The compared continuous columns, in table order.
+pub fn compared() -> Vec<&'static Column> {
+    results()
+        .iter()
+        .filter(|c| matches!(c.compare, Compare::Seconds(_) | Compare::Relative(_)))
+        .collect()
+}
 
+/// The bound of a compared column.
+fn bound(c: &Column) -> f64 {
+    match c.compare {
+        Compare::Seconds(b) | Compare::Relative(b) => b,
+        _ => f64::INFINITY,
+    }
+}
+
+/// The discrete fields of a row, joined by `/`.
 fn discrete(r: &LaneResult) -> String {
-    format!(
-        "{}/{}/{}/{}/{}",
-        r.status.name(),
-        r.switches,
-        r.reversals,
-        r.sticks,
-        r.contact_end.name()
-    )
+    results()
+        .iter()
+        .filter(|c| c.compare == Compare::Exact)
+        .map(|c| match (c.cell)(0, r) {
+            crate::columns::Cell::S(w) => w.into_owned(),
+            x => format!("{}", x.number()),
+        })
+        .collect::<Vec<_>>()
+        .join("/")
 }
 
 /// Disagreeing lanes listed in the printed report; all of them go to the
@@ -61,15 +65,14 @@ pub const LISTED: usize = 20;
 
 /// Accumulated comparison. Its memory does not grow with the number of
 /// lanes or of disagreeing lanes.
-#[derive(Default)]
 pub struct Report {
     /// Lanes compared.
     pub lanes: u64,
-    /// Worst deviation of each of [`COLUMNS`] and its lane (lanes whose
+    /// Worst deviation of each of [`compared`] and its lane (lanes whose
     /// discrete fields agree).
-    pub worst: [(f64, u64); COLUMNS.len()],
+    pub worst: Vec<(f64, u64)>,
     /// Lanes over the bound, per column.
-    pub over: [u64; COLUMNS.len()],
+    pub over: Vec<u64>,
     /// Lanes whose discrete fields differ.
     pub discrete_differ: u64,
     /// Lanes that do not agree.
@@ -80,6 +83,22 @@ pub struct Report {
     pub listed: Vec<(u64, String)>,
     /// Every lane that does not agree, as CSV rows (lane,reason).
     pub all: Option<Box<dyn std::io::Write + Send>>,
+}
+
+impl Default for Report {
+    fn default() -> Report {
+        let n = compared().len();
+        Report {
+            lanes: 0,
+            worst: vec![(0.0, 0); n],
+            over: vec![0; n],
+            discrete_differ: 0,
+            disagree: 0,
+            recomputed: 0,
+            listed: Vec::new(),
+            all: None,
+        }
+    }
 }
 
 impl Report {
@@ -122,34 +141,25 @@ impl Report {
                 self.disagrees(lane, format!("discrete fields differ: cpu {dc}, gpu {dg}"))?;
                 continue;
             }
-            let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
-            let dev = [
-                if c.switches > 0 {
-                    (g.t_first_switch - c.t_first_switch).abs()
-                } else {
-                    0.0
-                },
-                rel(g.x1_end, c.x1_end),
-                rel(g.v1_end, c.v1_end),
-                rel(g.w_motor, c.w_motor),
-                rel(g.w_load, c.w_load),
-                rel(g.w_friction, c.w_friction),
-                rel(g.w1_in, c.w1_in),
-                rel(g.w1_out, c.w1_out),
-                rel(g.w2_in, c.w2_in),
-                rel(g.w2_out, c.w2_out),
-            ];
             let mut reasons = Vec::new();
-            for (k, d) in dev.into_iter().enumerate() {
+            for (k, col) in compared().into_iter().enumerate() {
+                let (a, b) = ((col.cell)(lane, g).number(), (col.cell)(lane, c).number());
+                let d = match col.compare {
+                    // Both have none (no switch): nothing to compare.
+                    Compare::Seconds(_) if a.is_nan() && b.is_nan() => 0.0,
+                    Compare::Seconds(_) => (a - b).abs(),
+                    _ if a.is_nan() && b.is_nan() => 0.0,
+                    _ => (a - b).abs() / b.abs().max(1.0),
+                };
                 // NaN (numbers on one side only) counts as infinitely far.
                 let d = if d.is_nan() { f64::INFINITY } else { d };
                 if d > self.worst[k].0 {
                     self.worst[k] = (d, lane);
                 }
-                let bound = if k == 0 { SWITCH_BOUND } else { VALUE_BOUND };
+                let bound = bound(col);
                 if d > bound {
                     self.over[k] += 1;
-                    reasons.push(format!("{} off by {d:.3e} (bound {bound:.0e})", COLUMNS[k]));
+                    reasons.push(format!("{} off by {d:.3e} (bound {bound:.0e})", col.name));
                 }
             }
             if !reasons.is_empty() {
@@ -191,20 +201,27 @@ impl Report {
             "{:<16} {:>12} {:>8} {:>10}  worst lane",
             "column", "worst", "bound", "lanes over"
         );
-        for (i, c) in COLUMNS.iter().enumerate() {
-            let bound = if i == 0 { SWITCH_BOUND } else { VALUE_BOUND };
+        for (i, c) in compared().into_iter().enumerate() {
+            let bound = bound(c);
             let (w, lane) = self.worst[i];
             let _ = writeln!(
                 s,
-                "{c:<16} {w:>12.3e} {bound:>8.0e} {:>10}  {lane}",
-                self.over[i]
+                "{:<16} {w:>12.3e} {bound:>8.0e} {:>10}  {lane}",
+                c.name, self.over[i]
             );
         }
+        let exact: Vec<&str> = results()
+            .iter()
+            .filter(|c| c.compare == Compare::Exact)
+            .map(|c| c.name)
+            .collect();
         let _ = writeln!(
             s,
-            "discrete fields (status/switches/reversals/sticks/contact) differ on {} lanes; \
+            "discrete fields ({}) differ on {} lanes; \
              {} GPU rows were recomputed in f64 by the GPU path's self-check",
-            self.discrete_differ, self.recomputed
+            exact.join("/"),
+            self.discrete_differ,
+            self.recomputed
         );
         if self.disagree > 0 {
             let _ = writeln!(
@@ -228,14 +245,14 @@ impl Report {
 
 /// The comparison as a sink of the runner's pipeline: each chunk the GPU
 /// returns is run again on the CPU path and compared.
-struct Compare {
+struct Comparison {
     cpu: CpuBackend,
     table: Option<FrictionTable>,
     cpu_results: Vec<LaneResult>,
     report: Report,
 }
 
-impl Sink for Compare {
+impl Sink for Comparison {
     type Output = Report;
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
         self.cpu
@@ -263,7 +280,7 @@ pub fn compare(
     progress: bool,
     report: Report,
 ) -> Result<Report> {
-    let sink = Compare {
+    let sink = Comparison {
         cpu,
         table: source.friction_table().copied(),
         cpu_results: Vec::new(),
@@ -280,10 +297,6 @@ mod tests {
     fn row(x: f64) -> LaneResult {
         LaneResult {
             status: Status::Ok,
-            switches: 0,
-            t_first_switch: f64::NAN,
-            reversals: 0,
-            sticks: 0,
             contact_end: Contact::Aa,
             x1_end: x,
             v1_end: 1.0,
@@ -297,11 +310,12 @@ mod tests {
             w2_in: 0.0,
             w2_out: 1.0,
             eta_direct: 1.0,
-            eta_inverse: f64::NAN,
             eta_direct_ss: 0.7,
             eta_inverse_ss: 0.6,
             lock_margin_deg: 1.0,
+            t_stop: 2.0,
             path: RowPath::Gpu,
+            ..LaneResult::EMPTY
         }
     }
 

@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::integrator::Settings;
 use crate::lanes::Source;
 use crate::lanes_file::Format;
+use crate::params::Num;
 use crate::sweep::TraceSpec;
 
 /// Simulate thousands to millions of worm-drive (TSWM) variants.
@@ -117,13 +118,66 @@ pub struct Plan {
     pub settings: Settings,
 }
 
+/// Most rows the sampling interval of a run's traces may give (about
+/// 1 GB of `traces.csv`); each event adds two rows beyond them, at most
+/// 2 × `max_events` a lane.
+pub const MAX_TRACE_ROWS: u64 = 10_000_000;
+
 /// The traces a run writes: `--trace` and `--trace-dt` over the sweep
-/// file's `[trace]` table; None when no lane is traced.
+/// file's `[trace]` table; None when no lane is traced. A request for
+/// more than [`MAX_TRACE_ROWS`] rows is refused with the smallest
+/// interval that fits.
 pub fn trace_plan(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<TraceSpec>> {
-    let from_file = match source {
-        Source::Sweep { sweep, .. } => sweep.trace.clone(),
-        Source::Table { .. } => None,
-    };
+    let spec = trace_spec(lanes, dt, source)?;
+    if let Some(s) = &spec {
+        check_trace_rows(s, source)?;
+    }
+    Ok(spec)
+}
+
+/// The rows a trace of lanes running to `horizons` (s) gets every `dt`.
+fn trace_rows(horizons: &[f64], dt: f64) -> f64 {
+    horizons.iter().map(|h| (h / dt).floor() + 1.0).sum()
+}
+
+fn check_trace_rows(spec: &TraceSpec, source: &Source) -> Result<()> {
+    let horizons: Vec<f64> = source
+        .lanes_at(&spec.lanes)?
+        .iter()
+        .map(|p| {
+            let (te, tm) = (p.get(Num::TEnd), p.get(Num::TMax));
+            if tm.is_nan() {
+                te
+            } else {
+                te.max(tm)
+            }
+        })
+        .collect();
+    let max = MAX_TRACE_ROWS as f64;
+    let rows = trace_rows(&horizons, spec.dt);
+    if rows <= max {
+        return Ok(());
+    }
+    // The smallest interval that fits, rounded up to two digits.
+    let total: f64 = horizons.iter().sum();
+    let raw = total / (max - horizons.len() as f64).max(1.0);
+    let unit = 10f64.powf(raw.log10().floor() - 1.0);
+    let mut dt = (raw / unit).ceil() * unit;
+    while trace_rows(&horizons, dt) > max {
+        dt += unit;
+    }
+    Err(Error::Usage(format!(
+        "trace dt: {} s gives {rows:.3e} rows for {} traced lanes, over the limit of {} rows \
+         (about 1 GB of traces.csv); allowed: a dt of at least {} s, or fewer traced lanes",
+        spec.dt,
+        spec.lanes.len(),
+        MAX_TRACE_ROWS,
+        crate::report::axis::number(dt, unit)
+    )))
+}
+
+fn trace_spec(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<TraceSpec>> {
+    let from_file = source.trace().cloned();
     let (lanes, dt) = match (lanes.is_empty(), dt, from_file) {
         (true, None, file) => return Ok(file),
         (true, Some(dt), Some(file)) => (file.lanes, dt),

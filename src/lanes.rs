@@ -34,6 +34,8 @@ pub enum Source {
         table: Option<FrictionTable>,
         /// What the report shows.
         report: crate::sweep::ReportSpec,
+        /// Rows to trace (the sweep file's `[trace]`).
+        trace: Option<crate::sweep::TraceSpec>,
         /// Number of rows (counted by [`Source::open`]).
         rows: u64,
     },
@@ -72,37 +74,39 @@ impl Source {
     /// Lanes of a lane table over an optional sweep file's base and table
     /// (rows not yet read: see [`Source::open`]).
     fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
-        let (base, table, report) = match sweep_file {
+        let (base, table, report, trace) = match sweep_file {
             Some(f) => {
                 let s = Sweep::from_file(f)?;
-                if !s.axes.is_empty() || s.study.is_some() || s.trace.is_some() {
+                if !s.axes.is_empty() || s.study.is_some() {
                     return Err(Error::input(
                         f,
                         None,
                         None,
-                        "with --lanes the sweep file may hold only [base], [friction_table] and [report]; \
-                         the lane table gives the lanes",
+                        "with --lanes the sweep file may hold only [base], [friction_table], [trace] \
+                         and [report]; the lane table gives the lanes",
                     ));
                 }
-                (s.base, s.table, s.report)
+                (s.base, s.table, s.report, s.trace)
             }
-            None => (Spec::default(), None, Default::default()),
+            None => (Spec::default(), None, Default::default(), None),
         };
         Ok(Source::Table {
             path: path.to_path_buf(),
             base,
             table,
             report,
+            trace,
             rows: 0,
         })
     }
 
-    /// The sweep with every lane's source spelled out, as TOML: the sweep
-    /// file resolved, or for a lane table the `[base]`,
-    /// `[friction_table]` and `[report]` under its cells.
-    pub fn resolved_text(&self) -> String {
-        let resolved = match self {
-            Source::Sweep { sweep, .. } => sweep.resolved_toml(),
+    /// The sweep with every lane's source spelled out, as TOML, with the
+    /// traces the run writes (`trace`): the sweep file resolved, or for a
+    /// lane table the `[base]`, `[friction_table]` and `[report]` under
+    /// its cells.
+    pub fn resolved_text(&self, trace: Option<&crate::sweep::TraceSpec>) -> String {
+        let mut sweep = match self {
+            Source::Sweep { sweep, .. } => sweep.clone(),
             Source::Table {
                 base,
                 table,
@@ -115,10 +119,58 @@ impl Source {
                 table: *table,
                 trace: None,
                 report: report.clone(),
-            }
-            .resolved_toml(),
+            },
         };
-        toml::to_string(&resolved).unwrap_or_default()
+        sweep.trace = trace.cloned();
+        toml::to_string(&sweep.resolved_toml()).unwrap_or_default()
+    }
+
+    /// The traces the source's file asks for (`[trace]`), if any.
+    pub fn trace(&self) -> Option<&crate::sweep::TraceSpec> {
+        match self {
+            Source::Sweep { sweep, .. } => sweep.trace.as_ref(),
+            Source::Table { trace, .. } => trace.as_ref(),
+        }
+    }
+
+    /// The parameters of the lanes `idx` (ascending), read from the
+    /// source (a lane table is read up to the last of them).
+    pub fn lanes_at(&self, idx: &[u64]) -> Result<Vec<Params>> {
+        let mut out = Vec::with_capacity(idx.len());
+        match self {
+            Source::Sweep { sweep, file } => {
+                let mut u = sweep.uniforms();
+                for &i in idx {
+                    let p = sweep.lane_spec(i, &mut u).resolve(sweep.table.is_some());
+                    out.push(p.map_err(|e| {
+                        Error::input(file, Some(format!("lane {i}")), Some(e.param), e.msg)
+                    })?);
+                }
+            }
+            Source::Table { .. } => {
+                let Some(&last) = idx.last() else {
+                    return Ok(out);
+                };
+                // Streamed a block at a time: memory does not grow with
+                // the table.
+                let mut r = self.reader_range(0, last + 1)?;
+                let (mut buf, mut first, mut want) = (Vec::new(), 0u64, idx.iter().peekable());
+                loop {
+                    buf.clear();
+                    r.fill(4096, &mut buf)?;
+                    if buf.is_empty() {
+                        break;
+                    }
+                    let end = first + buf.len() as u64;
+                    while let Some(&&i) = want.peek().filter(|&&&i| i < end) {
+                        out.push(buf[(i - first) as usize]);
+                        want.next();
+                    }
+                    first = end;
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// The friction table lanes may refer to.

@@ -22,11 +22,14 @@ use parquet::file::writer::{SerializedFileWriter, SerializedPageWriter, TrackedW
 use parquet::record::Field;
 use parquet::schema::types::Type;
 
+use crate::columns::results;
+pub use crate::columns::{Cell, Kind};
 use crate::error::{Error, Result};
-use crate::integrator::{LaneResult, RowPath, Status};
+use crate::integrator::LaneResult;
 use crate::outdir::AtomicFile;
-use crate::output::{push_f64, CsvLines, RESULT_COLUMNS};
+use crate::output::{push_f64, CsvLines};
 use crate::params::{Param, Params};
+use crate::shard::{FileDigest, Hashing};
 
 /// The format of the results table.
 #[derive(
@@ -74,18 +77,9 @@ impl Format {
     }
 }
 
-/// The kind of a column, which is its Parquet type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// f64; an empty cell (NaN: not applicable) is a null.
-    Float,
-    /// A count or index (i64, never empty).
-    Int,
-    /// A word (`motor`, `status`, ...).
-    Text,
-}
-
-/// The columns of the results table, in order, with their kinds.
+/// The columns of the results table, in order, with their kinds: the
+/// parameters (MODEL.md section 9 order), then the result columns of
+/// [`crate::columns::RESULTS`].
 pub fn columns() -> Vec<(&'static str, Kind)> {
     let mut c: Vec<(&'static str, Kind)> = Param::COLUMNS
         .iter()
@@ -94,26 +88,8 @@ pub fn columns() -> Vec<(&'static str, Kind)> {
             _ => (p.name(), Kind::Text),
         })
         .collect();
-    c.extend(RESULT_COLUMNS.iter().map(|&n| {
-        let k = match n {
-            "lane" | "switches" | "reversals" | "sticks" | "steps" => Kind::Int,
-            "status" | "contact_end" | "path" => Kind::Text,
-            _ => Kind::Float,
-        };
-        (n, k)
-    }));
+    c.extend(results().iter().map(|r| (r.name, r.kind)));
     c
-}
-
-/// One cell of a row.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Cell {
-    /// A float column's value (NaN: empty).
-    F(f64),
-    /// An integer column's value.
-    I(u64),
-    /// A word (borrowed when it is one of the fixed ones).
-    S(Cow<'static, str>),
 }
 
 /// Lane `lane`'s row, in [`columns`] order, into `out` (cleared first).
@@ -126,39 +102,7 @@ pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
             Param::Num(n) => Cell::F(p.get(n)),
         });
     }
-    // A lane that could not be finished reports no numbers, only counts.
-    let ok = r.status == Status::Ok;
-    let v = |x: f64| Cell::F(if ok { x } else { f64::NAN });
-    out.extend([
-        Cell::I(lane),
-        Cell::S(Cow::Borrowed(r.status.name())),
-        Cell::I(r.switches as u64),
-        Cell::F(r.t_first_switch),
-        Cell::I(r.reversals as u64),
-        Cell::I(r.sticks as u64),
-        Cell::S(Cow::Borrowed(r.contact_end.name())),
-        v(r.x1_end),
-        v(r.v1_end),
-        v(r.w_motor),
-        v(r.w_load),
-        v(r.w_friction),
-        v(r.eta_end),
-        Cell::I(r.steps as u64),
-        v(r.w1_in),
-        v(r.w1_out),
-        v(r.w2_in),
-        v(r.w2_out),
-        v(r.eta_direct),
-        v(r.eta_inverse),
-        v(r.eta_direct_ss),
-        v(r.eta_inverse_ss),
-        v(r.lock_margin_deg),
-        Cell::S(match r.path {
-            RowPath::Cpu => Cow::Borrowed("cpu"),
-            RowPath::Gpu => Cow::Borrowed("gpu"),
-            p => Cow::Owned(p.name()),
-        }),
-    ]);
+    out.extend(results().iter().map(|c| (c.cell)(lane, r)));
 }
 
 /// A row of `lanes.csv`, without its line end: the cells joined by
@@ -190,19 +134,21 @@ pub enum LanesWriter {
 
 impl LanesWriter {
     /// Starts the table `dir/lanes.{csv,parquet}`.
-    pub fn create(dir: &Path, format: Format) -> Result<LanesWriter> {
+    /// `hashed`: the file's SHA-256 is computed as it is written (a
+    /// shard's, for its manifest).
+    pub fn create(dir: &Path, format: Format, hashed: bool) -> Result<LanesWriter> {
         let path = dir.join(format.file_name());
         Ok(match format {
             Format::Csv => {
                 let header: Vec<&str> = columns().iter().map(|c| c.0).collect();
-                LanesWriter::Csv(CsvLines::create(&path, &header.join(","))?)
+                LanesWriter::Csv(CsvLines::start(&path, &header.join(","), hashed)?)
             }
-            Format::Parquet => LanesWriter::Parquet(Box::new(ParquetLanes::create(&path)?)),
+            Format::Parquet => LanesWriter::Parquet(Box::new(ParquetLanes::create(&path, hashed)?)),
         })
     }
 
     /// Appends a row of cells, in [`columns`] order.
-    pub fn write(&mut self, cells: &[Cell]) -> Result<()> {
+    pub fn write_cells(&mut self, cells: &[Cell]) -> Result<()> {
         match self {
             LanesWriter::Csv(w) => {
                 push_csv_row(w.line(), cells);
@@ -262,8 +208,10 @@ impl LanesWriter {
         }
     }
 
-    /// Appends a row read back by a [`RowReader`] (its text cells).
-    pub fn write_record(&mut self, rec: &csv::ByteRecord, cells: &mut Vec<Cell>) -> Result<()> {
+    /// Appends a row read back by a [`RowReader`]: `rec` its text, `cells`
+    /// its cells as [`RowReader::read_cells`] typed them. A CSV row is
+    /// copied as it was read (the same bytes as the shard's).
+    pub fn write_row(&mut self, rec: &csv::ByteRecord, cells: &[Cell]) -> Result<()> {
         match self {
             LanesWriter::Csv(w) => {
                 let s = w.line();
@@ -275,18 +223,7 @@ impl LanesWriter {
                 }
                 w.end_line()
             }
-            LanesWriter::Parquet(w) => {
-                cells.clear();
-                for ((_, kind), f) in w.cols.iter().zip(rec.iter()) {
-                    let t = std::str::from_utf8(f).unwrap_or("");
-                    cells.push(match kind {
-                        Kind::Float => Cell::F(t.parse().unwrap_or(f64::NAN)),
-                        Kind::Int => Cell::I(t.parse().unwrap_or(0)),
-                        Kind::Text => Cell::S(Cow::Owned(t.to_string())),
-                    });
-                }
-                w.write(cells, None)
-            }
+            LanesWriter::Parquet(w) => w.write(cells, None),
         }
     }
 
@@ -350,8 +287,7 @@ fn encode_column(
 pub struct ParquetLanes {
     file: AtomicFile,
     path: PathBuf,
-    writer: Option<SerializedFileWriter<std::io::BufWriter<File>>>,
-    cols: Vec<(&'static str, Kind)>,
+    writer: Option<SerializedFileWriter<crate::outdir::FileWriter>>,
     bufs: Vec<Buffer>,
     rows: usize,
 }
@@ -385,8 +321,12 @@ fn parquet_error(path: &Path, e: parquet::errors::ParquetError) -> Error {
 }
 
 impl ParquetLanes {
-    fn create(path: &Path) -> Result<ParquetLanes> {
-        let mut file = AtomicFile::create(path)?;
+    fn create(path: &Path, hashed: bool) -> Result<ParquetLanes> {
+        let mut file = if hashed {
+            AtomicFile::create_hashed(path)?
+        } else {
+            AtomicFile::create(path)?
+        };
         let props = WriterProperties::builder()
             // Snappy: fast, and read by every Parquet reader.
             .set_compression(Compression::SNAPPY)
@@ -395,8 +335,7 @@ impl ParquetLanes {
         let writer =
             SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), Arc::new(props))
                 .map_err(|e| parquet_error(path, e))?;
-        let cols = columns();
-        let bufs = cols
+        let bufs = columns()
             .iter()
             .map(|(_, k)| match k {
                 Kind::Float => Buffer::Float(Vec::new(), Vec::new()),
@@ -408,7 +347,6 @@ impl ParquetLanes {
             file,
             path: path.to_path_buf(),
             writer: Some(writer),
-            cols,
             bufs,
             rows: 0,
         })
@@ -495,7 +433,7 @@ pub struct RowReader {
 }
 
 enum Inner {
-    Csv(csv::Reader<File>),
+    Csv(csv::Reader<Hashing<File>>),
     Parquet(parquet::record::reader::RowIter<'static>),
 }
 
@@ -511,8 +449,10 @@ impl RowReader {
         let bad = |m: String| Error::input(path, None, None, m);
         match format {
             Format::Csv => {
-                let mut rd = csv::Reader::from_path(path)
-                    .map_err(|e| bad(format!("cannot read it: {e}")))?;
+                let f = File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+                // Hashed as it is read: a merge checks a shard's table
+                // against its manifest without reading it twice.
+                let mut rd = csv::Reader::from_reader(Hashing::new(f));
                 let header = rd
                     .byte_headers()
                     .map_err(|e| bad(format!("not a tswm table: {e}")))?
@@ -540,6 +480,70 @@ impl RowReader {
                 })
             }
         }
+    }
+
+    /// The size and SHA-256 of what was read so far of a CSV table (the
+    /// whole file once [`RowReader::read`] has returned false); None for
+    /// Parquet, which is not read as a stream of bytes.
+    pub fn digest(&self) -> Option<FileDigest> {
+        match &self.inner {
+            Inner::Csv(rd) => rd.get_ref().digest(),
+            Inner::Parquet(_) => None,
+        }
+    }
+
+    /// Reads the next row into `cells`, typed by `kinds` (the table's
+    /// columns): floats (empty: NaN), counts and words. Errors name the
+    /// row and the column of a cell that is not of its column's kind; a
+    /// row of another length is an error too. False at the end.
+    pub fn read_cells(
+        &mut self,
+        rec: &mut csv::ByteRecord,
+        kinds: &[(&'static str, Kind)],
+        cells: &mut Vec<Cell>,
+    ) -> Result<bool> {
+        if !self.read(rec)? {
+            return Ok(false);
+        }
+        let row = self.rows;
+        let bad = |col: &str, m: String| {
+            Error::input(&self.path, Some(format!("row {row}")), Some(col), m)
+        };
+        if rec.len() != kinds.len() {
+            return Err(bad(
+                "",
+                format!(
+                    "has {} cells, the table's header {}; not a tswm table",
+                    rec.len(),
+                    kinds.len()
+                ),
+            ));
+        }
+        cells.clear();
+        for (&(name, kind), f) in kinds.iter().zip(rec.iter()) {
+            let t =
+                std::str::from_utf8(f).map_err(|_| bad(name, "is not valid UTF-8 text".into()))?;
+            cells.push(match kind {
+                Kind::Float if t.is_empty() => Cell::F(f64::NAN),
+                Kind::Float => match t.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Cell::F(v),
+                    _ => {
+                        return Err(bad(
+                            name,
+                            format!("`{}` is not a finite number", crate::error::shown(t, 40)),
+                        ))
+                    }
+                },
+                Kind::Int => Cell::I(t.parse().map_err(|_| {
+                    bad(
+                        name,
+                        format!("`{}` is not a whole number", crate::error::shown(t, 40)),
+                    )
+                })?),
+                Kind::Text => Cell::S(Cow::Owned(t.to_string())),
+            });
+        }
+        Ok(true)
     }
 
     /// The column names.

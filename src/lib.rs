@@ -19,6 +19,8 @@
 pub mod backend;
 pub mod check;
 pub mod cli;
+pub mod columns;
+pub mod commands;
 pub mod error;
 pub mod gpu;
 pub mod integrator;

@@ -1,28 +1,31 @@
 //! `tswm merge`: the shard folders of one sweep joined into what one run
 //! would have written: the table (byte-identical to an unsharded run's on
-//! the same backend), `traces.csv`, `summary.csv` and
-//! `sweep.resolved.toml`; `main` then writes the report from them.
+//! the same backend), `traces.csv`, `summary.csv`,
+//! `sweep.resolved.toml` and the report.
 //!
-//! Every shard is checked before anything is written: each has its
-//! manifest (written last by its run, so its presence means complete),
-//! files of the recorded sizes, the same sweep hash, shard count, tool
-//! version and backend kind as the others, and the lane range its index
-//! gives; each index 0..N appears exactly once. The rows are then
-//! streamed, one shard after the other, and checked lane by lane on the
-//! way; any failure drops the partial files, so nothing is written.
+//! Shards are verified, not trusted. Before anything is written, each
+//! shard must have its manifest (written last by its run, so its presence
+//! means complete), the same sweep hash, shard count, tool version,
+//! backend kind and lane count as the others, the lane range its index
+//! gives, each index 0..N once, and files of the sizes and SHA-256 the
+//! manifest records; its `sweep.resolved.toml` must hash to the sweep
+//! hash, and `traces.csv` must be there exactly when a traced lane falls
+//! in the shard. The rows are then streamed, one shard after the other,
+//! parsed cell by cell and checked lane by lane, and each table's SHA-256
+//! is compared as it ends (a CSV table is hashed as it is read); any
+//! failure drops the partial files, so nothing is written.
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::integrator::{Contact, Status};
 use crate::lanes::Source;
 use crate::lanes_file::{columns, Cell, Format, LanesWriter, RowReader};
-use crate::outdir::{commit_together, AtomicFile, OutDir};
+use crate::outdir::names::{RESOLVED, SUMMARY, TRACES};
+use crate::outdir::{AtomicFile, OutDir};
 use crate::output::{time_line, CsvLines, SHARD_LINE, TIME_LINE, TRACE_COLUMNS};
-use crate::params::Num;
-use crate::shard::{Manifest, Shard, MANIFEST};
-use crate::stats::{Grouping, Stats, NUMBER_COLUMNS};
+use crate::shard::{file_digest, sweep_hash, Manifest, Shard, MANIFEST};
+use crate::stats::{Grouping, Stats};
 use crate::sweep::Sweep;
 
 /// What a merge wrote.
@@ -36,17 +39,29 @@ pub struct Merged {
     pub seconds: f64,
     /// The merged table.
     pub table: PathBuf,
+    /// Whether the folder held an earlier run's results, now replaced.
+    pub replaced: bool,
+    /// Seconds the report took, when one was written.
+    pub report_seconds: Option<f64>,
 }
 
 impl Merged {
     /// The one-line summary.
     pub fn line(&self) -> String {
         format!(
-            "tswm merge: {} lanes from {} shards ({:.2} s of shard runs); wrote {}",
+            "tswm merge: {} lanes from {} shards ({:.2} s of shard runs); wrote {}{}{}",
             self.lanes,
             self.shards,
             self.seconds,
-            self.table.display()
+            self.table.display(),
+            if self.replaced {
+                "; replaced the earlier run's results there"
+            } else {
+                ""
+            },
+            self.report_seconds
+                .map(|s| format!("; report.html in {s:.2} s"))
+                .unwrap_or_default()
         )
     }
 }
@@ -57,88 +72,195 @@ struct Part {
     m: Manifest,
 }
 
+/// A shard refused: the shard's folder, and why.
+fn refused(dir: &Path, m: &Manifest, why: String) -> Error {
+    Error::input(
+        dir,
+        None,
+        None,
+        format!(
+            "shard {}/{} refused: {why}; run the shard again",
+            m.shard, m.shards
+        ),
+    )
+}
+
+/// The body of a `sweep.resolved.toml`: the text after its header
+/// comments (what the sweep hash covers).
+fn resolved_body(text: &str) -> &str {
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        if !line.starts_with('#') {
+            break;
+        }
+        at += line.len();
+    }
+    &text[at..]
+}
+
+/// Reads one shard's manifest and verifies its files, all but the table
+/// (hashed while it is merged): the resolved sweep and traces by SHA-256,
+/// the resolved sweep against the sweep hash, and traces.csv there
+/// exactly when a traced lane falls in the shard.
+fn read_part(dir: &Path) -> Result<Part> {
+    if !dir.is_dir() {
+        return Err(Error::input(
+            dir,
+            None,
+            None,
+            "missing shard folder: it does not exist or is not a folder; allowed: folders of `tswm run --shard K/N`",
+        ));
+    }
+    let m = Manifest::read(dir)?.ok_or_else(|| {
+        Error::input(
+            dir,
+            None,
+            None,
+            format!(
+                "incomplete shard: no {MANIFEST} (its run did not finish, or this is not a shard folder); \
+                 run the shard again"
+            ),
+        )
+    })?;
+    let table = m.format.file_name();
+    for name in [table, RESOLVED] {
+        if !m.files.contains_key(name) {
+            return Err(refused(
+                dir,
+                &m,
+                format!("{MANIFEST} does not cover {name}"),
+            ));
+        }
+    }
+    if let Some(extra) = m
+        .files
+        .keys()
+        .find(|n| ![table, RESOLVED, TRACES].contains(&n.as_str()))
+    {
+        return Err(refused(
+            dir,
+            &m,
+            format!(
+                "{MANIFEST} names {}, which is no file of a shard",
+                crate::error::shown(extra, 40)
+            ),
+        ));
+    }
+    for name in m.files.keys() {
+        // The table's SHA-256 is checked as it is merged.
+        if let Some(why) = m.file_differs(dir, name, name != table) {
+            return Err(refused(dir, &m, why));
+        }
+    }
+    let path = dir.join(RESOLVED);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| refused(dir, &m, format!("{RESOLVED} cannot be read: {e}")))?;
+    let body = resolved_body(&text);
+    if sweep_hash(body, m.lane_table_sha256.as_deref()) != m.sweep_hash {
+        return Err(refused(
+            dir,
+            &m,
+            format!("its {RESOLVED} does not hash to the sweep hash its manifest records"),
+        ));
+    }
+    let sweep = Sweep::parse(&path, &text)?;
+    let traced = sweep.trace.as_ref().is_some_and(|t| {
+        t.lanes
+            .iter()
+            .any(|l| (m.lane_start..m.lane_end).contains(l))
+    });
+    match (traced, m.files.contains_key(TRACES)) {
+        (true, false) => {
+            return Err(refused(
+                dir,
+                &m,
+                format!("a traced lane falls in it but {MANIFEST} covers no {TRACES}"),
+            ))
+        }
+        (false, true) => {
+            return Err(refused(
+                dir,
+                &m,
+                format!("{MANIFEST} covers {TRACES} but no traced lane falls in it"),
+            ))
+        }
+        _ => {}
+    }
+    if !m.files.contains_key(TRACES) && dir.join(TRACES).exists() {
+        return Err(refused(
+            dir,
+            &m,
+            format!("{TRACES} is there but {MANIFEST} does not cover it"),
+        ));
+    }
+    Ok(Part {
+        dir: dir.to_path_buf(),
+        m,
+    })
+}
+
+/// Why shard `m` of `dir` does not belong with the first shard `f` (of
+/// `first`), if it does not.
+fn foreign(dir: &Path, m: &Manifest, first: &Path, f: &Manifest) -> Option<Error> {
+    let differ = |what: &str, ours: String, theirs: String| {
+        Some(Error::input(
+            dir,
+            None,
+            None,
+            format!(
+                "foreign shard: {what} {theirs}, but {} has {ours}; allowed: shards of one sweep, \
+                 one split and one tool version",
+                first.display()
+            ),
+        ))
+    };
+    if m.sweep_hash != f.sweep_hash {
+        return differ(
+            "another sweep: hash",
+            f.sweep_hash.clone(),
+            m.sweep_hash.clone(),
+        );
+    }
+    if m.shards != f.shards {
+        return differ(
+            "split into",
+            format!("{} shards", f.shards),
+            format!("{} shards", m.shards),
+        );
+    }
+    if m.version != f.version || m.tool != f.tool {
+        return differ(
+            "written by",
+            format!("{} {}", f.tool, f.version),
+            format!("{} {}", m.tool, m.version),
+        );
+    }
+    if m.backend != f.backend {
+        return differ(
+            "rows from the backend",
+            f.backend.clone(),
+            m.backend.clone(),
+        );
+    }
+    if m.lanes_total != f.lanes_total {
+        return differ(
+            "lanes in all",
+            f.lanes_total.to_string(),
+            m.lanes_total.to_string(),
+        );
+    }
+    None
+}
+
 /// Reads and checks every shard of `dirs`; returns them in shard order.
 fn check_shards(dirs: &[PathBuf]) -> Result<Vec<Part>> {
     let mut parts: Vec<Part> = Vec::with_capacity(dirs.len());
     for dir in dirs {
-        if !dir.is_dir() {
-            return Err(Error::input(
-                dir,
-                None,
-                None,
-                "missing shard folder: it does not exist or is not a folder; allowed: folders of `tswm run --shard K/N`",
-            ));
-        }
-        let m = Manifest::read(dir)?.ok_or_else(|| {
-            Error::input(
-                dir,
-                None,
-                None,
-                format!(
-                    "incomplete shard: no {MANIFEST} (its run did not finish, or this is not a shard folder); \
-                     run the shard again"
-                ),
-            )
-        })?;
-        if let Some(why) = m.incomplete(dir) {
-            return Err(Error::input(
-                dir,
-                None,
-                None,
-                format!(
-                    "incomplete shard {}/{}: {why}; run the shard again",
-                    m.shard, m.shards
-                ),
-            ));
-        }
+        let p = read_part(dir)?;
+        let m = &p.m;
         if let Some(first) = parts.first() {
-            let f = &first.m;
-            let foreign = |what: &str, ours: String, theirs: String| {
-                Error::input(
-                    dir,
-                    None,
-                    None,
-                    format!(
-                        "foreign shard: {what} {theirs}, but {} has {ours}; allowed: shards of one sweep, \
-                         one split and one tool version",
-                        first.dir.display()
-                    ),
-                )
-            };
-            if m.sweep_hash != f.sweep_hash {
-                return Err(foreign(
-                    "another sweep: hash",
-                    f.sweep_hash.clone(),
-                    m.sweep_hash.clone(),
-                ));
-            }
-            if m.shards != f.shards {
-                return Err(foreign(
-                    "split into",
-                    format!("{} shards", f.shards),
-                    format!("{} shards", m.shards),
-                ));
-            }
-            if m.version != f.version || m.tool != f.tool {
-                return Err(foreign(
-                    "written by",
-                    format!("{} {}", f.tool, f.version),
-                    format!("{} {}", m.tool, m.version),
-                ));
-            }
-            if m.backend != f.backend {
-                return Err(foreign(
-                    "rows from the backend",
-                    f.backend.clone(),
-                    m.backend.clone(),
-                ));
-            }
-            if m.lanes_total != f.lanes_total {
-                return Err(foreign(
-                    "lanes in all",
-                    f.lanes_total.to_string(),
-                    m.lanes_total.to_string(),
-                ));
+            if let Some(e) = foreign(dir, m, &first.dir, &first.m) {
+                return Err(e);
             }
         }
         let want = Shard {
@@ -160,7 +282,7 @@ fn check_shards(dirs: &[PathBuf]) -> Result<Vec<Part>> {
                 ),
             ));
         }
-        if let Some(twin) = parts.iter().find(|p| p.m.shard == m.shard) {
+        if let Some(twin) = parts.iter().find(|q| q.m.shard == m.shard) {
             return Err(Error::input(
                 dir,
                 None,
@@ -173,10 +295,7 @@ fn check_shards(dirs: &[PathBuf]) -> Result<Vec<Part>> {
                 ),
             ));
         }
-        parts.push(Part {
-            dir: dir.clone(),
-            m,
-        });
+        parts.push(p);
     }
     let n = parts.first().map_or(0, |p| p.m.shards);
     let mut missing: Vec<String> = (0..n)
@@ -198,41 +317,10 @@ fn check_shards(dirs: &[PathBuf]) -> Result<Vec<Part>> {
     Ok(parts)
 }
 
-/// Column positions the statistics read from a row.
-struct StatColumns {
-    lane: usize,
-    status: usize,
-    contact: usize,
-    numbers: Vec<usize>,
-    /// Each parameter's column, by `Num` index.
-    params: Vec<Option<usize>>,
-}
-
-impl StatColumns {
-    fn of(header: &csv::ByteRecord) -> Option<StatColumns> {
-        let pos = |n: &str| header.iter().position(|h| h == n.as_bytes());
-        Some(StatColumns {
-            lane: pos("lane")?,
-            status: pos("status")?,
-            contact: pos("contact_end")?,
-            numbers: NUMBER_COLUMNS
-                .iter()
-                .map(|n| pos(n))
-                .collect::<Option<_>>()?,
-            params: Num::ALL.iter().map(|n| pos(n.name())).collect(),
-        })
-    }
-}
-
-fn number(rec: &csv::ByteRecord, i: usize) -> f64 {
-    std::str::from_utf8(&rec[i])
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(f64::NAN)
-}
-
-/// Merges the shard folders `dirs` into `out` as `format`.
-pub fn merge(dirs: &[PathBuf], out: &Path, format: Format) -> Result<Merged> {
+/// Merges the shard folders `dirs` into `out` as `format`, and writes its
+/// report when `with_report`; the folder stays locked until the last file
+/// is committed.
+pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) -> Result<Merged> {
     let parts = check_shards(dirs)?;
     for p in &parts {
         if same_folder(&p.dir, out) {
@@ -245,7 +333,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format) -> Result<Merged> {
         }
     }
     let first = &parts[0];
-    let resolved_path = first.dir.join("sweep.resolved.toml");
+    let resolved_path = first.dir.join(RESOLVED);
     let resolved =
         std::fs::read_to_string(&resolved_path).map_err(|e| Error::io(&resolved_path, e))?;
     let sweep = Sweep::parse(&resolved_path, &resolved)?;
@@ -253,81 +341,22 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format) -> Result<Merged> {
         sweep,
         file: resolved_path.clone(),
     };
-    let out_dir = OutDir::open(out)?;
+    let mut out_dir = OutDir::open(out)?;
+    let replaced = out_dir.held_results();
     let seconds: f64 = parts.iter().map(|p| p.m.seconds).sum();
     let total = first.m.lanes_total;
 
-    let mut table = LanesWriter::create(out_dir.path(), format)?;
-    let mut stats = Stats::create(&out_dir.join("summary.csv"), Grouping::of(&source))?;
-    let want_header: Vec<&str> = columns().iter().map(|c| c.0).collect();
+    let mut table = LanesWriter::create(out_dir.path(), format, false)?;
+    let mut stats = Stats::create(&out_dir.join(SUMMARY), Grouping::of(&source))?;
+    let kinds = columns();
     let mut rec = csv::ByteRecord::new();
-    let mut cells: Vec<Cell> = Vec::with_capacity(64);
+    let mut cells: Vec<Cell> = Vec::with_capacity(kinds.len());
     let mut next = 0u64;
-    let mut values = [0.0f64; 20];
     for p in &parts {
-        let mut rd = RowReader::open(&p.dir.join(p.m.format.file_name()), p.m.format)?;
-        let header: Vec<&[u8]> = rd.header().iter().collect();
-        if header.len() != want_header.len()
-            || header
-                .iter()
-                .zip(&want_header)
-                .any(|(a, b)| *a != b.as_bytes())
-        {
-            return Err(Error::input(
-                rd.path(),
-                Some("line 1".into()),
-                None,
-                "its columns are not those of this tswm version's table; run the shard again",
-            ));
-        }
-        let cols = StatColumns::of(rd.header()).ok_or_else(|| Error::Internal("columns".into()))?;
-        let path = rd.path().to_path_buf();
-        while rd.read(&mut rec)? {
-            let lane = std::str::from_utf8(&rec[cols.lane])
-                .ok()
-                .and_then(|s| s.parse::<u64>().ok());
-            if lane != Some(next) || next >= p.m.lane_end {
-                return Err(Error::input(
-                    &path,
-                    Some(format!("row {}", next - p.m.lane_start + 1)),
-                    Some("lane"),
-                    format!(
-                        "expected lane {next} (shard {}/{} holds lanes {}..{}); run the shard again",
-                        p.m.shard, p.m.shards, p.m.lane_start, p.m.lane_end
-                    ),
-                ));
-            }
-            table.write_record(&rec, &mut cells)?;
-            let status = Status::ALL
-                .into_iter()
-                .find(|s| s.name().as_bytes() == &rec[cols.status])
-                .unwrap_or(Status::NonFinite);
-            let contact = [Contact::Aa, Contact::Bb, Contact::Stick]
-                .into_iter()
-                .find(|c| c.name().as_bytes() == &rec[cols.contact])
-                .unwrap_or(Contact::Aa);
-            for (v, &i) in values.iter_mut().zip(&cols.numbers) {
-                *v = number(&rec, i);
-            }
-            stats.add_values(next, status, contact, &values, |n| {
-                cols.params[n as usize].map_or(f64::NAN, |i| number(&rec, i))
-            })?;
-            next += 1;
-        }
-        if next != p.m.lane_end {
-            return Err(Error::input(
-                &path,
-                None,
-                None,
-                format!(
-                    "incomplete shard {}/{}: {} rows, the manifest says {}; run the shard again",
-                    p.m.shard,
-                    p.m.shards,
-                    next - p.m.lane_start,
-                    p.m.rows
-                ),
-            ));
-        }
+        next = merge_part(p, &kinds, next, &mut rec, &mut cells, |row, rec, cells| {
+            table.write_row(rec, cells)?;
+            stats.add_row(row, cells)
+        })?;
     }
 
     let mut files = vec![merged_resolved(
@@ -337,27 +366,97 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format) -> Result<Merged> {
         seconds,
         total,
     )?];
-    let traces = merge_traces(&parts, out_dir.path())?;
-    let has_traces = traces.is_some();
-    files.extend(traces);
+    files.extend(merge_traces(&parts, out_dir.path())?);
     files.push(stats.finish()?);
     files.push(table.into_file()?);
-    let mut stale = vec![
-        out_dir.join(format.other().file_name()),
-        out_dir.join("report.html"),
-        out_dir.join(MANIFEST),
-    ];
-    if !has_traces {
-        stale.push(out_dir.join("traces.csv"));
-    }
-    let stale: Vec<&Path> = stale.iter().map(|p| p.as_path()).collect();
-    commit_together(files, &stale)?;
+    out_dir.commit_run(files)?;
+    let report_seconds = if with_report {
+        let start = std::time::Instant::now();
+        crate::report::write(&mut out_dir)?;
+        Some(start.elapsed().as_secs_f64())
+    } else {
+        None
+    };
     Ok(Merged {
         lanes: next,
         shards: parts.len() as u64,
         seconds,
         table: out_dir.join(format.file_name()),
+        replaced,
+        report_seconds,
     })
+}
+
+/// Streams shard `p`'s rows (lanes from `next`) into `row`, checking
+/// each; the table's SHA-256 against the manifest. Returns the next lane.
+fn merge_part(
+    p: &Part,
+    kinds: &[(&'static str, crate::lanes_file::Kind)],
+    mut next: u64,
+    rec: &mut csv::ByteRecord,
+    cells: &mut Vec<Cell>,
+    mut row: impl FnMut(u64, &csv::ByteRecord, &[Cell]) -> Result<()>,
+) -> Result<u64> {
+    let name = p.m.format.file_name();
+    let path = p.dir.join(name);
+    let want = &p.m.files[name];
+    if p.m.format == Format::Parquet {
+        // Read by pages, not as a stream: hashed whole first.
+        if file_digest(&path)?.sha256 != want.sha256 {
+            return Err(refused(
+                &p.dir,
+                &p.m,
+                format!("{name} is changed: its SHA-256 is not the one the manifest records"),
+            ));
+        }
+    }
+    let mut rd = RowReader::open(&path, p.m.format)?;
+    let header: Vec<&[u8]> = rd.header().iter().collect();
+    if header.len() != kinds.len() || header.iter().zip(kinds).any(|(a, b)| *a != b.0.as_bytes()) {
+        return Err(Error::input(
+            rd.path(),
+            Some("line 1".into()),
+            None,
+            "its columns are not those of this tswm version's table; run the shard again",
+        ));
+    }
+    let lane_col = kinds.iter().position(|k| k.0 == "lane").unwrap_or(0);
+    while rd.read_cells(rec, kinds, cells)? {
+        if cells[lane_col] != Cell::I(next) || next >= p.m.lane_end {
+            return Err(Error::input(
+                &path,
+                Some(format!("row {}", next - p.m.lane_start + 1)),
+                Some("lane"),
+                format!(
+                    "expected lane {next} (shard {}/{} holds lanes {}..{}); run the shard again",
+                    p.m.shard, p.m.shards, p.m.lane_start, p.m.lane_end
+                ),
+            ));
+        }
+        row(next, rec, cells)?;
+        next += 1;
+    }
+    if let Some(d) = rd.digest() {
+        if d != *want {
+            return Err(refused(
+                &p.dir,
+                &p.m,
+                format!("{name} is changed: its SHA-256 is not the one the manifest records"),
+            ));
+        }
+    }
+    if next != p.m.lane_end {
+        return Err(refused(
+            &p.dir,
+            &p.m,
+            format!(
+                "{name} has {} rows, the manifest says {}",
+                next - p.m.lane_start,
+                p.m.rows
+            ),
+        ));
+    }
+    Ok(next)
 }
 
 /// Whether `a` and `b` name the same folder (`b` may not exist yet).
@@ -390,7 +489,7 @@ fn merged_resolved(
             s.push('\n');
         }
     }
-    let path = out.join("sweep.resolved.toml");
+    let path = out.join(RESOLVED);
     let mut f = AtomicFile::create(&path)?;
     f.writer()
         .write_all(s.as_bytes())
@@ -402,13 +501,17 @@ fn merged_resolved(
 /// together, lanes ascending, as one run writes them); None when no shard
 /// traced a lane.
 fn merge_traces(parts: &[Part], out: &Path) -> Result<Option<AtomicFile>> {
-    if parts.iter().all(|p| p.m.traces_bytes.is_none()) {
+    let traced: Vec<&Part> = parts
+        .iter()
+        .filter(|p| p.m.files.contains_key(TRACES))
+        .collect();
+    if traced.is_empty() {
         return Ok(None);
     }
-    let mut w = CsvLines::create(&out.join("traces.csv"), TRACE_COLUMNS)?;
+    let mut w = CsvLines::create(&out.join(TRACES), TRACE_COLUMNS)?;
     let mut line = String::new();
-    for p in parts.iter().filter(|p| p.m.traces_bytes.is_some()) {
-        let path = p.dir.join("traces.csv");
+    for p in traced {
+        let path = p.dir.join(TRACES);
         let f = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
         let mut r = BufReader::new(f);
         let mut first = true;

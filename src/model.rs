@@ -114,6 +114,9 @@ pub struct Lane {
     pub x1_0: f64,
     pub v1_0: f64,
     pub t_end: f64,
+    /// Latest end of a lane still coasting at t_end with its motor cut
+    /// (MODEL.md section 10); t_end when unset (no running on).
+    pub t_max: f64,
 }
 
 /// Motor law codes shared with the shader (a test reads the shader's
@@ -129,6 +132,13 @@ pub const FRICTION_COULOMB: u32 = 1;
 pub const FRICTION_TABLE: u32 = 2;
 
 impl Lane {
+    /// Whether the motor is cut before t_end: only then does the lane
+    /// answer "does it hold?" (MODEL.md section 10).
+    #[inline]
+    pub fn motor_cut(&self) -> bool {
+        self.motor_off < self.t_end
+    }
+
     /// Derives a lane's constants from validated parameters.
     pub fn new(p: &Params, table: Option<&FrictionTable>) -> Lane {
         let g = p.get(Num::GammaDeg).to_radians();
@@ -173,6 +183,7 @@ impl Lane {
             x1_0: p.get(Num::X10),
             v1_0: p.get(Num::V10),
             t_end: p.get(Num::TEnd),
+            t_max: nan_to(p.get(Num::TMax), p.get(Num::TEnd)),
         };
         lane.mu_s = match p.friction {
             FrictionKind::Coulomb => p.get(Num::MuStatic),

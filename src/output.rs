@@ -12,34 +12,6 @@ use crate::error::{Error, Result};
 use crate::lanes::Source;
 use crate::outdir::AtomicFile;
 
-/// Result columns, after the parameter columns.
-pub const RESULT_COLUMNS: [&str; 24] = [
-    "lane",
-    "status",
-    "switches",
-    "t_first_switch",
-    "reversals",
-    "sticks",
-    "contact_end",
-    "x1_end",
-    "v1_end",
-    "w_motor",
-    "w_load",
-    "w_friction",
-    "eta_end",
-    "steps",
-    "w1_in",
-    "w1_out",
-    "w2_in",
-    "w2_out",
-    "eta_direct",
-    "eta_inverse",
-    "eta_direct_ss",
-    "eta_inverse_ss",
-    "lock_margin_deg",
-    "path",
-];
-
 /// A CSV file written line by line under a temporary name (the files of
 /// one run are committed together, `outdir::commit_together`).
 pub struct CsvLines {
@@ -51,8 +23,18 @@ pub struct CsvLines {
 impl CsvLines {
     /// Starts `path` with the header line `header`.
     pub fn create(path: &Path, header: &str) -> Result<CsvLines> {
+        CsvLines::start(path, header, false)
+    }
+
+    /// Starts `path` with the header line `header`, hashing it when
+    /// `hashed` (see [`AtomicFile::create_hashed`]).
+    pub fn start(path: &Path, header: &str, hashed: bool) -> Result<CsvLines> {
         let mut w = CsvLines {
-            file: AtomicFile::create(path)?,
+            file: if hashed {
+                AtomicFile::create_hashed(path)?
+            } else {
+                AtomicFile::create(path)?
+            },
             line: String::with_capacity(512),
             path: path.into(),
         };
@@ -96,26 +78,37 @@ pub(crate) fn push_f64(s: &mut String, v: f64) {
     }
 }
 
-/// The text of `sweep.resolved.toml`: a header naming the tool, backend,
-/// tolerance, run time (`seconds`) and, for a shard, its lanes; then the
-/// sweep with every lane's source spelled out.
+/// A string as a TOML basic string (quoted, every control character and
+/// quote escaped), so no file name or device name can break a line of
+/// `sweep.resolved.toml`.
+pub fn toml_string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// The text of `sweep.resolved.toml`: header lines naming the tool, the
+/// lanes' source, backend, tolerance, lane count, run time
+/// (`seconds`) and, for a shard, its lanes; then the sweep with every
+/// lane's source spelled out and the traces the run writes (`trace`).
+/// Every string in the header is a TOML string (escaped); the body is
+/// written by the TOML serializer.
 pub fn provenance(
     source: &Source,
+    trace: Option<&crate::sweep::TraceSpec>,
     backend: &str,
     tol: f64,
     seconds: f64,
     shard: Option<(crate::shard::Shard, (u64, u64))>,
 ) -> String {
     let from = match source {
-        Source::Sweep { .. } => "every lane of lanes.csv follows from this file".to_string(),
+        Source::Sweep { .. } => "# every lane follows from this file\n".to_string(),
         Source::Table { path, .. } => format!(
-            "every lane of lanes.csv follows from the lane table {} ({} rows) \
-             over the [base] and [friction_table] below",
-            path.display(),
+            "# every lane follows from the lane table {} ({} rows) over the [base] and \
+             [friction_table] below\n",
+            toml_string(&path.display().to_string()),
             source.lane_count()
         ),
     };
-    let resolved = source.resolved_text();
+    let resolved = source.resolved_text(trace);
     let (shard_line, run) = match shard {
         Some((s, (a, b))) => (
             format!(
@@ -130,13 +123,26 @@ pub fn provenance(
         None => (String::new(), source.lane_count()),
     };
     format!(
-        "# tswm {} resolved sweep: {from}\n\
-         # backend: {backend}, tol: {tol:e}, lanes: {}\n\
+        "# tswm {} resolved sweep\n{from}\
+         # backend: {}, tol: {tol:e}\n\
+         {LANES_LINE}{}\n\
          {shard_line}{}{resolved}",
         env!("CARGO_PKG_VERSION"),
+        toml_string(backend),
         source.lane_count(),
         time_line(seconds, run),
     )
+}
+
+/// How `sweep.resolved.toml` begins its line of the run's lane count.
+pub const LANES_LINE: &str = "# lanes: ";
+
+/// The lane count the header of a `sweep.resolved.toml` states.
+pub fn stated_lanes(text: &str) -> Option<u64> {
+    text.lines()
+        .take_while(|l| l.starts_with('#'))
+        .find_map(|l| l.strip_prefix(LANES_LINE))
+        .and_then(|n| n.trim().parse().ok())
 }
 
 /// How a shard's `sweep.resolved.toml` names the shard (a merge drops
@@ -160,9 +166,10 @@ pub struct TracesCsv(CsvLines);
 pub const TRACE_COLUMNS: &str = "lane,t,x1,v1,a1,f1,s1,s2,psi,phi,contact";
 
 impl TracesCsv {
-    /// Starts `path` and writes the header.
-    pub fn create(path: &Path) -> Result<TracesCsv> {
-        CsvLines::create(path, TRACE_COLUMNS).map(TracesCsv)
+    /// Starts `path` and writes the header; `hashed` as for
+    /// [`CsvLines::start`].
+    pub fn create(path: &Path, hashed: bool) -> Result<TracesCsv> {
+        CsvLines::start(path, TRACE_COLUMNS, hashed).map(TracesCsv)
     }
 
     /// Appends one row of lane `lane`.

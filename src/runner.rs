@@ -17,13 +17,14 @@ use crate::error::{Error, Result};
 use crate::integrator::accuracy::settings_for;
 use crate::integrator::trace::simulate_traced;
 use crate::integrator::Settings;
-use crate::integrator::{Contact, LaneResult, RowPath, Status};
+use crate::integrator::{Contact, Hold, LaneResult, RowPath, Status};
 use crate::lanes::Source;
-use crate::lanes_file::{Cell, Format, LanesWriter};
+use crate::lanes_file::{row_cells, Cell, Format, LanesWriter};
 use crate::model::{FrictionTable, Lane};
+use crate::outdir::names::{SUMMARY, TRACES};
 use crate::outdir::AtomicFile;
 use crate::output::TracesCsv;
-use crate::params::Params;
+use crate::params::{Num, Params};
 use crate::stats::{Grouping, Stats};
 use crate::sweep::TraceSpec;
 
@@ -50,16 +51,57 @@ pub struct Summary {
     pub by_contact: BTreeMap<Contact, u64>,
     /// Lanes by the path their row came from.
     pub by_path: BTreeMap<RowPath, u64>,
+    /// Lanes whose motor is cut, by what became of the load.
+    pub by_hold: BTreeMap<Hold, u64>,
+    /// The largest t_end of a lane still coasting, and whether one had a
+    /// t_max.
+    pub coasting_t_end: f64,
+    pub coasting_with_t_max: bool,
 }
 
 impl Summary {
-    fn add(&mut self, r: &LaneResult) {
+    fn add(&mut self, p: &Params, r: &LaneResult) {
         self.lanes += 1;
         *self.by_status.entry(r.status).or_default() += 1;
         if r.status == Status::Ok {
             *self.by_contact.entry(r.contact_end).or_default() += 1;
         }
+        if let Some(h) = r.hold {
+            *self.by_hold.entry(h).or_default() += 1;
+            if h == Hold::Coasting {
+                self.coasting_t_end = self.coasting_t_end.max(p.get(Num::TEnd));
+                self.coasting_with_t_max |= !p.get(Num::TMax).is_nan();
+            }
+        }
         *self.by_path.entry(r.path).or_default() += 1;
+    }
+
+    /// "; hold: held N, runs_away N" for runs whose motors are cut, and
+    /// what to do when lanes are still coasting (not decided).
+    fn hold_note(&self) -> String {
+        if self.by_hold.is_empty() {
+            return String::new();
+        }
+        let list: Vec<String> = self
+            .by_hold
+            .iter()
+            .map(|(h, n)| format!("{} {n}", h.name()))
+            .collect();
+        let mut s = format!("; hold: {}", list.join(", "));
+        if let Some(&n) = self.by_hold.get(&Hold::Coasting) {
+            s.push_str(&format!(
+                "; {n} lanes still coasting when their run ended: whether they hold is not decided ({})",
+                if self.coasting_with_t_max {
+                    "raise t_max".to_string()
+                } else {
+                    format!(
+                        "set t_max in [base] so they run on until held or running away, e.g. t_max = {}",
+                        10.0 * self.coasting_t_end
+                    )
+                }
+            ));
+        }
+        s
     }
 
     /// "; gpu rows: N checked, M recomputed in f64 (why n, ...)" for runs
@@ -110,12 +152,13 @@ impl Summary {
             .map(|(c, n)| format!("{} {n}", c.name()))
             .collect();
         format!(
-            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}; wrote {}",
+            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}; wrote {}",
             self.lanes,
             self.seconds,
             self.lanes as f64 / self.seconds.max(1e-9),
             status.join(", "),
             if contact.is_empty() { "-".into() } else { contact.join(", ") },
+            self.hold_note(),
             self.recompute_note(),
             out.display()
         )
@@ -141,6 +184,8 @@ struct TableSink {
 /// backend), one lane at a time, so memory does not grow with them.
 struct Tracer {
     spec: TraceSpec,
+    /// The run's integration settings (a trace's lane is run as its row).
+    settings: Settings,
     next: usize,
     out: TracesCsv,
     table: Option<FrictionTable>,
@@ -157,7 +202,7 @@ impl Tracer {
             let mut failed = None;
             let (out, table) = (&mut self.out, self.table.as_ref());
             // The settings the lane's f64 row comes from, refined or not.
-            let set = settings_for(&l, table, &Settings::default());
+            let set = settings_for(&l, table, &self.settings);
             simulate_traced(&l, table, &set, self.spec.dt, &mut |row| {
                 if failed.is_none() {
                     failed = out.write(lane, row).err();
@@ -179,9 +224,11 @@ impl Sink for TableSink {
             .write_lanes(&self.pool, first, params, results, &mut self.cells)?;
         for (i, (p, r)) in params.iter().zip(results).enumerate() {
             if let Some(s) = self.stats.as_mut() {
-                s.add(first + i as u64, p, r)?;
+                let lane = first + i as u64;
+                row_cells(lane, p, r, &mut self.cells);
+                s.add_row(lane, &self.cells)?;
             }
-            self.summary.add(r);
+            self.summary.add(p, r);
         }
         if let Some(t) = self.traces.as_mut() {
             t.chunk(first, params)?;
@@ -221,6 +268,8 @@ pub struct Target<'a> {
     pub range: Option<(u64, u64)>,
     /// Threads that format the table's rows (0: all cores).
     pub threads: usize,
+    /// The run's integration settings (traced lanes are run with them).
+    pub settings: Settings,
 }
 
 /// Runs the lanes of `source` that `target` names on `backend`, streaming
@@ -253,8 +302,9 @@ pub fn run(
             } else {
                 Some(Tracer {
                     spec: TraceSpec { lanes, dt: spec.dt },
+                    settings: target.settings,
                     next: 0,
-                    out: TracesCsv::create(&dir.join("traces.csv"))?,
+                    out: TracesCsv::create(&dir.join(TRACES), target.range.is_some())?,
                     table: source.friction_table().copied(),
                 })
             }
@@ -262,10 +312,7 @@ pub fn run(
         None => None,
     };
     let stats = match target.range {
-        None => Some(Stats::create(
-            &dir.join("summary.csv"),
-            Grouping::of(source),
-        )?),
+        None => Some(Stats::create(&dir.join(SUMMARY), Grouping::of(source))?),
         Some(_) => None,
     };
     let pool = rayon::ThreadPoolBuilder::new()
@@ -274,7 +321,9 @@ pub fn run(
         .build()
         .map_err(|e| Error::Internal(format!("writer threads: {e}")))?;
     let sink = TableSink {
-        table: LanesWriter::create(dir, target.format)?,
+        // A shard's files are hashed as they are written: its manifest
+        // records their SHA-256.
+        table: LanesWriter::create(dir, target.format, target.range.is_some())?,
         pool,
         cells: Vec::with_capacity(64),
         stats,

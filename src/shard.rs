@@ -9,7 +9,8 @@
 //! committed last, `shard.toml`: the manifest, whose presence says the
 //! shard is complete.
 
-use std::io::Read;
+use std::collections::BTreeMap;
+use std::io::{Read, Write};
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
@@ -17,10 +18,9 @@ use sha2::{Digest, Sha256};
 use crate::error::{Error, Result};
 use crate::lanes::Source;
 use crate::lanes_file::Format;
+pub use crate::outdir::names::MANIFEST;
+use crate::outdir::names::{RESOLVED, TRACES};
 use crate::sweep::TraceSpec;
-
-/// The manifest's file name.
-pub const MANIFEST: &str = "shard.toml";
 
 /// Shard `k` (0-based) of `n`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,8 +66,18 @@ impl Shard {
     }
 }
 
+/// The size and SHA-256 of a file a manifest covers.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct FileDigest {
+    /// Its size in bytes.
+    pub bytes: u64,
+    /// Its SHA-256, as `sha256:` and 64 hex digits.
+    pub sha256: String,
+}
+
 /// What `shard.toml` records.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Manifest {
     /// "tswm".
     pub tool: String,
@@ -75,6 +85,10 @@ pub struct Manifest {
     pub version: String,
     /// SHA-256 of what determines the lanes and traces ([`sweep_hash`]).
     pub sweep_hash: String,
+    /// SHA-256 of the lane table, when the lanes come from one (the sweep
+    /// hash covers it; a merge, which has no table, recomputes the hash
+    /// from the resolved sweep and this).
+    pub lane_table_sha256: Option<String>,
     /// This shard, 0-based.
     pub shard: u64,
     /// Number of shards.
@@ -93,13 +107,12 @@ pub struct Manifest {
     pub backend_name: String,
     /// The table's format.
     pub format: Format,
-    /// Size of the table in bytes (a truncated file is caught by it).
-    pub lanes_bytes: u64,
-    /// Size of `traces.csv` in bytes; absent when no traced lane falls in
-    /// the shard.
-    pub traces_bytes: Option<u64>,
     /// Wall time of the shard's run, s.
     pub seconds: f64,
+    /// Every file of the shard but this one, by name: the table,
+    /// `sweep.resolved.toml` and, when a traced lane falls in the shard,
+    /// `traces.csv`.
+    pub files: BTreeMap<String, FileDigest>,
 }
 
 /// The kind of backend a [`crate::backend::Backend::name`] names.
@@ -111,35 +124,117 @@ pub fn backend_kind(name: &str) -> &'static str {
     }
 }
 
-/// SHA-256 over what determines the lanes and traces of a run: the
-/// resolved sweep (every lane follows from it), the lane table's bytes
-/// when lanes come from one, and the traces asked for. Comments and
-/// spacing in the sweep file do not change it; any value does.
-pub fn sweep_hash(source: &Source, trace: Option<&TraceSpec>) -> Result<String> {
-    let mut h = Sha256::new();
-    h.update(b"tswm sweep hash v1\n");
-    h.update(source.resolved_text());
-    if let Source::Table { path, .. } = source {
-        h.update(b"\nlane table:\n");
-        let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let mut buf = vec![0u8; 1 << 16];
-        loop {
-            let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
-            if n == 0 {
-                break;
-            }
-            h.update(&buf[..n]);
-        }
-    }
-    if let Some(t) = trace {
-        h.update(format!("\ntrace: {:?} every {:?} s\n", t.lanes, t.dt));
-    }
-    let digest = h.finalize();
+/// A SHA-256 as the manifests write it.
+fn hex(digest: &[u8]) -> String {
     let mut s = String::from("sha256:");
-    for b in digest.iter() {
+    for b in digest {
         s.push_str(&format!("{b:02x}"));
     }
-    Ok(s)
+    s
+}
+
+/// A writer or reader that hashes (SHA-256) what passes through it, or
+/// only passes it on.
+pub struct Hashing<W> {
+    inner: W,
+    hash: Option<Box<Sha256>>,
+    bytes: u64,
+}
+
+impl<W> Hashing<W> {
+    /// Hashes what passes through `inner`.
+    pub fn new(inner: W) -> Hashing<W> {
+        Hashing {
+            inner,
+            hash: Some(Box::new(Sha256::new())),
+            bytes: 0,
+        }
+    }
+
+    /// Passes through `inner` without hashing.
+    pub fn unhashed(inner: W) -> Hashing<W> {
+        Hashing {
+            inner,
+            hash: None,
+            bytes: 0,
+        }
+    }
+
+    /// The size and digest of everything so far (None when not hashing).
+    pub fn digest(&self) -> Option<FileDigest> {
+        self.hash.as_ref().map(|h| FileDigest {
+            bytes: self.bytes,
+            sha256: hex(&(**h).clone().finalize()),
+        })
+    }
+
+    /// The inner writer or reader.
+    pub fn get_ref(&self) -> &W {
+        &self.inner
+    }
+
+    fn saw(&mut self, buf: &[u8]) {
+        if let Some(h) = self.hash.as_mut() {
+            h.update(buf);
+        }
+        self.bytes += buf.len() as u64;
+    }
+}
+
+impl<W: Write> Write for Hashing<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.saw(&buf[..n]);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+impl<R: Read> Read for Hashing<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.saw(&buf[..n]);
+        Ok(n)
+    }
+}
+
+/// The size and SHA-256 of the file `path`.
+pub fn file_digest(path: &Path) -> Result<FileDigest> {
+    let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut h = Hashing::new(std::io::BufReader::with_capacity(1 << 20, f));
+    std::io::copy(&mut h, &mut std::io::sink()).map_err(|e| Error::io(path, e))?;
+    Ok(h.digest().expect("hashing"))
+}
+
+/// SHA-256 over what determines the lanes and traces of a run: the
+/// resolved sweep (every lane follows from it, and it names the traced
+/// lanes) and, when the lanes come from a lane table, the table's own
+/// SHA-256. Comments and spacing in the sweep file do not change it; any
+/// value does.
+pub fn sweep_hash(resolved: &str, lane_table: Option<&str>) -> String {
+    let mut h = Sha256::new();
+    h.update(b"tswm sweep hash v2\n");
+    h.update(resolved);
+    if let Some(t) = lane_table {
+        h.update(b"\nlane table: ");
+        h.update(t);
+    }
+    hex(&h.finalize())
+}
+
+/// The hash of a source's run with the traces `trace`, and the lane
+/// table's digest when it has one.
+pub fn source_hash(source: &Source, trace: Option<&TraceSpec>) -> Result<(String, Option<String>)> {
+    let table = match source {
+        Source::Table { path, .. } => Some(file_digest(path)?.sha256),
+        Source::Sweep { .. } => None,
+    };
+    Ok((
+        sweep_hash(&source.resolved_text(trace), table.as_deref()),
+        table,
+    ))
 }
 
 impl Manifest {
@@ -149,7 +244,14 @@ impl Manifest {
         let text = match std::fs::read_to_string(&path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(Error::io(&path, e)),
+            Err(e) => {
+                return Err(Error::input(
+                    &path,
+                    None,
+                    None,
+                    format!("cannot read it ({e}); run the shard again"),
+                ))
+            }
         };
         toml::from_str(&text).map(Some).map_err(|e| {
             Error::input(
@@ -172,31 +274,67 @@ impl Manifest {
         )
     }
 
+    /// Why the file `name` of `dir` is not the one the manifest records:
+    /// missing, another size, or (with `digest`) another SHA-256; None
+    /// when it is.
+    pub fn file_differs(&self, dir: &Path, name: &str, digest: bool) -> Option<String> {
+        let Some(want) = self.files.get(name) else {
+            return Some(format!("{MANIFEST} does not cover {name}"));
+        };
+        let path = dir.join(name);
+        let Ok(meta) = std::fs::metadata(&path) else {
+            return Some(format!("{name} is missing"));
+        };
+        if meta.len() != want.bytes {
+            return Some(format!(
+                "{name} is truncated or changed: {} bytes, the manifest says {}",
+                meta.len(),
+                want.bytes
+            ));
+        }
+        if digest {
+            match file_digest(&path) {
+                Ok(d) if d.sha256 == want.sha256 => {}
+                Ok(_) => {
+                    return Some(format!(
+                        "{name} is changed: its SHA-256 is not the one the manifest records"
+                    ))
+                }
+                Err(e) => return Some(format!("{name} cannot be read: {e}")),
+            }
+        }
+        None
+    }
+
     /// Why the files of `dir` are not this shard's complete result (a
-    /// missing or truncated file); None when they are.
+    /// missing, truncated or changed file, one more or one less than the
+    /// manifest covers); None when they are. Every file's SHA-256 is
+    /// checked.
     pub fn incomplete(&self, dir: &Path) -> Option<String> {
-        let size = |name: &str| std::fs::metadata(dir.join(name)).ok().map(|m| m.len());
         let table = self.format.file_name();
-        match size(table) {
-            None => return Some(format!("{table} is missing")),
-            Some(n) if n != self.lanes_bytes => {
-                return Some(format!(
-                    "{table} is truncated or changed: {n} bytes, the manifest says {}",
-                    self.lanes_bytes
-                ))
+        for name in [table, RESOLVED] {
+            if !self.files.contains_key(name) {
+                return Some(format!("{MANIFEST} does not cover {name}"));
             }
-            _ => {}
         }
-        match (self.traces_bytes, size("traces.csv")) {
-            (Some(_), None) => Some("traces.csv is missing".into()),
-            (Some(want), Some(n)) if n != want => Some(format!(
-                "traces.csv is truncated or changed: {n} bytes, the manifest says {want}"
-            )),
-            _ if size("sweep.resolved.toml").is_none() => {
-                Some("sweep.resolved.toml is missing".into())
-            }
-            _ => None,
+        if dir.join(TRACES).exists() && !self.files.contains_key(TRACES) {
+            return Some(format!(
+                "{TRACES} is there but {MANIFEST} does not cover it"
+            ));
         }
+        if let Some(extra) = self
+            .files
+            .keys()
+            .find(|n| ![table, RESOLVED, TRACES].contains(&n.as_str()))
+        {
+            return Some(format!(
+                "{MANIFEST} names {}, which is no file of a shard",
+                crate::error::shown(extra, 40)
+            ));
+        }
+        self.files
+            .keys()
+            .find_map(|name| self.file_differs(dir, name, true))
     }
 }
 

@@ -131,7 +131,9 @@ impl Backend for GpuBackend {
         }
         self.run_ordered(chunk, done..self.on_gpu.len(), table)?;
         for (&i, st) in self.on_gpu.iter().zip(&self.states) {
-            let mut r = st.end_state().result(&self.lanes64[i], table);
+            let mut r = st
+                .end_state(&self.lanes64[i])
+                .result(&self.lanes64[i], table);
             r.path = RowPath::Gpu;
             let finished = st.flags & flags::DONE != 0;
             match verify::recheck(&self.lanes64[i], &r, finished) {

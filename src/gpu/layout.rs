@@ -36,7 +36,8 @@ pub struct GpuLane {
     pub x1_0: f32,
     pub v1_0: f32,
     pub t_end: f32,
-    pub pad0: f32,
+    /// t_end when the lane does not run on (see `model::Lane::t_max`).
+    pub t_max: f32,
     pub pad1: f32,
 }
 
@@ -69,7 +70,7 @@ impl From<&Lane> for GpuLane {
             x1_0: l.x1_0 as f32,
             v1_0: l.v1_0 as f32,
             t_end: l.t_end as f32,
-            pad0: 0.0,
+            t_max: l.t_max as f32,
             pad1: 0.0,
         }
     }
@@ -87,6 +88,10 @@ pub mod flags {
     pub const K1_VALID: u32 = 8;
     /// `init` has run.
     pub const STARTED: u32 = 16;
+    /// Running on past t_end towards t_max.
+    pub const RUNNING_ON: u32 = 32;
+    /// Running on ended because the lane began to speed up.
+    pub const SPEEDING: u32 = 64;
 }
 
 /// A lane's integration state between dispatches. Keep in sync with
@@ -124,8 +129,8 @@ pub struct GpuState {
 }
 
 impl GpuState {
-    /// Where the lane stopped, in f64 (compensated sums folded in).
-    pub fn end_state(&self) -> EndState {
+    /// Where the lane `lane` stopped, in f64 (compensated sums folded in).
+    pub fn end_state(&self, lane: &Lane) -> EndState {
         let val = |i: usize| self.y[i] as f64 - self.yc[i] as f64;
         // A lane the dispatch budget cut short never says `ok`.
         let finished = self.flags & flags::DONE != 0;
@@ -150,6 +155,21 @@ impl GpuState {
                 self.t_first_switch as f64
             },
             steps: self.steps,
+            t: self.stop_time(lane),
+            speeding: self.flags & flags::SPEEDING != 0,
+        }
+    }
+
+    /// Where the lane stopped: its own t_end or t_max exactly when it
+    /// stopped there (the f32 time would round them), else the f32 time.
+    fn stop_time(&self, lane: &Lane) -> f64 {
+        let t = self.t_hi as f64 - self.t_lo as f64;
+        if self.flags & flags::RUNNING_ON == 0 {
+            lane.t_end
+        } else if self.t_hi == lane.t_max as f32 && self.t_lo == 0.0 {
+            lane.t_max
+        } else {
+            t
         }
     }
 }

@@ -53,6 +53,7 @@ pub fn representable(lane: &Lane) -> bool {
         lane.x1_0,
         lane.v1_0,
         lane.t_end,
+        lane.t_max,
     ];
     let ok = |v: f64| {
         let a = v.abs();
@@ -70,21 +71,7 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     if r.status != Status::Ok {
         return Some(Recheck::GpuStatus);
     }
-    let vals = [
-        r.x1_end,
-        r.v1_end,
-        r.w_motor,
-        r.w_load,
-        r.w_friction,
-        r.w1_in,
-        r.w1_out,
-        r.w2_in,
-        r.w2_out,
-    ];
-    if !vals
-        .iter()
-        .all(|v| v.is_finite() && v.abs() <= f32::MAX as f64)
-    {
+    if !crate::columns::integrated(r).all(|v| v.is_finite() && v.abs() <= f32::MAX as f64) {
         return Some(Recheck::NonFinite);
     }
     if lane.motor == MOTOR_KLOSS && lane.sigma_k < STIFF_SIGMA_K {

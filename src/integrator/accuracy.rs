@@ -106,18 +106,7 @@ impl ErrorBudget {
     /// Whether every result of `r` is within [`LIMIT`] × [`BOUND`] by the
     /// estimate. A lane that did not end `ok` has no results to refine.
     pub fn within(&self, r: &LaneResult) -> bool {
-        let values = [
-            r.x1_end,
-            r.v1_end,
-            r.w_motor,
-            r.w_load,
-            r.w_friction,
-            r.w1_in,
-            r.w1_out,
-            r.w2_in,
-            r.w2_out,
-        ];
-        values.iter().enumerate().all(|(i, v)| {
+        crate::columns::integrated(r).enumerate().all(|(i, v)| {
             let est = self.phase[i] + self.local[i];
             // NaN (a lane that did not finish) compares false: within.
             !(est > LIMIT * BOUND * v.abs().max(1.0))

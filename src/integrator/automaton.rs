@@ -10,7 +10,7 @@
 use super::accuracy::ErrorBudget;
 use super::events::{earliest_event, EventFn};
 use super::flow::step_flow;
-use super::result::{EndState, Status};
+use super::result::{speeding_up, EndState, Status};
 use super::stepper::{rhs, try_step, Mode, Trial};
 use super::{Settings, NY};
 use crate::model::{phi, side_of, stick_test, FrictionTable, Lane, FRICTION_PAPER};
@@ -33,6 +33,11 @@ pub struct LaneState {
     pub stuck: bool,
     pub motor_on: bool,
     pub done: bool,
+    /// Running on past t_end towards t_max: the motor is cut and the lane
+    /// was still coasting at t_end (MODEL.md section 10).
+    pub running_on: bool,
+    /// Running on ended because the lane began to speed up.
+    pub speeding: bool,
     pub status: Status,
     pub switches: u32,
     pub reversals: u32,
@@ -75,6 +80,8 @@ impl LaneState {
             sticks: self.sticks,
             t_first_switch: self.t_first_switch,
             steps: self.steps,
+            t: self.t,
+            speeding: self.speeding,
         }
     }
 
@@ -103,6 +110,8 @@ pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
         stuck: false,
         motor_on,
         done: false,
+        running_on: false,
+        speeding: false,
         status: Status::Ok,
         switches: 0,
         reversals: 0,
@@ -192,14 +201,34 @@ fn cut_motor(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) {
     }
 }
 
+/// The end of the lane's run: t_end, or t_max once it runs on.
+#[inline]
+fn horizon(lane: &Lane, st: &LaneState) -> f64 {
+    if st.running_on {
+        lane.t_max
+    } else {
+        lane.t_end
+    }
+}
+
 /// The lane has reached a time event (`t_stop`): the end of the run, or
-/// the motor's cut-off.
+/// the motor's cut-off. At t_end a lane whose motor is cut and that is
+/// still coasting (sliding, slowing down) runs on towards t_max, when one
+/// is set, to find out whether it holds (MODEL.md section 10).
 fn reach_time_event(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState, t_stop: f64) {
     st.t = t_stop;
-    if t_stop >= lane.t_end {
-        st.done = true;
-    } else {
+    if t_stop < horizon(lane, st) {
         cut_motor(lane, table, st);
+    } else if !st.running_on
+        && lane.t_max > lane.t_end
+        && lane.motor_cut()
+        && !st.stuck
+        && st.k1_valid
+        && !speeding_up(st.dir, st.k1[1])
+    {
+        st.running_on = true;
+    } else {
+        st.done = true;
     }
 }
 
@@ -232,10 +261,11 @@ impl StepPlan {
 /// size is chosen. None when the attempt ends here (stuck, or finished).
 pub fn prepare(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) -> Option<StepPlan> {
     // The next time event: motor cut-off, else the end of the run.
-    let t_stop = if st.motor_on && lane.motor_off < lane.t_end {
+    let end = horizon(lane, st);
+    let t_stop = if st.motor_on && lane.motor_off < end {
         lane.motor_off
     } else {
-        lane.t_end
+        end
     };
     if st.stuck {
         // While stuck every force is constant in time (F1 at ẋ1 = 0, F2),
@@ -309,7 +339,7 @@ pub fn finish_step(
         st.finish(Status::MaxSteps);
         return;
     }
-    match earliest_event(lane, plan.mode, trial, h) {
+    match earliest_event(lane, table, plan.mode, trial, h, st.running_on) {
         Some((theta, which)) => step_to_event(lane, table, set, st, plan, theta, which, h_next),
         None => {
             add_flow(st, trial, h);
@@ -364,6 +394,12 @@ fn step_to_event(
             set_side(st, -st.side);
             check_mode(lane, table, st);
         }
+        EventFn::Speeding => st.speeding = true,
+    }
+    // Running on ends where the question is answered: at rest the lane
+    // holds, or it departs and runs away; or it began to speed up.
+    if st.running_on && (which != EventFn::Switch) {
+        st.done = true;
     }
     if st.events > set.max_events {
         st.finish(Status::MaxEvents);

@@ -1,9 +1,11 @@
 //! Events inside a step (MODEL.md section 8): the switching function's
-//! sign change (a switch) and ẋ1 reaching 0 (rest), located by the
-//! Illinois method on the step's dense output.
+//! sign change (a switch), ẋ1 reaching 0 (rest) and, while a lane runs on
+//! past t_end with its motor cut, its acceleration turning from braking
+//! to driving (speeding up: it runs away), located by the Illinois method
+//! on the step's dense output.
 
 use super::stepper::{Mode, Trial};
-use crate::model::{phi, Lane};
+use crate::model::{motion, phi, FrictionTable, Lane};
 
 /// Root-location tolerance for events, s.
 pub const T_ROOT_TOL: f64 = 1e-13;
@@ -24,15 +26,28 @@ pub enum EventFn {
     Switch = 0,
     /// s·ẋ1: leaves > 0 when the lane comes to rest.
     Rest = 1,
+    /// −s·ẍ1: leaves > 0 when a lane running on past t_end stops
+    /// slowing down (only then is it looked for).
+    Speeding = 2,
 }
 
 /// The event function's value at speed `v`; an event is where it turns
 /// from >= 0 to < 0.
 #[inline]
-pub fn event_value(lane: &Lane, mode: Mode, which: EventFn, v: f64) -> f64 {
+pub fn event_value(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    mode: Mode,
+    which: EventFn,
+    v: f64,
+) -> f64 {
     match which {
         EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
         EventFn::Rest => mode.dir as f64 * v,
+        EventFn::Speeding => {
+            let acc = motion(lane, table, mode.side, mode.dir, mode.motor_on, v).acc;
+            -(mode.dir as f64) * acc
+        }
     }
 }
 
@@ -41,13 +56,14 @@ pub fn event_value(lane: &Lane, mode: Mode, which: EventFn, v: f64) -> f64 {
 /// end, so the event lies at most `theta_tol` after it.
 pub fn locate_root(
     lane: &Lane,
+    table: Option<&FrictionTable>,
     mode: Mode,
     which: EventFn,
     r: &[f64; 5],
     g_end: f64,
     theta_tol: f64,
 ) -> f64 {
-    let (mut a, mut fa) = (0.0, event_value(lane, mode, which, r[0]));
+    let (mut a, mut fa) = (0.0, event_value(lane, table, mode, which, r[0]));
     let (mut b, mut fb) = (1.0, g_end);
     if fa <= 0.0 {
         return 0.0;
@@ -62,7 +78,7 @@ pub fn locate_root(
         if !(c > a && c < b) {
             c = 0.5 * (a + b);
         }
-        let fc = event_value(lane, mode, which, dense_v(r, c));
+        let fc = event_value(lane, table, mode, which, dense_v(r, c));
         if fc >= 0.0 {
             a = c;
             fa = fc;
@@ -84,29 +100,39 @@ pub fn locate_root(
 
 /// The earliest event inside an accepted step of size `h`: its fraction θ
 /// of the step and which it is; None when the step holds no event. A rest
-/// and a switch at the same θ count as a rest.
-pub fn earliest_event(lane: &Lane, mode: Mode, trial: &Trial, h: f64) -> Option<(f64, EventFn)> {
-    let g_rest = event_value(lane, mode, EventFn::Rest, trial.y1[1]);
-    let g_switch = event_value(lane, mode, EventFn::Switch, trial.y1[1]);
+/// and a switch at the same θ count as a rest. `running_on`: the lane
+/// runs on past t_end, so speeding up is an event too.
+pub fn earliest_event(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    mode: Mode,
+    trial: &Trial,
+    h: f64,
+    running_on: bool,
+) -> Option<(f64, EventFn)> {
     let theta_tol = T_ROOT_TOL / h;
     let mut theta = 2.0;
     let mut which = EventFn::Rest;
-    if g_rest < 0.0 {
-        theta = locate_root(lane, mode, EventFn::Rest, &trial.dense_v, g_rest, theta_tol);
-    }
-    if g_switch < 0.0 {
-        let th = locate_root(
-            lane,
-            mode,
-            EventFn::Switch,
-            &trial.dense_v,
-            g_switch,
-            theta_tol,
-        );
-        if th < theta {
-            theta = th;
-            which = EventFn::Switch;
+    let mut check = |f: EventFn, g_end: f64| {
+        if g_end < 0.0 {
+            let th = locate_root(lane, table, mode, f, &trial.dense_v, g_end, theta_tol);
+            if th < theta {
+                theta = th;
+                which = f;
+            }
         }
+    };
+    check(
+        EventFn::Rest,
+        event_value(lane, table, mode, EventFn::Rest, trial.y1[1]),
+    );
+    check(
+        EventFn::Switch,
+        event_value(lane, table, mode, EventFn::Switch, trial.y1[1]),
+    );
+    if running_on {
+        // The step's end derivative holds the acceleration there.
+        check(EventFn::Speeding, -(mode.dir as f64) * trial.k7[1]);
     }
     (theta <= 1.0).then_some((theta, which))
 }
@@ -137,7 +163,7 @@ mod tests {
         };
         // v(θ) = 1 − 4θ as dense coefficients: r2 = −4, r3 = h k1 − r2 = 0, ...
         let r = [1.0, -4.0, 0.0, 0.0, 0.0];
-        let th = locate_root(&l, mode, EventFn::Rest, &r, -3.0, 1e-14);
+        let th = locate_root(&l, None, mode, EventFn::Rest, &r, -3.0, 1e-14);
         assert!((th - 0.25).abs() < 1e-13, "{th}");
     }
 }

@@ -20,7 +20,7 @@ pub mod trace;
 
 pub use automaton::{advance, init, LaneState, H_INITIAL};
 pub use batch::{simulate, simulate_batch, INTERLEAVE};
-pub use result::{Contact, EndState, LaneResult, Recheck, RowPath, Status};
+pub use result::{Contact, EndState, Hold, LaneResult, Recheck, RowPath, Status};
 
 /// Components of the integrated state: x1, ẋ1, w_motor, w_load,
 /// w_friction and w_p1 = ∫p1 dt (MODEL.md sections 6 and 10; ∫p2 dt is

@@ -76,12 +76,42 @@ pub enum Contact {
 }
 
 impl Contact {
+    /// Every final contact, in the order the tables list them.
+    pub const ALL: [Contact; 3] = [Contact::Aa, Contact::Bb, Contact::Stick];
+
     /// The word of the results table.
     pub fn name(self) -> &'static str {
         match self {
             Contact::Aa => "aa",
             Contact::Bb => "bb",
             Contact::Stick => "stick",
+        }
+    }
+}
+
+/// What became of the load of a lane whose motor is cut before t_end
+/// (MODEL.md section 10, "Does it hold?"): the `hold` column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Hold {
+    /// At rest and stuck: the drive holds the load with the motor off.
+    Held,
+    /// Sliding with the motor off and not slowing down: the load
+    /// back-drives the gear and friction does not stop it.
+    RunsAway,
+    /// Sliding with the motor off and slowing down: not decided yet.
+    Coasting,
+}
+
+impl Hold {
+    /// Every outcome, in the order the tables list them.
+    pub const ALL: [Hold; 3] = [Hold::Held, Hold::RunsAway, Hold::Coasting];
+
+    /// The word of the results table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Hold::Held => "held",
+            Hold::RunsAway => "runs_away",
+            Hold::Coasting => "coasting",
         }
     }
 }
@@ -192,8 +222,46 @@ pub struct LaneResult {
     pub eta_inverse_ss: f64,
     /// ρs − γ, deg (> 0: statically self-locking).
     pub lock_margin_deg: f64,
+    /// What became of the load, for a lane whose motor is cut before
+    /// t_end; None otherwise.
+    pub hold: Option<Hold>,
+    /// Where the lane stopped, s: t_end, or up to t_max for a lane that
+    /// ran on while coasting (every `_end` value and integral is taken here).
+    pub t_stop: f64,
     /// The path the row came from.
     pub path: RowPath,
+}
+
+impl LaneResult {
+    /// A row with no results, for buffers that every lane's result
+    /// overwrites.
+    pub const EMPTY: LaneResult = LaneResult {
+        status: Status::NonFinite,
+        switches: 0,
+        t_first_switch: f64::NAN,
+        reversals: 0,
+        sticks: 0,
+        contact_end: Contact::Stick,
+        x1_end: f64::NAN,
+        v1_end: f64::NAN,
+        w_motor: f64::NAN,
+        w_load: f64::NAN,
+        w_friction: f64::NAN,
+        eta_end: f64::NAN,
+        steps: 0,
+        w1_in: f64::NAN,
+        w1_out: f64::NAN,
+        w2_in: f64::NAN,
+        w2_out: f64::NAN,
+        eta_direct: f64::NAN,
+        eta_inverse: f64::NAN,
+        eta_direct_ss: f64::NAN,
+        eta_inverse_ss: f64::NAN,
+        lock_margin_deg: f64::NAN,
+        hold: None,
+        t_stop: f64::NAN,
+        path: RowPath::Cpu,
+    };
 }
 
 /// Section 10's efficiencies and margin from a lane's energies and final
@@ -242,6 +310,11 @@ pub struct EndState {
     /// NaN until the first switch.
     pub t_first_switch: f64,
     pub steps: u32,
+    /// Where the lane stopped, s.
+    pub t: f64,
+    /// It stopped running on because it began to speed up (the
+    /// `Speeding` event): it runs away.
+    pub speeding: bool,
 }
 
 impl EndState {
@@ -249,12 +322,22 @@ impl EndState {
     /// f64, from the final mode and speed.
     pub fn result(&self, lane: &Lane, table: Option<&FrictionTable>) -> LaneResult {
         let v = self.y[1];
-        let eta_end = if self.stuck || v == 0.0 || self.status != Status::Ok {
+        let ok = self.status == Status::Ok;
+        let m = motion(lane, table, self.side, self.dir, self.motor_on, v);
+        let eta_end = if self.stuck || v == 0.0 || !ok {
             f64::NAN
         } else {
-            let m = motion(lane, table, self.side, self.dir, self.motor_on, v);
             efficiency(lane, &m, self.side, self.dir, v)
         };
+        let hold = (ok && lane.motor_cut()).then(|| {
+            if self.stuck {
+                Hold::Held
+            } else if self.speeding || speeding_up(self.dir, m.acc) {
+                Hold::RunsAway
+            } else {
+                Hold::Coasting
+            }
+        });
         let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg] =
             engineering(lane, table, &self.flow, v);
         LaneResult {
@@ -286,7 +369,17 @@ impl EndState {
             eta_direct_ss,
             eta_inverse_ss,
             lock_margin_deg,
+            hold,
+            t_stop: self.t,
             path: RowPath::Cpu,
         }
     }
+}
+
+/// Whether a sliding lane moving in direction `dir` with acceleration
+/// `acc` is not slowing down (ẋ1 ẍ1 >= 0; at zero the load keeps its
+/// speed and friction does not stop it). Its negation is "coasting".
+#[inline]
+pub fn speeding_up(dir: i32, acc: f64) -> bool {
+    !(dir as f64 * acc < 0.0)
 }

@@ -1,7 +1,8 @@
 //! Traces (MODEL.md section 11): a lane's state and internal forces over
 //! time, from the dense output of the same integration that gives its row
 //! of results (the same `prepare`, `try_step` and `finish_step`; only rows
-//! are taken on the way). Rows come every `dt` from 0 to t_end and, at
+//! are taken on the way). Rows come every `dt` from 0 to where the lane
+//! stops (t_end, or up to t_max for a lane that runs on) and, at
 //! every event, twice with the same t: the state just before it (old mode)
 //! and just after it (new mode).
 
@@ -95,7 +96,9 @@ pub fn simulate_traced(
     out: &mut dyn FnMut(&TraceRow),
 ) -> LaneResult {
     let mut st = init(lane, table);
-    let last = (lane.t_end / dt * (1.0 + 1e-12)).floor() as u64;
+    // Rows up to t_end, or up to t_max for a lane that runs on (the run
+    // ends where the lane stops, and so do its rows).
+    let last = (lane.t_end.max(lane.t_max) / dt * (1.0 + 1e-12)).floor() as u64;
     let mut k = 0u64;
     let sample_t = |k: u64| k as f64 * dt;
     // The samples at t = 0 (only k = 0, unless dt is tiny).

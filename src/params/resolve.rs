@@ -200,6 +200,14 @@ impl Spec {
             };
             return Err(err(format!("must be {lo}< {} = {b}, got {v}", q.name())));
         }
+        if let Some(q) = def.above.filter(|&q| !(v > num[q as usize])) {
+            let b = num[q as usize];
+            return Err(err(format!(
+                "must be > {} = {b} and {}, got {v}",
+                q.name(),
+                def.range_text()
+            )));
+        }
         if let Some(q) = def.at_least.filter(|&q| !(v >= num[q as usize])) {
             let b = num[q as usize];
             let why = why();

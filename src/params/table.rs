@@ -143,6 +143,8 @@ pub struct Def {
     pub below: Option<Num>,
     /// A parameter it must be at least (`mu_static >= mu`).
     pub at_least: Option<Num>,
+    /// A parameter it must stay strictly above (`t_max > t_end`).
+    pub above: Option<Num>,
     /// Why the range is what it is, when that is not obvious.
     pub why: &'static str,
 }
@@ -200,6 +202,7 @@ const ROW: Def = Def {
     hi: Bound::None,
     below: None,
     at_least: None,
+    above: None,
     why: "",
 };
 
@@ -254,6 +257,10 @@ parameter_table! {
         why: "sliding speeds of real drives", ..ROW }
     num TEnd { name: "t_end", unit: "s", meaning: "simulated time",
         default: Fallback::Value(2.0), lo: Bound::Open(0.0), hi: Bound::Closed(1e5), ..ROW }
+    num TMax { name: "t_max", unit: "s",
+        meaning: "a lane still coasting at t_end after its motor is cut runs on to this time at most",
+        default: Fallback::Never, hi: Bound::Closed(1e6), above: Some(Num::TEnd),
+        why: "or unset: the run ends at t_end", ..ROW }
 }
 
 impl Num {
@@ -398,6 +405,9 @@ pub fn readme_table() -> String {
                 if let Some(q) = d.below {
                     allowed += &format!(", < `{}`", q.name());
                 }
+                if let Some(q) = d.above {
+                    allowed = format!("> `{}`, {}", q.name(), d.range_text());
+                }
                 if let Some(q) = d.at_least {
                     allowed += &format!(">= `{}`", q.name());
                     if d.hi != Bound::None {
@@ -433,7 +443,7 @@ mod tests {
         assert_eq!(
             names.join(","),
             "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,\
-             fric_a,fric_b,fric_c,mu,mu_static,x1_0,v1_0,t_end"
+             fric_a,fric_b,fric_c,mu,mu_static,x1_0,v1_0,t_end,t_max"
         );
         for p in Param::COLUMNS {
             assert_eq!(Param::from_name(p.name()), Some(p));

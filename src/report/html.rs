@@ -25,7 +25,9 @@ h1{font-size:1.5em;margin-bottom:0}h2{font-size:1.2em;border-bottom:1px solid #c
 h3{font-size:1.02em;margin-bottom:4px}p.note{color:#555;font-size:.92em;margin-top:2px}\
 table{border-collapse:collapse;font-size:.88em;margin:6px 0}td,th{border:1px solid #ccc;padding:2px 7px;text-align:right}\
 th{background:#f2f2f2}td.l,th.l{text-align:left}pre{background:#f7f7f7;padding:8px;font-size:.82em;overflow-x:auto;white-space:pre-wrap}\
-.figs{display:flex;flex-wrap:wrap;gap:10px}.figs>div{break-inside:avoid}svg{max-width:100%;height:auto}\
+.figs{display:flex;flex-wrap:wrap;gap:10px}\
+p.warn{background:#fff4e0;border-left:4px solid #e08a00;padding:6px 10px}\
+p.answer{background:#eef6ee;border-left:4px solid #2c8a2c;padding:6px 10px;font-size:1.02em}.figs>div{break-inside:avoid}svg{max-width:100%;height:auto}\
 @media print{body{margin:0;max-width:none}h2{break-after:avoid}}";
 
 /// A page being built: sections of headings, notes, tables and figures.
@@ -54,6 +56,16 @@ impl Page {
     /// A paragraph of plain text (escaped).
     pub fn note(&mut self, text: &str) {
         let _ = writeln!(self.body, "<p class=\"note\">{}</p>", escape(text));
+    }
+
+    /// A warning the reader must not miss (escaped).
+    pub fn warning(&mut self, text: &str) {
+        let _ = writeln!(self.body, "<p class=\"warn\">{}</p>", escape(text));
+    }
+
+    /// The answer to a question the sweep asks (escaped).
+    pub fn answer(&mut self, text: &str) {
+        let _ = writeln!(self.body, "<p class=\"answer\">{}</p>", escape(text));
     }
 
     /// Preformatted text (escaped), e.g. the resolved sweep.

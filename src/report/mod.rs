@@ -1,55 +1,50 @@
 //! `report.html`: what a run answers, as one self-contained page built
-//! from an output folder's files (`sweep.resolved.toml`, `lanes.csv`,
-//! `summary.csv`, `traces.csv`). Every file is read as a stream and only
-//! bounded aggregates are kept (a few hundred cells a map, bins of a
-//! histogram, a capped number of trace rows), so a run of any size gets
-//! its report in bounded memory.
+//! from an output folder's files (`sweep.resolved.toml`, the results
+//! table, `summary.csv`, `traces.csv`). Every file is read as a stream and
+//! only bounded aggregates are kept (a few hundred cells a map, bins of a
+//! histogram, a fixed number of time buckets a trace), so a run of any
+//! size gets its report in bounded memory and in time linear in its rows.
 
 mod aggregates;
+pub mod axis;
 pub mod html;
 pub mod plots;
 mod scan;
 
 use std::path::Path;
 
+use crate::columns::Column;
 use crate::error::{Error, Result};
-use crate::outdir::write_atomic;
+use crate::outdir::names::{REPORT, RESOLVED, SUMMARY, TRACES};
+use crate::outdir::{AtomicFile, OutDir};
 use crate::params::Num;
 use crate::stats::wilson;
 use crate::sweep::Sweep;
+use aggregates::Verdict;
 use html::Page;
-use plots::{category_map, heat_map, histogram, line_chart, tornado, Curve};
-use scan::{Folder, CONTACT_NAMES};
+use plots::{
+    category_map, heat_map, histogram, line_chart, points_chart, tornado, Axis, Curve, Series,
+};
+use scan::{Folder, CONTACT_NAMES, LINE_POINTS};
 
-/// Writes `DIR/report.html` from the run in `dir`.
-pub fn write(dir: &Path) -> Result<()> {
-    let page = build(dir)?;
-    write_atomic(&dir.join("report.html"), page.as_bytes())
+/// A grid axis with at most this many values is drawn as points at its
+/// values (a category each), not as a line that would suggest values in
+/// between.
+const FEW: usize = 8;
+
+/// Writes `DIR/report.html` from the run in the folder `dir` holds
+/// (locked), committed beside its other files.
+pub fn write(dir: &mut OutDir) -> Result<()> {
+    let page = build(dir.path())?;
+    let path = dir.join(REPORT);
+    let mut f = AtomicFile::create(&path)?;
+    std::io::Write::write_all(f.writer(), page.as_bytes()).map_err(|e| Error::io(&path, e))?;
+    dir.commit_more(vec![f])
 }
 
-/// The unit of a result column, for axis labels.
-fn result_unit(name: &str) -> &'static str {
-    match name {
-        "t_first_switch" => "s",
-        "x1_end" => "m",
-        "v1_end" => "m/s",
-        "lock_margin_deg" => "deg",
-        n if n.starts_with("w") => "J",
-        _ => "",
-    }
-}
-
-/// "name (unit)", or the name alone when it has no unit.
-fn labelled(name: &str, unit: &str) -> String {
-    if unit.is_empty() {
-        name.to_string()
-    } else {
-        format!("{name} ({unit})")
-    }
-}
-
-fn param_label(n: Num) -> String {
-    labelled(n.name(), n.def().unit)
+/// "meaning, name (unit)": a parameter's axis label.
+pub(crate) fn param_label(n: Num) -> String {
+    crate::columns::label(n.name(), n.def().meaning, n.def().unit)
 }
 
 /// A share as a percentage: two decimals, or two significant digits
@@ -72,27 +67,36 @@ pub(crate) fn percent(x: f64) -> String {
 /// A share with its 95 % Wilson interval, as table cells.
 fn share_cells(k: u64, n: u64) -> [String; 3] {
     let (lo, hi) = wilson(k, n);
-    let pct = percent;
     [
         k.to_string(),
-        pct(k as f64 / n as f64),
-        format!("{} to {}", pct(lo), pct(hi)),
+        percent(k as f64 / n as f64),
+        format!("{} to {}", percent(lo), percent(hi)),
     ]
 }
 
 /// The report of the run in `dir`, as HTML.
 pub fn build(dir: &Path) -> Result<String> {
-    let resolved_path = dir.join("sweep.resolved.toml");
+    let resolved_path = dir.join(RESOLVED);
     let text = std::fs::read_to_string(&resolved_path).map_err(|e| {
         Error::input(
             &resolved_path,
             None,
             None,
-            format!("cannot read it ({e}); allowed: a folder written by `tswm run`"),
+            format!(
+                "cannot read it ({e}); allowed: a folder written by `tswm run` or `tswm merge`"
+            ),
         )
     })?;
     let sweep = Sweep::parse(&resolved_path, &text)?;
-    let folder = Folder::read(dir, &sweep)?;
+    let stated = crate::output::stated_lanes(&text).ok_or_else(|| {
+        Error::input(
+            &resolved_path,
+            None,
+            None,
+            "its header states no lane count (`# lanes: N`); not written by this tswm version",
+        )
+    })?;
+    let folder = Folder::read(dir, &sweep, stated)?;
     let spec = &sweep.report;
     let title = spec.title.clone().unwrap_or_else(|| {
         format!(
@@ -105,6 +109,10 @@ pub fn build(dir: &Path) -> Result<String> {
         )
     });
     let mut page = Page::new(&title);
+    undecided(&mut page, &folder);
+    if let Some(r) = &folder.require {
+        requirement(&mut page, r);
+    }
 
     page.section("What was run");
     let header: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
@@ -112,7 +120,7 @@ pub fn build(dir: &Path) -> Result<String> {
         page.note(l.trim_start_matches('#').trim());
     }
     page.note(&format!("Folder: {}", dir.display()));
-    page.heading("The resolved sweep (sweep.resolved.toml)");
+    page.heading(&format!("The resolved sweep ({RESOLVED})"));
     page.pre(&text);
 
     outcomes(&mut page, &folder);
@@ -130,16 +138,205 @@ pub fn build(dir: &Path) -> Result<String> {
     }
     page.section("About this page");
     page.note(&format!(
-        "Written by tswm from the files of its output folder: {} (one row per lane), \
-         summary.csv (statistics), traces.csv (traced lanes) and sweep.resolved.toml. \
-         Efficiencies are energy-averaged over each lane's run (MODEL.md section 10): eta_direct = \
-         w2_out / w1_in (worm drives wheel), eta_inverse = w1_out / w2_in (wheel drives worm); the \
-         _ss values are the steady efficiencies at the final sliding speed; lock_margin_deg = \
-         atan(mu_s) - gamma > 0 means the drive holds its load with the motor off. Grey cells have \
-         no value (the lane did not finish, or the efficiency is undefined).",
+        "Written by tswm from the files of its output folder: {} (one row per lane), {SUMMARY} \
+         (statistics), {TRACES} (traced lanes) and {RESOLVED}. Efficiencies are energy-averaged \
+         over each lane's run: eta_direct = w2_out / w1_in (worm drives wheel), eta_inverse = \
+         w1_out / w2_in (wheel drives worm); the _ss values are the steady efficiencies at the \
+         final sliding speed; lock_margin_deg = atan(mu_s) - gamma > 0 means the drive holds its \
+         load at rest with the motor off; hold says what became of the load of a lane whose motor \
+         is cut. Grey cells have no value (the lane did not finish, or the efficiency is \
+         undefined).",
         folder.table
     ));
     Ok(page.finish(&title))
+}
+
+/// At the top: lanes whose question is not answered yet (still coasting
+/// when their run ended), with what to do.
+fn undecided(page: &mut Page, f: &Folder) {
+    let coasting = f
+        .by_hold
+        .iter()
+        .find(|h| h.0 == "coasting")
+        .map_or(0, |h| h.1);
+    if coasting == 0 {
+        return;
+    }
+    page.section("Not decided: lanes still coasting");
+    let what = if f.coasting_t_max.is_finite() {
+        format!(
+            "they ran on to t_max = {} s and were still sliding; set a larger t_max",
+            plots::tick(f.coasting_t_max)
+        )
+    } else {
+        format!(
+            "set t_max in [base] (s, > t_end) so that they run on until they are held or run away, \
+             e.g. t_max = {}",
+            plots::tick(10.0 * f.coasting_t_end)
+        )
+    };
+    page.warning(&format!(
+        "{coasting} of {} lanes whose motor is cut were still coasting (sliding, slowing down) when \
+         their run ended: whether they hold the load is not decided, and their final contact is not \
+         an answer to it. To decide them, {what}.",
+        f.hold_lanes
+    ));
+}
+
+/// "2 to 5.25 (12 values)" or "2, 3 and 5": the runs of consecutive
+/// points of `idx` (ascending) among `xs`.
+fn runs(xs: &[f64], idx: &[usize]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && idx[j + 1] == idx[j] + 1 {
+            j += 1;
+        }
+        let (a, b) = (plots::tick(xs[idx[i]]), plots::tick(xs[idx[j]]));
+        parts.push(match j - i {
+            0 => a,
+            1 => format!("{a}, {b}"),
+            n => format!("{a} to {b} ({} values)", n + 1),
+        });
+        i = j + 1;
+    }
+    match parts.len() {
+        0 => "none".into(),
+        1 => parts.remove(0),
+        _ => {
+            let last = parts.pop().unwrap_or_default();
+            format!("{} and {last}", parts.join(", "))
+        }
+    }
+}
+
+/// The answer to the sweep's design requirement, in sentences and a
+/// marked plot per panel.
+fn requirement(page: &mut Page, r: &aggregates::RequireData) {
+    let req = &r.req;
+    page.section("Requirement");
+    let want = format!(
+        "`{}` in at least {} of lanes, with 95 % confidence (one-sided Wilson bound; a lane that \
+         is not ok or has no value does not meet it)",
+        req.text(),
+        percent(req.at_least)
+    );
+    let Some(axis) = r.axis else {
+        let (share, lo, _, v) = r.judge(r.counts[0][0]);
+        let (k, n) = r.counts[0][0];
+        let verdict = match v {
+            Some(Verdict::Met) => "met",
+            Some(Verdict::NotMet) => "not met",
+            Some(Verdict::Undecided) => "not decided: more lanes are needed",
+            None => "not decided: no lanes",
+        };
+        page.answer(&format!(
+            "Requirement {want}: {verdict} ({k} of {n} lanes, {}; lower bound {}).",
+            percent(share),
+            percent(lo)
+        ));
+        return;
+    };
+    let name = axis.name();
+    let unit = axis.def().unit;
+    let mut figs = Vec::new();
+    for (p, label) in r.panel_labels.iter().enumerate() {
+        let judged: Vec<_> = r.counts[p].iter().map(|&c| r.judge(c)).collect();
+        let of = |v: Verdict| -> Vec<usize> {
+            (0..judged.len())
+                .filter(|&i| judged[i].3 == Some(v))
+                .collect()
+        };
+        let (met, open, not) = (
+            of(Verdict::Met),
+            of(Verdict::Undecided),
+            of(Verdict::NotMet),
+        );
+        let at = if label == "all lanes" {
+            String::new()
+        } else {
+            format!(" at {label}")
+        };
+        let mut s = format!(
+            "Requirement {want}{at}: met for {name} = {}",
+            runs(&r.xs, &met)
+        );
+        if let (Some(&a), Some(&b)) = (met.first(), met.last()) {
+            s.push_str(&format!(
+                " (smallest {}, largest {}{})",
+                plots::tick(r.xs[a]),
+                plots::tick(r.xs[b]),
+                if unit.is_empty() {
+                    String::new()
+                } else {
+                    format!(" {unit}")
+                }
+            ));
+        }
+        if !open.is_empty() {
+            s.push_str(&format!(
+                "; not decided for {} (more lanes are needed there)",
+                runs(&r.xs, &open)
+            ));
+        }
+        s.push_str(&format!("; not met for {}.", runs(&r.xs, &not)));
+        let most = r.counts[p].iter().map(|c| c.1).max().unwrap_or(0);
+        if met.is_empty() && most < r.lanes_needed() {
+            s.push_str(&format!(
+                " With {most} lanes a value, no share can be confirmed at {}: that takes at least {} \
+                 lanes a value, all of them meeting it (more samples in [sampling]).",
+                percent(req.at_least),
+                r.lanes_needed()
+            ));
+        }
+        page.answer(&s);
+        let x = Axis::grid(&param_label(axis), &r.xs);
+        let y = Axis::fixed(&format!("share of lanes with {}", req.text()), 0.0, 1.0);
+        let series_of = |v: Verdict, name| Series {
+            name,
+            values: judged
+                .iter()
+                .map(|j| {
+                    if j.3 == Some(v) {
+                        (j.0, j.1, j.2)
+                    } else {
+                        (f64::NAN, f64::NAN, f64::NAN)
+                    }
+                })
+                .collect(),
+        };
+        figs.push(points_chart(
+            &format!("{}{at}", req.text()),
+            &x,
+            &y,
+            &[
+                series_of(Verdict::Met, "met"),
+                series_of(Verdict::Undecided, "not decided"),
+                series_of(Verdict::NotMet, "not met"),
+            ],
+            Some((req.at_least, "required share")),
+        ));
+    }
+    if r.binned {
+        page.note(&format!(
+            "{name} has more values than the answer lists: they are binned into {LINE_POINTS} \
+             (each named by its first value)."
+        ));
+    }
+    page.note(
+        "Points are the share of each value's lanes that meet the requirement; whiskers span its \
+         one-sided 95 % bounds (a 90 % interval). Met: the lower bound is at least the required \
+         share; not met: the upper bound is below it; otherwise the lanes cannot decide it.",
+    );
+    if (r.panel_labels.len() as u64) < r.panel_total {
+        page.note(&format!(
+            "Showing {} of {} combinations of the other axes ([report] panels sets the limit).",
+            r.panel_labels.len(),
+            r.panel_total
+        ));
+    }
+    page.figures(figs);
 }
 
 fn outcomes(page: &mut Page, f: &Folder) {
@@ -148,16 +345,17 @@ fn outcomes(page: &mut Page, f: &Folder) {
     let rows: Vec<Vec<String>> = f
         .by_status
         .iter()
-        .map(|(s, &k)| {
+        .filter(|(s, k)| *k > 0 || *s == "ok")
+        .map(|&(s, k)| {
             let [a, b, c] = share_cells(k, f.lanes);
-            vec![s.clone(), a, b, c]
+            vec![s.to_string(), a, b, c]
         })
         .collect();
     page.table(
         &["status", "lanes", "share", "95 % interval (Wilson)"],
         &rows,
     );
-    let ok = f.by_status.get("ok").copied().unwrap_or(0);
+    let ok = f.by_status.iter().find(|s| s.0 == "ok").map_or(0, |s| s.1);
     let rows: Vec<Vec<String>> = CONTACT_NAMES
         .iter()
         .enumerate()
@@ -175,6 +373,23 @@ fn outcomes(page: &mut Page, f: &Folder) {
         ],
         &rows,
     );
+    if f.hold_lanes > 0 {
+        page.heading("Does it hold? (lanes whose motor is cut)");
+        let rows: Vec<Vec<String>> = f
+            .by_hold
+            .iter()
+            .map(|(w, k)| {
+                let [a, b, c] = share_cells(*k, f.hold_lanes);
+                vec![w.to_string(), a, b, c]
+            })
+            .collect();
+        page.table(&["hold", "lanes", "share", "95 % interval (Wilson)"], &rows);
+        page.note(
+            "held: at rest and stuck with the motor off; runs_away: sliding and not slowing down, \
+             the load back-drives the gear; coasting: still sliding and slowing down when the run \
+             ended, not decided (set t_max).",
+        );
+    }
     if f.unfinished_total > 0 {
         page.heading("Lanes that could not be finished");
         let mut head = vec!["lane", "status"];
@@ -187,6 +402,20 @@ fn outcomes(page: &mut Page, f: &Folder) {
                 f.table
             ));
         }
+    }
+}
+
+/// What an empty or zero efficiency means, under figures that show one.
+fn efficiency_note(page: &mut Page, results: &[&Column]) {
+    if results.iter().any(|c| c.name.starts_with("eta_")) {
+        page.note(
+            "Reading the efficiencies: eta_direct has no value where the worm side put no energy \
+             into the mesh (the load drove throughout, or the drive never moved), eta_inverse none \
+             where the wheel side put none in. An eta_inverse of 0 means the wheel side fed \
+             friction only and nothing reached the worm: the drive locks itself (dynamic \
+             self-locking) and the load cannot drive it. A steady value (_ss) <= 0 means the drive \
+             cannot be driven from that side at that speed.",
+        );
     }
 }
 
@@ -210,36 +439,37 @@ fn maps(page: &mut Page, f: &Folder) {
             ""
         }
     ));
-    if m.panels.len() < m.panel_total {
+    efficiency_note(page, &f.results);
+    if (m.panels.len() as u64) < m.panel_total {
         page.note(&format!(
             "Showing {} of {} panels (one per value of the other axes; [report] panels sets the limit).",
             m.panels.len(),
             m.panel_total
         ));
     }
+    let (x, y) = (
+        Axis::grid(&param_label(m.x), &m.xs),
+        Axis::grid(&param_label(m.y), &m.ys),
+    );
     for p in &m.panels {
         page.heading(&p.label);
         let mut figs = Vec::new();
         let line = p.lock_line();
-        for (r, name) in f.results.iter().enumerate() {
+        for (r, c) in f.results.iter().enumerate() {
             figs.push(heat_map(
-                name,
-                &param_label(m.x),
-                &m.xs,
-                &param_label(m.y),
-                &m.ys,
+                c.quantity,
+                &x,
+                &y,
                 &p.means(r),
-                &labelled(name, result_unit(name)),
+                &c.label(),
                 Some(&line),
             ));
         }
         let names: Vec<&str> = CONTACT_NAMES.iter().map(|c| c.1).collect();
         figs.push(category_map(
             "final contact (most lanes)",
-            &param_label(m.x),
-            &m.xs,
-            &param_label(m.y),
-            &m.ys,
+            &x,
+            &y,
             &p.contact_cells(),
             &names,
         ));
@@ -250,41 +480,93 @@ fn maps(page: &mut Page, f: &Folder) {
 fn lines(page: &mut Page, f: &Folder) {
     let l = f.line.as_ref().expect("checked");
     page.section(&format!("Results against {}", l.axis.name()));
+    let few = l.xs().len() <= FEW;
     if f.study {
-        page.note(
-            "Lines are the mean over each grid point's sampled lanes; bands span their min to max.",
-        );
+        page.note(if few {
+            "Points are the mean over each grid point's sampled lanes; whiskers span their min to max."
+        } else {
+            "Lines are the mean over each grid point's sampled lanes; bands span their min to max."
+        });
     }
+    efficiency_note(page, &f.results);
+    let x_label = param_label(l.axis);
     let mut figs = Vec::new();
-    for (r, name) in f.results.iter().enumerate() {
-        let (points, band) = l.curve(r);
-        let band = if f.study { band } else { Vec::new() };
+    for (r, c) in f.results.iter().enumerate() {
+        if few {
+            let vals = l.per_point(r);
+            let y = Axis::numeric(&c.label(), vals.iter().flat_map(|v| [v.0, v.1, v.2]));
+            let vals = if f.study {
+                vals
+            } else {
+                vals.into_iter()
+                    .map(|v| (v.0, f64::NAN, f64::NAN))
+                    .collect()
+            };
+            figs.push(points_chart(
+                c.quantity,
+                &Axis::grid(&x_label, l.xs()),
+                &y,
+                &[Series {
+                    name: c.name,
+                    values: vals,
+                }],
+                None,
+            ));
+        } else {
+            let (points, band) = l.curve(r);
+            let band = if f.study { band } else { Vec::new() };
+            let curves = [Curve {
+                name: c.name,
+                points,
+                band,
+            }];
+            let x = plots::x_axis(&x_label, &curves, &[], l.log);
+            figs.push(line_chart(c.quantity, &x, l.log, &c.label(), &curves, &[]));
+        }
+    }
+    let share = Axis::fixed("share of finished lanes", 0.0, 1.0);
+    if few {
+        let series: Vec<Series> = CONTACT_NAMES
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Series {
+                name: c.1,
+                values: l.contact_share(i),
+            })
+            .collect();
+        figs.push(points_chart(
+            "final contact",
+            &Axis::grid(&x_label, l.xs()),
+            &share,
+            &series,
+            None,
+        ));
+    } else {
+        let curves: Vec<Curve> = CONTACT_NAMES
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Curve {
+                name: c.1,
+                points: l
+                    .xs()
+                    .iter()
+                    .zip(l.contact_share(i))
+                    .filter(|(_, s)| s.0.is_finite())
+                    .map(|(x, s)| (*x, s.0))
+                    .collect(),
+                band: Vec::new(),
+            })
+            .collect();
+        let x = plots::x_axis(&x_label, &curves, &[], l.log);
         figs.push(line_chart(
-            name,
-            &param_label(l.axis),
-            &labelled(name, result_unit(name)),
-            &[Curve { name, points, band }],
-            &[],
+            "final contact",
+            &x,
             l.log,
+            "share of finished lanes",
+            &curves,
+            &[],
         ));
     }
-    let curves: Vec<Curve> = CONTACT_NAMES
-        .iter()
-        .enumerate()
-        .map(|(i, c)| Curve {
-            name: c.1,
-            points: l.contact_share(i),
-            band: Vec::new(),
-        })
-        .collect();
-    figs.push(line_chart(
-        "final contact",
-        &param_label(l.axis),
-        "share of finished lanes",
-        &curves,
-        &[],
-        l.log,
-    ));
     page.figures(figs);
     if f.study {
         page.heading(&format!("Final contact against {}", l.axis.name()));
@@ -294,7 +576,7 @@ fn lines(page: &mut Page, f: &Folder) {
         );
         let rows = l.contact_rows();
         let head = [
-            labelled(l.axis.name(), l.axis.def().unit),
+            crate::columns::label(l.axis.name(), "", l.axis.def().unit),
             "finished lanes".into(),
             "held".into(),
             "held, 95 % interval".into(),
@@ -310,9 +592,9 @@ fn study(page: &mut Page, f: &Folder) {
     page.section("Tolerance study");
     page.note(
         "Per grid point (or the whole study): the quantiles of each result from summary.csv, the \
-         probability of each final contact with its 95 % Wilson interval, histograms with the \
-         empirical CDF, and the Spearman rank correlation of each sampled input with the result \
-         (a tornado: the longer the bar, the more that tolerance moves the result).",
+         probability of each final contact and hold with its 95 % Wilson interval, histograms \
+         with the empirical CDF, and the Spearman rank correlation of each sampled input with the \
+         result (a tornado: the longer the bar, the more that tolerance moves the result).",
     );
     for g in &f.groups {
         page.heading(&g.label);
@@ -332,35 +614,24 @@ fn study(page: &mut Page, f: &Folder) {
         ];
         page.table(&head, &g.quantile_rows);
         page.table(
-            &[
-                "final contact",
-                "lanes",
-                "probability",
-                "95 % interval (Wilson)",
-            ],
+            &["outcome", "lanes", "probability", "95 % interval (Wilson)"],
             &g.contact_rows,
         );
         let mut figs = Vec::new();
-        for (r, name) in f.results.iter().enumerate() {
+        for (r, c) in f.results.iter().enumerate() {
             if let Some((lo, hi, counts)) = g.hist(r) {
-                figs.push(histogram(
-                    name,
-                    &labelled(name, result_unit(name)),
-                    lo,
-                    hi,
-                    counts,
-                ));
+                figs.push(histogram(c.quantity, &c.label(), lo, hi, counts));
             }
-            let bars = g.tornado(name);
+            let bars = g.tornado(c.name);
             if !bars.is_empty() {
-                figs.push(tornado(&format!("what moves {name}"), &bars));
+                figs.push(tornado(&format!("what moves {}", c.name), &bars));
             }
         }
         page.figures(figs);
     }
     if f.groups_total > f.groups.len() {
         page.note(&format!(
-            "Showing {} of {} grid points ([report] panels sets the limit); summary.csv has them all.",
+            "Showing {} of {} grid points ([report] panels sets the limit); {SUMMARY} has them all.",
             f.groups.len(),
             f.groups_total
         ));
@@ -369,67 +640,44 @@ fn study(page: &mut Page, f: &Folder) {
 
 fn traces(page: &mut Page, f: &Folder) {
     page.section("Traces");
-    page.note(
-        "Traced lanes through time (traces.csv): the contact reactions S1 and S2, the force \
-         transfer function psi, and the speed. Grey vertical lines mark events (a switch of the \
-         contact side, a stop, the motor's cut-off); at each, the trace has the state just before \
-         and just after.",
-    );
+    page.note(&format!(
+        "Traced lanes through time ({TRACES}): the contact reactions S1 and S2, the force transfer \
+         function psi, and the speed. Grey vertical lines mark events (a switch of the contact \
+         side, a stop, the motor's cut-off); at each, the trace has the state just before and just \
+         after. A lane with more rows than the plot resolves is drawn from the first, lowest, \
+         highest and last value of each of {} time slices, which draws what all of them would.",
+        aggregates::TRACE_BUCKETS
+    ));
     for t in &f.traces {
         page.heading(&format!(
-            "lane {}{}",
+            "lane {} ({} rows, {} events{})",
             t.lane,
-            if t.thinned {
-                " (thinned for plotting)"
+            t.rows,
+            t.events,
+            if t.thinned() {
+                "; decimated for plotting"
             } else {
                 ""
             }
         ));
-        let figs = vec![
-            line_chart(
+        let marks = t.marks();
+        let chart = |title: &str, y: &str, curves: &[Curve]| {
+            let x = plots::x_axis("time, t (s)", curves, &marks, false);
+            line_chart(title, &x, false, y, curves, &marks)
+        };
+        let curve = |name, s| Curve {
+            name,
+            points: t.series(s),
+            band: Vec::new(),
+        };
+        page.figures(vec![
+            chart(
                 "contact reactions",
-                "t (s)",
-                "force (N)",
-                &[
-                    Curve {
-                        name: "S1",
-                        points: t.series(|r| r.s1),
-                        band: Vec::new(),
-                    },
-                    Curve {
-                        name: "S2",
-                        points: t.series(|r| r.s2),
-                        band: Vec::new(),
-                    },
-                ],
-                &t.events,
-                false,
+                "contact reaction (N)",
+                &[curve("S1", 1), curve("S2", 2)],
             ),
-            line_chart(
-                "force transfer function",
-                "t (s)",
-                "psi",
-                &[Curve {
-                    name: "psi",
-                    points: t.series(|r| r.psi),
-                    band: Vec::new(),
-                }],
-                &t.events,
-                false,
-            ),
-            line_chart(
-                "speed",
-                "t (s)",
-                "v1 (m/s)",
-                &[Curve {
-                    name: "v1",
-                    points: t.series(|r| r.v1),
-                    band: Vec::new(),
-                }],
-                &t.events,
-                false,
-            ),
-        ];
-        page.figures(figs);
+            chart("force transfer function", "psi", &[curve("psi", 3)]),
+            chart("speed", "speed of body 1, v1 (m/s)", &[curve("v1", 0)]),
+        ]);
     }
 }

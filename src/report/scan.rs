@@ -1,15 +1,24 @@
 //! Reading an output folder for the report: `summary.csv` for the shown
-//! groups, one pass over `lanes.csv` into bounded aggregates, and the
-//! traced lanes of `traces.csv` (thinned past a cap).
+//! groups, one pass over the results table into bounded aggregates, and
+//! the traced lanes of `traces.csv`, decimated to the plot's resolution.
+//!
+//! Nothing read is trusted to be well formed: a cell that is not of its
+//! column's kind, a word its column does not have, a lane out of order or
+//! outside the run, a table shorter or longer than the run it belongs to
+//! each stop the report with a one-line error (exit code 2), never a
+//! panic and never a page of wrong numbers. Time and memory grow with the
+//! folder's rows only linearly and with nothing else.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
+use crate::columns::{results, Column, Summary};
 use crate::error::{Error, Result};
+use crate::lanes_file::{columns, Cell, RowReader};
+use crate::outdir::names::{SUMMARY, TRACES};
 use crate::params::Num;
 use crate::sweep::{Axis, Sweep};
 
-pub use super::aggregates::{GroupData, LineData, MapData, Panel, TraceData, TraceRow};
+pub use super::aggregates::{GroupData, LineData, MapData, RequireData, TraceData};
 
 /// Final contacts as `lanes.csv` spells them, with the words the report
 /// uses; the order of the maps' colours.
@@ -18,33 +27,41 @@ pub const CONTACT_NAMES: [(&str, &str); 3] = [("stick", "held"), ("aa", "a-a"), 
 /// Most cells along one axis of a map, and points along a line; longer
 /// axes are binned.
 const MAP_CELLS: u64 = 120;
-const LINE_POINTS: u64 = 1000;
+pub(super) const LINE_POINTS: u64 = 1000;
 /// Lanes listed by name among those that could not be finished.
 const UNFINISHED_SHOWN: usize = 20;
 /// Histogram bins.
 const BINS: usize = 40;
-/// Traced lanes plotted, and rows kept per lane before thinning.
+/// Traced lanes plotted.
 const TRACES_SHOWN: usize = 6;
-const TRACE_ROWS: usize = 8000;
 
 /// What the report needs from an output folder.
 pub struct Folder {
     /// The table's file name (`lanes.csv` or `lanes.parquet`).
     pub table: &'static str,
     pub lanes: u64,
-    pub by_status: BTreeMap<String, u64>,
+    /// Lanes per status word, in the table's order of words.
+    pub by_status: Vec<(&'static str, u64)>,
     pub by_contact: [u64; 3],
+    /// Lanes per `hold` word (held, runs_away, coasting).
+    pub by_hold: Vec<(&'static str, u64)>,
+    /// Lanes whose motor is cut before t_end (those with a `hold`).
+    pub hold_lanes: u64,
+    /// The largest t_end and t_max among lanes still coasting.
+    pub coasting_t_end: f64,
+    pub coasting_t_max: f64,
     pub unfinished: Vec<Vec<String>>,
     pub unfinished_total: u64,
     /// Parameters listed for unfinished lanes: the grid's and the sampled.
     pub shown_params: Vec<Num>,
-    pub results: Vec<String>,
+    pub results: Vec<&'static Column>,
     pub study: bool,
     pub map: Option<MapData>,
     pub line: Option<LineData>,
     pub groups: Vec<GroupData>,
     pub groups_total: usize,
     pub traces: Vec<TraceData>,
+    pub require: Option<RequireData>,
 }
 
 fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>> {
@@ -63,19 +80,36 @@ fn column(path: &Path, head: &csv::ByteRecord, name: &str) -> Result<usize> {
         .ok_or_else(|| Error::input(path, Some("line 1".into()), Some(name), "column missing"))
 }
 
-fn num(rec: &csv::ByteRecord, i: usize) -> f64 {
-    std::str::from_utf8(&rec[i])
+/// A number cell of a CSV record: empty is NaN, anything else must be a
+/// finite number (else an error naming the line and column).
+fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> Result<f64> {
+    let t = rec.get(i).unwrap_or(b"");
+    if t.is_empty() {
+        return Ok(f64::NAN);
+    }
+    match std::str::from_utf8(t)
         .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(f64::NAN)
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        Some(v) if v.is_finite() => Ok(v),
+        _ => Err(Error::input(
+            path,
+            rec.position().map(|p| format!("line {}", p.line())),
+            Some(name),
+            format!(
+                "`{}` is not a finite number; not a tswm table",
+                crate::error::shown(&String::from_utf8_lossy(t), 40)
+            ),
+        )),
+    }
 }
 
 fn text(rec: &csv::ByteRecord, i: usize) -> String {
-    String::from_utf8_lossy(&rec[i]).into_owned()
+    String::from_utf8_lossy(rec.get(i).unwrap_or(b"")).into_owned()
 }
 
 /// Index `i` of `len` into `bins` bins.
-fn bin(i: u64, len: u64, bins: u64) -> usize {
+pub(super) fn bin(i: u64, len: u64, bins: u64) -> usize {
     if len <= bins {
         i as usize
     } else {
@@ -84,7 +118,7 @@ fn bin(i: u64, len: u64, bins: u64) -> usize {
 }
 
 /// The axis value shown for each bin (its first grid value).
-fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
+pub(super) fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
     let len = a.len();
     let n = len.min(bins);
     (0..n)
@@ -98,102 +132,78 @@ fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
         .collect()
 }
 
+/// The words of a word column of the results table.
+fn words_of(c: &Column) -> Vec<&'static str> {
+    match c.summary {
+        Summary::Shares(w, _) => w(),
+        _ => Vec::new(),
+    }
+}
+
+/// Where the scan reads a row of the results table.
+struct Cols {
+    lane: usize,
+    status: usize,
+    contact: usize,
+    hold: usize,
+    lock: usize,
+    t_end: usize,
+    t_max: usize,
+    results: Vec<usize>,
+    shown: Vec<usize>,
+    require: Option<usize>,
+    /// Word columns: position and allowed words ("" allowed where noted).
+    words: Vec<(usize, &'static str, Vec<&'static str>)>,
+}
+
 impl Folder {
-    /// Reads the folder `dir` of a run of `sweep`.
-    pub fn read(dir: &Path, sweep: &Sweep) -> Result<Folder> {
+    /// Reads the folder `dir` of a run of `sweep`, whose
+    /// `sweep.resolved.toml` states `stated` lanes.
+    pub fn read(dir: &Path, sweep: &Sweep, stated: u64) -> Result<Folder> {
         let spec = &sweep.report;
-        let results = spec.results();
+        let results: Vec<&'static Column> = spec
+            .results()
+            .iter()
+            .filter_map(|n| crate::columns::result(n))
+            .collect();
         let panels = spec.panels();
         let study = sweep.study.is_some();
-        let samples = sweep.study.as_ref().map_or(1, |s| s.n);
         let lens: Vec<u64> = sweep.axes.iter().map(|a| a.len()).collect();
         let mut shown_params: Vec<Num> = sweep.axes.iter().map(|a| a.param).collect();
         if let Some(st) = &sweep.study {
             shown_params.extend(st.params.iter().map(|t| t.param));
         }
+        let word_counts = |name: &str| -> Vec<(&'static str, u64)> {
+            crate::columns::result(name)
+                .map(|c| words_of(c).into_iter().map(|w| (w, 0)).collect())
+                .unwrap_or_default()
+        };
         let mut f = Folder {
             table: crate::lanes_file::Format::of_folder(dir)?.file_name(),
             lanes: 0,
-            by_status: BTreeMap::new(),
+            by_status: word_counts("status"),
             by_contact: [0; 3],
+            by_hold: word_counts("hold"),
+            hold_lanes: 0,
+            coasting_t_end: f64::NAN,
+            coasting_t_max: f64::NAN,
             unfinished: Vec::new(),
             unfinished_total: 0,
             shown_params,
-            results: results.clone(),
+            results,
             study,
             map: None,
             line: None,
             groups: Vec::new(),
             groups_total: 0,
             traces: Vec::new(),
+            require: spec
+                .require
+                .as_ref()
+                .map(|r| RequireData::new(r.clone(), sweep, panels, LINE_POINTS)),
         };
         if sweep.axes.len() >= 2 {
-            let pick = |k: usize| {
-                spec.axes
-                    .get(k)
-                    .and_then(|n| sweep.axes.iter().position(|a| a.param == *n))
-                    .unwrap_or(
-                        if spec.axes.first().is_some_and(|n| sweep.axes[0].param == *n) {
-                            1
-                        } else {
-                            k
-                        },
-                    )
-            };
-            let (ix, iy) = (pick(0), pick(1));
-            let (ax, ay) = (&sweep.axes[ix], &sweep.axes[iy]);
-            let others: u64 = lens
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| *i != ix && *i != iy)
-                .map(|(_, l)| l)
-                .product();
-            let (xs, ys) = (bin_values(ax, MAP_CELLS), bin_values(ay, MAP_CELLS));
-            let cells = xs.len() * ys.len();
-            let shown = (others as usize).min(panels);
-            let mut list = Vec::new();
-            for p in 0..shown {
-                // The other axes' values of panel p (mixed radix, slowest first).
-                let mut rest = p as u64;
-                let mut label = Vec::new();
-                for (i, a) in sweep.axes.iter().enumerate().rev() {
-                    if i == ix || i == iy {
-                        continue;
-                    }
-                    label.push(format!(
-                        "{} = {}",
-                        param_label_short(a.param),
-                        plots_tick(a.value(rest % lens[i]))
-                    ));
-                    rest /= lens[i];
-                }
-                label.reverse();
-                list.push(Panel {
-                    label: if label.is_empty() {
-                        "all lanes".into()
-                    } else {
-                        label.join(", ")
-                    },
-                    nx: xs.len(),
-                    ny: ys.len(),
-                    sums: vec![vec![0.0; cells]; results.len()],
-                    counts: vec![vec![0; cells]; results.len()],
-                    contact: vec![[0; 3]; cells],
-                    lock: vec![(0.0, 0); cells],
-                });
-            }
-            f.map = Some(MapData {
-                x: ax.param,
-                y: ay.param,
-                binned: ax.len() > MAP_CELLS || ay.len() > MAP_CELLS,
-                xs,
-                ys,
-                panels: list,
-                panel_total: others as usize,
-                ix,
-                iy,
-                lens: lens.clone(),
-            });
+            f.map = Some(MapData::new(sweep, panels, MAP_CELLS));
         } else if sweep.axes.len() == 1 {
             let a = &sweep.axes[0];
             let xs = bin_values(a, LINE_POINTS);
@@ -203,7 +213,7 @@ impl Folder {
                 log: matches!(a.values, crate::sweep::AxisValues::Range { log: true, .. }),
                 xs,
                 len: a.len(),
-                acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; results.len()],
+                acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; f.results.len()],
                 contact: vec![[0; 3]; n],
             });
         }
@@ -216,15 +226,15 @@ impl Folder {
             f.groups_total = groups_total;
             f.read_summary(dir, sweep, groups_total.min(panels))?;
         }
-        f.scan_lanes(dir, sweep, samples)?;
-        f.read_traces(dir)?;
+        let traced = f.scan_lanes(dir, sweep, stated)?;
+        f.read_traces(dir, &traced)?;
         Ok(f)
     }
 
     /// The shown groups' rows of summary.csv: tables, histogram ranges
     /// and rank correlations.
     fn read_summary(&mut self, dir: &Path, sweep: &Sweep, shown: usize) -> Result<()> {
-        let path = dir.join("summary.csv");
+        let path = dir.join(SUMMARY);
         let mut rd = open_csv(&path)?;
         let head = rd.byte_headers().map_err(|e| bad_row(&path, e))?.clone();
         let c = |n: &str| column(&path, &head, n);
@@ -235,7 +245,7 @@ impl Folder {
             c("input")?,
             c("count")?,
         );
-        let stat_cols: Vec<usize> = [
+        let stat_names = [
             "mean",
             "std",
             "min",
@@ -246,10 +256,8 @@ impl Folder {
             "p99",
             "max",
             "quantiles",
-        ]
-        .iter()
-        .map(|n| c(n))
-        .collect::<Result<_>>()?;
+        ];
+        let stat_cols: Vec<usize> = stat_names.iter().map(|n| c(n)).collect::<Result<_>>()?;
         let (share, lo, hi, rho) = (c("share")?, c("ci95_low")?, c("ci95_high")?, c("rho")?);
         let (minc, maxc) = (c("min")?, c("max")?);
         let axis_cols: Vec<usize> = sweep
@@ -262,10 +270,19 @@ impl Folder {
             .read_byte_record(&mut rec)
             .map_err(|e| bad_row(&path, e))?
         {
-            let g = num(&rec, group) as usize;
-            if g >= shown {
+            let g = num(&path, &rec, group, "group")?;
+            if !(g >= 0.0) || g.fract() != 0.0 {
+                return Err(Error::input(
+                    &path,
+                    rec.position().map(|p| format!("line {}", p.line())),
+                    Some("group"),
+                    "is not a group number; not a tswm summary",
+                ));
+            }
+            if g >= shown as f64 {
                 continue;
             }
+            let g = g as usize;
             while self.groups.len() <= g {
                 self.groups.push(GroupData {
                     label: String::new(),
@@ -275,153 +292,218 @@ impl Folder {
                     spearman: Vec::new(),
                 });
             }
-            let gd = &mut self.groups[g];
-            if gd.label.is_empty() {
-                let parts: Vec<String> = sweep
-                    .axes
-                    .iter()
-                    .zip(&axis_cols)
-                    .map(|(a, &i)| {
-                        format!(
-                            "{} = {}",
-                            param_label_short(a.param),
-                            plots_tick(num(&rec, i))
-                        )
-                    })
-                    .collect();
-                gd.label = if parts.is_empty() {
+            if self.groups[g].label.is_empty() {
+                let mut parts = Vec::new();
+                for (a, &i) in sweep.axes.iter().zip(&axis_cols) {
+                    let v = num(&path, &rec, i, a.param.name())?;
+                    parts.push(format!(
+                        "{} = {}",
+                        super::param_label(a.param),
+                        super::plots::tick(v)
+                    ));
+                }
+                self.groups[g].label = if parts.is_empty() {
                     "all lanes".into()
                 } else {
                     format!("grid point {g}: {}", parts.join(", "))
                 };
             }
             let nm = text(&rec, name);
-            match &rec[kind] {
+            match rec.get(kind).unwrap_or(b"") {
                 b"number" => {
-                    if let Some(r) = self.results.iter().position(|x| *x == nm) {
-                        let (a, b) = (num(&rec, minc), num(&rec, maxc));
+                    if let Some(r) = self.results.iter().position(|x| x.name == nm) {
+                        let (a, b) = (
+                            num(&path, &rec, minc, "min")?,
+                            num(&path, &rec, maxc, "max")?,
+                        );
                         if a.is_finite() && b.is_finite() {
-                            gd.hists[r] = Some((a, b, vec![0; BINS]));
+                            self.groups[g].hists[r] = Some((a, b, vec![0; BINS]));
                         }
                     }
                     let mut row = vec![nm, text(&rec, count)];
                     row.extend(stat_cols.iter().map(|&i| short(&text(&rec, i))));
-                    gd.quantile_rows.push(row);
+                    self.groups[g].quantile_rows.push(row);
                 }
-                b"contact_end" => {
+                b"contact_end" | b"hold" => {
                     let word = CONTACT_NAMES
                         .iter()
                         .find(|c| c.0 == nm)
                         .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
-                    let pct = |i: usize| super::percent(num(&rec, i));
-                    gd.contact_rows.push(vec![
-                        word,
+                    let kind = text(&rec, kind);
+                    let pct = |x: f64| super::percent(x);
+                    let (s, l, h) = (
+                        num(&path, &rec, share, "share")?,
+                        num(&path, &rec, lo, "ci95_low")?,
+                        num(&path, &rec, hi, "ci95_high")?,
+                    );
+                    self.groups[g].contact_rows.push(vec![
+                        format!("{kind} = {word}"),
                         text(&rec, count),
-                        pct(share),
-                        format!("{} to {}", pct(lo), pct(hi)),
+                        pct(s),
+                        format!("{} to {}", pct(l), pct(h)),
                     ]);
                 }
-                b"spearman" => gd.spearman.push((nm, text(&rec, input), num(&rec, rho))),
+                b"spearman" => {
+                    let r = num(&path, &rec, rho, "rho")?;
+                    self.groups[g].spearman.push((nm, text(&rec, input), r));
+                }
                 _ => {}
             }
         }
         Ok(())
     }
 
-    fn scan_lanes(&mut self, dir: &Path, sweep: &Sweep, samples: u64) -> Result<()> {
-        // lanes.csv or lanes.parquet, read alike as text records.
-        let mut rd = crate::lanes_file::RowReader::open_folder(dir)?;
-        let path = rd.path().to_path_buf();
-        let head = rd.header().clone();
-        let c = |n: &str| column(&path, &head, n);
-        let (lane_c, status_c, contact_c, lock_c) = (
-            c("lane")?,
-            c("status")?,
-            c("contact_end")?,
-            c("lock_margin_deg")?,
-        );
-        let res_c: Vec<usize> = self.results.iter().map(|n| c(n)).collect::<Result<_>>()?;
-        let shown_c: Vec<usize> = self
-            .shown_params
+    fn columns_of(&self, path: &Path, head: &csv::ByteRecord) -> Result<Cols> {
+        let c = |n: &str| column(path, head, n);
+        let word_cols = results()
             .iter()
-            .map(|n| c(n.name()))
-            .collect::<Result<_>>()?;
-        let grouped = !sweep.axes.is_empty();
+            .filter(|r| matches!(r.summary, Summary::Shares(..)))
+            .map(|r| Ok((c(r.name)?, r.name, words_of(r))))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Cols {
+            lane: c("lane")?,
+            status: c("status")?,
+            contact: c("contact_end")?,
+            hold: c("hold")?,
+            lock: c("lock_margin_deg")?,
+            t_end: c(Num::TEnd.name())?,
+            t_max: c(Num::TMax.name())?,
+            results: self
+                .results
+                .iter()
+                .map(|r| c(r.name))
+                .collect::<Result<_>>()?,
+            shown: self
+                .shown_params
+                .iter()
+                .map(|n| c(n.name()))
+                .collect::<Result<_>>()?,
+            require: match &self.require {
+                Some(r) => Some(c(r.req.column)?),
+                None => None,
+            },
+            words: word_cols,
+        })
+    }
+
+    /// One pass over the results table. Returns the horizon (t_max or
+    /// t_end) of each lane the sweep traces, for the traces' decimation.
+    fn scan_lanes(&mut self, dir: &Path, sweep: &Sweep, stated: u64) -> Result<Vec<(u64, f64)>> {
+        let mut rd = RowReader::open_folder(dir)?;
+        let path = rd.path().to_path_buf();
+        let kinds = columns();
+        let head = rd.header().clone();
+        if head.len() != kinds.len() || head.iter().zip(&kinds).any(|(h, k)| h != k.0.as_bytes()) {
+            return Err(Error::input(
+                &path,
+                Some("line 1".into()),
+                None,
+                "its columns are not those of this tswm version's table; run it again",
+            ));
+        }
+        let cols = self.columns_of(&path, &head)?;
+        let samples = sweep.study.as_ref().map_or(1, |s| s.n);
+        let traced_lanes: Vec<u64> = sweep.trace.as_ref().map_or(Vec::new(), |t| t.lanes.clone());
+        let mut traced = Vec::new();
         let mut rec = csv::ByteRecord::new();
-        let mut idx = vec![0u64; sweep.axes.len()];
-        let mut vals = vec![0.0; res_c.len()];
-        while rd.read(&mut rec)? {
+        let mut cells: Vec<Cell> = Vec::with_capacity(kinds.len());
+        let mut vals = vec![0.0; cols.results.len()];
+        while rd.read_cells(&mut rec, &kinds, &mut cells)? {
+            let row = self.lanes;
+            let at = || Some(format!("row {}", row + 1));
+            if cells[cols.lane] != Cell::I(row) {
+                return Err(Error::input(
+                    &path,
+                    at(),
+                    Some("lane"),
+                    format!(
+                        "is {}, expected {row}: a table's rows are its lanes 0, 1, 2, ... in order; \
+                         not a table tswm wrote",
+                        text(&rec, cols.lane)
+                    ),
+                ));
+            }
+            if row >= stated {
+                return Err(Error::input(
+                    &path,
+                    at(),
+                    Some("lane"),
+                    format!(
+                        "lane {row} is not in the run: its sweep.resolved.toml states {stated} lanes; \
+                         the table belongs to another run"
+                    ),
+                ));
+            }
+            for (i, name, words) in &cols.words {
+                let w = cells[*i].word();
+                if !(words.contains(&w) || (w.is_empty() && *name == "hold")) {
+                    return Err(Error::input(
+                        &path,
+                        at(),
+                        Some(name),
+                        format!(
+                            "`{}` is not one of {}; not a tswm table",
+                            crate::error::shown(w, 40),
+                            words.join(", ")
+                        ),
+                    ));
+                }
+            }
             self.lanes += 1;
-            let lane = num(&rec, lane_c) as u64;
-            let status = &rec[status_c];
-            let ok = status == b"ok";
-            if let Some(n) = self
-                .by_status
-                .get_mut(std::str::from_utf8(status).unwrap_or("?"))
-            {
-                *n += 1;
-            } else {
-                self.by_status.insert(text(&rec, status_c), 1);
+            let lane = row;
+            let status = cells[cols.status].word();
+            let ok = status == "ok";
+            if let Some(e) = self.by_status.iter_mut().find(|e| e.0 == status) {
+                e.1 += 1;
+            }
+            let hold = cells[cols.hold].word();
+            if !hold.is_empty() {
+                self.hold_lanes += 1;
+                if let Some(e) = self.by_hold.iter_mut().find(|e| e.0 == hold) {
+                    e.1 += 1;
+                }
+                if hold == "coasting" {
+                    let (te, tm) = (cells[cols.t_end].number(), cells[cols.t_max].number());
+                    self.coasting_t_end = self.coasting_t_end.max(te);
+                    if tm.is_finite() {
+                        self.coasting_t_max = self.coasting_t_max.max(tm);
+                    }
+                }
+            }
+            if traced_lanes.binary_search(&lane).is_ok() {
+                let (te, tm) = (cells[cols.t_end].number(), cells[cols.t_max].number());
+                traced.push((lane, if tm.is_finite() { tm.max(te) } else { te }));
             }
             let contact = CONTACT_NAMES
                 .iter()
-                .position(|c| c.0.as_bytes() == &rec[contact_c]);
+                .position(|c| c.0 == cells[cols.contact].word());
             if !ok {
                 self.unfinished_total += 1;
                 if self.unfinished.len() < UNFINISHED_SHOWN {
-                    let mut row = vec![lane.to_string(), text(&rec, status_c)];
-                    row.extend(shown_c.iter().map(|&i| text(&rec, i)));
-                    self.unfinished.push(row);
+                    let mut r = vec![lane.to_string(), status.to_string()];
+                    r.extend(cols.shown.iter().map(|&i| text(&rec, i)));
+                    self.unfinished.push(r);
                 }
             } else if let Some(k) = contact {
                 self.by_contact[k] += 1;
             }
-            for (v, &i) in vals.iter_mut().zip(&res_c) {
-                *v = num(&rec, i);
+            for (v, &i) in vals.iter_mut().zip(&cols.results) {
+                *v = cells[i].number();
             }
-            // The grid point and its axis indices (last axis fastest).
             let point = lane / samples;
-            let mut rest = point;
-            for (i, &len) in self
-                .map
-                .as_ref()
-                .map_or(&Vec::new(), |m| &m.lens)
-                .iter()
-                .enumerate()
-                .rev()
-            {
-                idx[i] = rest % len;
-                rest /= len;
+            let passes = match (&self.require, cols.require) {
+                (Some(r), Some(i)) => Some(r.req.passes(&cells[i])),
+                _ => None,
+            };
+            if let (Some(r), Some(p)) = (self.require.as_mut(), passes) {
+                r.add(point, p);
             }
             if let Some(m) = self.map.as_mut() {
-                let mut p = 0u64;
-                for (i, &len) in m.lens.iter().enumerate() {
-                    if i != m.ix && i != m.iy {
-                        p = p * len + idx[i];
-                    }
-                }
-                if let Some(panel) = m.panels.get_mut(p as usize) {
-                    let cx = bin(idx[m.ix], m.lens[m.ix], MAP_CELLS);
-                    let cy = bin(idx[m.iy], m.lens[m.iy], MAP_CELLS);
-                    let cell = cy * panel.nx + cx;
-                    for (r, v) in vals.iter().enumerate() {
-                        if v.is_finite() {
-                            panel.sums[r][cell] += v;
-                            panel.counts[r][cell] += 1;
-                        }
-                    }
-                    if let (true, Some(k)) = (ok, contact) {
-                        panel.contact[cell][k] += 1;
-                    }
-                    let lm = num(&rec, lock_c);
-                    if lm.is_finite() {
-                        panel.lock[cell].0 += lm;
-                        panel.lock[cell].1 += 1;
-                    }
-                }
+                let lock = cells[cols.lock].number();
+                m.add(point, &vals, if ok { contact } else { None }, lock);
             }
             if let Some(l) = self.line.as_mut() {
-                let b = bin(point, l.len, LINE_POINTS);
+                let b = bin(point, l.len, LINE_POINTS).min(l.xs.len().saturating_sub(1));
                 for (r, &v) in vals.iter().enumerate() {
                     if v.is_finite() {
                         let a = &mut l.acc[r][b];
@@ -436,14 +518,19 @@ impl Folder {
                 }
             }
             if self.study {
-                let g = if grouped { point as usize } else { 0 };
+                let g = if sweep.axes.is_empty() {
+                    0
+                } else {
+                    point as usize
+                };
                 if let Some(gd) = self.groups.get_mut(g) {
                     for (r, &v) in vals.iter().enumerate() {
                         if let (Some((lo, hi, counts)), true) =
                             (gd.hists[r].as_mut(), v.is_finite())
                         {
-                            let w = (*hi - *lo).max(f64::MIN_POSITIVE);
-                            let k = (((v - *lo) / w) * BINS as f64)
+                            // Halves: the span of two finite values cannot overflow.
+                            let w = (0.5 * *hi - 0.5 * *lo).max(f64::MIN_POSITIVE);
+                            let k = ((0.5 * v - 0.5 * *lo) / w * BINS as f64)
                                 .floor()
                                 .clamp(0.0, (BINS - 1) as f64);
                             counts[k as usize] += 1;
@@ -452,11 +539,25 @@ impl Folder {
                 }
             }
         }
-        Ok(())
+        if self.lanes != stated {
+            return Err(Error::input(
+                &path,
+                None,
+                None,
+                format!(
+                    "has {} rows, but its sweep.resolved.toml states {stated} lanes: the table is \
+                     incomplete or belongs to another run; run it again",
+                    self.lanes
+                ),
+            ));
+        }
+        Ok(traced)
     }
 
-    fn read_traces(&mut self, dir: &Path) -> Result<()> {
-        let path = dir.join("traces.csv");
+    /// The first traced lanes of `traces.csv`, decimated: `traced` gives
+    /// each lane the sweep traces with its horizon.
+    fn read_traces(&mut self, dir: &Path, traced: &[(u64, f64)]) -> Result<()> {
+        let path = dir.join(TRACES);
         if !path.exists() {
             return Ok(());
         }
@@ -471,66 +572,50 @@ impl Folder {
             .read_byte_record(&mut rec)
             .map_err(|e| bad_row(&path, e))?
         {
-            let lane = num(&rec, lane_c) as u64;
+            let at = || rec.position().map(|p| format!("line {}", p.line()));
+            let lane = num(&path, &rec, lane_c, "lane")?;
+            let horizon = traced
+                .iter()
+                .find(|(l, _)| *l as f64 == lane)
+                .map(|x| x.1)
+                .ok_or_else(|| {
+                    Error::input(
+                        &path,
+                        at(),
+                        Some("lane"),
+                        format!("lane {lane} is not a traced lane of the run; not its traces.csv"),
+                    )
+                })?;
+            let lane = lane as u64;
             if self.traces.last().is_none_or(|t| t.lane != lane) {
+                if self.traces.iter().any(|t| t.lane == lane) {
+                    return Err(Error::input(
+                        &path,
+                        at(),
+                        Some("lane"),
+                        format!("the rows of lane {lane} are not together; not a tswm traces.csv"),
+                    ));
+                }
                 if self.traces.len() == TRACES_SHOWN {
                     break;
                 }
-                self.traces.push(TraceData {
-                    lane,
-                    thinned: false,
-                    rows: Vec::new(),
-                    stride: 1,
-                    seen: 0,
-                    events: Vec::new(),
-                });
+                self.traces.push(TraceData::new(lane, horizon));
                 last_t = f64::NAN;
             }
-            let tr = self.traces.last_mut().expect("pushed");
-            let row = TraceRow {
-                t: num(&rec, t_c),
-                v1: num(&rec, v_c),
-                s1: num(&rec, s1_c),
-                s2: num(&rec, s2_c),
-                psi: num(&rec, psi_c),
-            };
-            // Two rows with one t are an event's before and after: always kept.
-            let event = row.t == last_t;
-            last_t = row.t;
-            if event && tr.events.last() != Some(&row.t) {
-                tr.events.push(row.t);
-            }
-            tr.seen += 1;
-            if event || tr.seen.is_multiple_of(tr.stride) {
-                tr.rows.push(row);
-            }
-            if tr.rows.len() >= TRACE_ROWS {
-                // Thin: keep every other row (events stay), sample half as often.
-                let mut keep = false;
-                let evs = tr.events.clone();
-                tr.rows.retain(|r| {
-                    keep = !keep;
-                    keep || evs.contains(&r.t)
-                });
-                tr.stride *= 2;
-                tr.thinned = true;
-            }
+            let t = num(&path, &rec, t_c, "t")?;
+            let vals = [
+                num(&path, &rec, v_c, "v1")?,
+                num(&path, &rec, s1_c, "s1")?,
+                num(&path, &rec, s2_c, "s2")?,
+                num(&path, &rec, psi_c, "psi")?,
+            ];
+            // Two rows with one t are an event's before and after.
+            let event = t == last_t;
+            last_t = t;
+            self.traces.last_mut().expect("pushed").add(t, vals, event);
         }
         Ok(())
     }
-}
-
-fn param_label_short(n: Num) -> String {
-    let u = n.def().unit;
-    if u.is_empty() {
-        n.name().to_string()
-    } else {
-        format!("{} ({u})", n.name())
-    }
-}
-
-fn plots_tick(v: f64) -> String {
-    super::plots::tick(v)
 }
 
 /// A long number cell shortened for a table (6 significant digits).

@@ -8,21 +8,30 @@
 pub mod quantile;
 pub mod summary;
 
-pub use summary::{Grouping, Stats, NUMBER_COLUMNS};
+pub use summary::{Grouping, Stats};
 
 /// The 95 % Wilson score interval of a share k/n (Wilson, 1927): unlike
 /// the normal approximation it stays inside [0, 1] and is not empty at
 /// k = 0 or k = n.
 pub fn wilson(k: u64, n: u64) -> (f64, f64) {
+    wilson_z(k, n, Z95)
+}
+
+/// z of a two-sided 95 % interval.
+pub const Z95: f64 = 1.959_963_984_540_054;
+/// z of a one-sided 95 % bound (either end of a two-sided 90 % interval).
+pub const Z95_ONE_SIDED: f64 = 1.644_853_626_951_472_2;
+
+/// The Wilson score interval of k/n for the normal quantile `z`.
+pub fn wilson_z(k: u64, n: u64, z: f64) -> (f64, f64) {
     if n == 0 {
         return (f64::NAN, f64::NAN);
     }
-    const Z: f64 = 1.959_963_984_540_054;
     let (k, n) = (k as f64, n as f64);
     let p = k / n;
-    let z2n = Z * Z / n;
+    let z2n = z * z / n;
     let centre = (p + z2n / 2.0) / (1.0 + z2n);
-    let half = Z / (1.0 + z2n) * (p * (1.0 - p) / n + Z * Z / (4.0 * n * n)).sqrt();
+    let half = z / (1.0 + z2n) * (p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt();
     // At k = 0 and k = n the ends are 0 and 1 exactly (rounding would
     // leave 1e-20 off).
     let lo = if k == 0.0 {

@@ -6,74 +6,19 @@ use std::path::Path;
 
 use super::quantile::{self, Sketch, PROBS};
 use super::{spearman, wilson};
+use crate::columns::{number_columns, results, Cell, Of, Summary};
 use crate::error::Result;
-use crate::integrator::{Contact, LaneResult, Status};
 use crate::lanes::Source;
 use crate::outdir::AtomicFile;
 use crate::output::CsvLines;
-use crate::params::{Num, Params};
+use crate::params::{Num, Param, N_NUM};
 use crate::sweep::Axis;
-
-/// The result number columns of `lanes.csv` that get statistics, in its
-/// order.
-pub const NUMBER_COLUMNS: [&str; 20] = [
-    "switches",
-    "t_first_switch",
-    "reversals",
-    "sticks",
-    "x1_end",
-    "v1_end",
-    "w_motor",
-    "w_load",
-    "w_friction",
-    "eta_end",
-    "steps",
-    "w1_in",
-    "w1_out",
-    "w2_in",
-    "w2_out",
-    "eta_direct",
-    "eta_inverse",
-    "eta_direct_ss",
-    "eta_inverse_ss",
-    "lock_margin_deg",
-];
-
-/// A lane's values of [`NUMBER_COLUMNS`] as `lanes.csv` holds them: NaN
-/// for an empty cell (a lane that could not be finished reports no
-/// numbers but its counts).
-pub fn numbers(r: &LaneResult) -> [f64; 20] {
-    let ok = r.status == Status::Ok;
-    let v = |x: f64| if ok { x } else { f64::NAN };
-    [
-        r.switches as f64,
-        r.t_first_switch,
-        r.reversals as f64,
-        r.sticks as f64,
-        v(r.x1_end),
-        v(r.v1_end),
-        v(r.w_motor),
-        v(r.w_load),
-        v(r.w_friction),
-        v(r.eta_end),
-        r.steps as f64,
-        v(r.w1_in),
-        v(r.w1_out),
-        v(r.w2_in),
-        v(r.w2_out),
-        v(r.eta_direct),
-        v(r.eta_inverse),
-        v(r.eta_direct_ss),
-        v(r.eta_inverse_ss),
-        v(r.lock_margin_deg),
-    ]
-}
 
 /// Lanes of a group kept for exact quantiles and rank correlations; past
 /// this the quantiles come from a [`Sketch`] (error stated there) and the
 /// rank correlations from the group's first `EXACT_MAX` lanes (the lanes of
 /// a study are independent draws, so these are a random sample). Memory:
-/// 8 bytes × (20 results + sampled inputs) × this, about 20 MB.
+/// 8 bytes × (21 results + sampled inputs) × this, about 20 MB.
 pub const EXACT_MAX: usize = 100_000;
 
 /// How lanes fall into groups, and which inputs are sampled.
@@ -171,30 +116,91 @@ impl Column {
     }
 }
 
+/// The shares of one word column of one group: lanes per word, and the
+/// lanes counted (the denominator, see [`Of`]).
+#[derive(Clone)]
+struct Shares {
+    words: Vec<&'static str>,
+    of: Of,
+    counts: Vec<u64>,
+    total: u64,
+}
+
 /// The group being accumulated.
 struct Group {
     id: u64,
     axis_values: Vec<f64>,
     lanes: u64,
-    by_status: [u64; 6],
-    by_contact: [u64; 3],
     cols: Vec<Column>,
+    shares: Vec<Shares>,
     /// The first `EXACT_MAX` lanes' values: results, then inputs.
     kept: Vec<Vec<f64>>,
+}
+
+/// Where in a row of the results table (parameters, then results) the
+/// statistics read.
+struct Layout {
+    /// The number columns' cells, in table order.
+    numbers: Vec<usize>,
+    /// The word columns' cells and their words.
+    words: Vec<(usize, Shares)>,
+    /// The status cell.
+    status: usize,
+    /// Each parameter's cell, by `Num` index.
+    params: [usize; N_NUM],
+}
+
+impl Layout {
+    fn new() -> Layout {
+        let first = Param::COLUMNS.len();
+        let at = |name: &str| first + results().iter().position(|c| c.name == name).unwrap_or(0);
+        let words = results()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| match c.summary {
+                Summary::Shares(words, of) => {
+                    let words = words();
+                    let n = words.len();
+                    Some((
+                        first + i,
+                        Shares {
+                            words,
+                            of,
+                            counts: vec![0; n],
+                            total: 0,
+                        },
+                    ))
+                }
+                _ => None,
+            })
+            .collect();
+        Layout {
+            numbers: number_columns().map(|c| at(c.name)).collect(),
+            words,
+            status: at("status"),
+            params: std::array::from_fn(|k| {
+                Param::COLUMNS
+                    .iter()
+                    .position(|p| *p == Param::Num(Num::ALL[k]))
+                    .unwrap_or(0)
+            }),
+        }
+    }
 }
 
 /// Streams statistics into `summary.csv`.
 pub struct Stats {
     grouping: Grouping,
+    layout: Layout,
     group: Option<Group>,
+    /// A lane's number cells (reused).
+    values: Vec<f64>,
     out: CsvLines,
 }
 
 /// The columns of `summary.csv` after `group` and the grid's parameters.
 pub const SUMMARY_COLUMNS: &str = "kind,name,input,count,mean,std,min,p1,p5,p50,p95,p99,max,\
 quantiles,share,ci95_low,ci95_high,rho";
-
-const CONTACTS: [Contact; 3] = [Contact::Aa, Contact::Bb, Contact::Stick];
 
 impl Stats {
     /// Starts `path` for lanes grouped by `grouping`.
@@ -204,51 +210,57 @@ impl Stats {
             let _ = write!(head, ",{}", a.param.name());
         }
         let out = CsvLines::create(path, &format!("{head},{SUMMARY_COLUMNS}"))?;
+        let layout = Layout::new();
         Ok(Stats {
             grouping,
+            values: vec![0.0; layout.numbers.len()],
+            layout,
             group: None,
             out,
         })
     }
 
-    /// Adds lane `lane` (lanes come in order).
-    pub fn add(&mut self, lane: u64, p: &Params, r: &LaneResult) -> Result<()> {
-        self.add_values(lane, r.status, r.contact_end, &numbers(r), |n| p.get(n))
-    }
-
-    /// Adds lane `lane` as its row of `lanes.csv` gives it: its status,
-    /// final contact, [`NUMBER_COLUMNS`] values (NaN for an empty cell) and
-    /// parameters (`input`, for the sampled ones). Lanes come in order.
-    pub fn add_values(
-        &mut self,
-        lane: u64,
-        status: Status,
-        contact_end: Contact,
-        values: &[f64; 20],
-        input: impl Fn(Num) -> f64,
-    ) -> Result<()> {
+    /// Adds lane `lane` from its row of the results table (every cell, in
+    /// `lanes_file::columns` order: parameters, then results). Lanes come
+    /// in order.
+    pub fn add_row(&mut self, lane: u64, row: &[Cell]) -> Result<()> {
         let id = self.grouping.group_of(lane);
         if self.group.as_ref().is_some_and(|g| g.id != id) {
             let g = self.group.take().expect("checked");
             self.write_group(g)?;
         }
-        let (axes, inputs) = (&self.grouping.axes, &self.grouping.inputs);
+        let (axes, inputs, layout) = (&self.grouping.axes, &self.grouping.inputs, &self.layout);
         let g = self.group.get_or_insert_with(|| Group {
             id,
             axis_values: grid_values(axes, id),
             lanes: 0,
-            by_status: [0; 6],
-            by_contact: [0; 3],
-            cols: (0..NUMBER_COLUMNS.len())
+            cols: (0..layout.numbers.len())
                 .map(|_| Column::default())
                 .collect(),
-            kept: vec![Vec::new(); NUMBER_COLUMNS.len() + inputs.len()],
+            shares: layout.words.iter().map(|w| w.1.clone()).collect(),
+            kept: vec![Vec::new(); layout.numbers.len() + inputs.len()],
         });
         g.lanes += 1;
-        g.by_status[Status::ALL.iter().position(|&s| s == status).unwrap_or(0)] += 1;
-        if status == Status::Ok {
-            g.by_contact[CONTACTS.iter().position(|&c| c == contact_end).unwrap_or(0)] += 1;
+        let ok = row[layout.status].word() == "ok";
+        for ((i, _), sh) in layout.words.iter().zip(g.shares.iter_mut()) {
+            let word = row[*i].word();
+            let counted = match sh.of {
+                Of::All => true,
+                Of::Ok => ok,
+                Of::Given => !word.is_empty(),
+            };
+            if counted {
+                sh.total += 1;
+                if let Some(k) = sh.words.iter().position(|w| *w == word) {
+                    sh.counts[k] += 1;
+                }
+            }
         }
+        for (v, &i) in self.values.iter_mut().zip(&layout.numbers) {
+            *v = row[i].number();
+        }
+        let values = &self.values;
+        let input = |n: Num| row[layout.params[n as usize]].number();
         for (c, &x) in g.cols.iter_mut().zip(values) {
             c.add(x);
         }
@@ -283,6 +295,7 @@ impl Stats {
     }
 
     fn write_group(&mut self, g: Group) -> Result<()> {
+        let names: Vec<&str> = number_columns().map(|c| c.name).collect();
         let mut key = g.id.to_string();
         for v in &g.axis_values {
             let _ = write!(key, ",{v:?}");
@@ -318,29 +331,27 @@ impl Stats {
                 }
                 .into();
             }
-            self.row(&key, "number", NUMBER_COLUMNS[i], "", c.count, cells)?;
+            self.row(&key, "number", names[i], "", c.count, cells)?;
         }
-        let ok = g.by_status[Status::Ok as usize];
-        let shares = Status::ALL
+        let word_columns: Vec<&str> = self
+            .layout
+            .words
             .iter()
-            .map(|s| ("status", s.name(), g.by_status[*s as usize], g.lanes))
-            .chain(
-                CONTACTS
-                    .iter()
-                    .enumerate()
-                    .map(|(i, c)| ("contact_end", c.name(), g.by_contact[i], ok)),
-            );
-        for (kind, name, k, n) in shares {
-            let (lo, hi) = wilson(k, n);
-            let mut cells = Cells::default();
-            cells.0[10] = num(k as f64 / n as f64);
-            cells.0[11] = num(lo);
-            cells.0[12] = num(hi);
-            self.row(&key, kind, name, "", k, cells)?;
+            .map(|(i, _)| results()[i - Param::COLUMNS.len()].name)
+            .collect();
+        for (column, sh) in word_columns.iter().zip(&g.shares) {
+            for (word, &k) in sh.words.iter().zip(&sh.counts) {
+                let (lo, hi) = wilson(k, sh.total);
+                let mut cells = Cells::default();
+                cells.0[10] = num(k as f64 / sh.total as f64);
+                cells.0[11] = num(lo);
+                cells.0[12] = num(hi);
+                self.row(&key, column, word, "", k, cells)?;
+            }
         }
-        let results = NUMBER_COLUMNS.len();
+        let results = names.len();
         for (j, input) in self.grouping.inputs.clone().iter().enumerate() {
-            for (i, name) in NUMBER_COLUMNS.iter().enumerate() {
+            for (i, name) in names.iter().enumerate() {
                 let (rho, n) = spearman(&g.kept[results + j], &g.kept[i]);
                 if rho.is_nan() {
                     continue;
@@ -383,21 +394,5 @@ fn num(v: f64) -> String {
         String::new()
     } else {
         format!("{v:?}")
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn number_columns_are_lanes_csv_result_columns_in_order() {
-        let text = ["lane", "status", "contact_end", "path"];
-        let want: Vec<&str> = crate::output::RESULT_COLUMNS
-            .iter()
-            .copied()
-            .filter(|c| !text.contains(c))
-            .collect();
-        assert_eq!(NUMBER_COLUMNS.to_vec(), want);
     }
 }

@@ -11,6 +11,7 @@
 //! numbers), so designs are compared under the same tolerances.
 
 mod parse;
+pub mod require;
 mod resolved;
 
 use crate::model::FrictionTable;
@@ -134,6 +135,8 @@ pub struct ReportSpec {
     /// Most panels (one per value of the other axes, or per grid point of
     /// a study).
     pub panels: usize,
+    /// A design requirement whose answer the report states.
+    pub require: Option<require::Requirement>,
 }
 
 impl ReportSpec {

@@ -38,6 +38,8 @@ struct ReportDef {
     #[serde(default)]
     results: Vec<String>,
     panels: Option<i64>,
+    require: Option<String>,
+    at_least: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -221,7 +223,7 @@ fn parse_report(
     if chosen.len() > 2 {
         return Err(("report.axes", "at most 2 axes (x, then y)".into()));
     }
-    let allowed = crate::stats::NUMBER_COLUMNS;
+    let allowed: Vec<&str> = crate::columns::number_columns().map(|c| c.name).collect();
     for r in &d.results {
         if !allowed.contains(&r.as_str()) {
             return Err((
@@ -244,11 +246,31 @@ fn parse_report(
             ))
         }
     };
+    let require =
+        match (&d.require, d.at_least) {
+            (None, None) => None,
+            (Some(r), Some(a)) => {
+                Some(super::require::Requirement::parse(r, a).map_err(|m| ("report.require", m))?)
+            }
+            (Some(_), None) => {
+                return Err((
+                    "report.at_least",
+                    "require needs at_least, the least share of lanes that must meet it, in (0, 1]"
+                        .into(),
+                ))
+            }
+            (None, Some(_)) => return Err((
+                "report.require",
+                "at_least needs require, the test it applies to (e.g. require = \"hold = held\")"
+                    .into(),
+            )),
+        };
     Ok(super::ReportSpec {
         title: d.title.clone(),
         axes: chosen,
         results: d.results.clone(),
         panels,
+        require,
     })
 }
 

@@ -94,6 +94,10 @@ impl Sweep {
             if r.panels > 0 {
                 x.insert("panels".into(), (r.panels as i64).into());
             }
+            if let Some(q) = &r.require {
+                x.insert("require".into(), q.text().into());
+                x.insert("at_least".into(), q.at_least.into());
+            }
             t.insert("report".into(), x.into());
         }
         if let Some(tb) = &self.table {

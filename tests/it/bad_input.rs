@@ -439,7 +439,7 @@ fn lane_table_provenance_records_base_and_friction_table() {
     );
     let text = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();
     for want in [
-        "l.csv (1 rows)",
+        "\"l.csv\" (1 rows)",
         "f2 = -3000.0",
         "friction = \"table\"",
         "mu = [0.12, 0.06, 0.04]",

@@ -14,8 +14,10 @@ pub fn fixture(name: &str) -> PathBuf {
 }
 
 /// What a finished run of `sweeps/paper.toml` (which traces both its
-/// lanes) leaves in its folder, sorted: its files and the folder's lock.
-pub const RUN_FILES: [&str; 6] = [
+/// lanes) leaves in its folder, sorted: its files, the folder's marker of
+/// them and its lock.
+pub const RUN_FILES: [&str; 7] = [
+    ".tswm.files",
     ".tswm.lock",
     "lanes.csv",
     "report.html",

@@ -309,6 +309,7 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
         format: tswm::lanes_file::Format::Csv,
         range: None,
         threads: 1,
+        settings: Default::default(),
     };
     let err = match tswm::runner::run(&src, &mut be, target, None, false) {
         Ok(_) => panic!("the run must fail"),

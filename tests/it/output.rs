@@ -49,7 +49,7 @@ fn a_second_run_into_a_held_folder_is_refused() {
             "cpu",
         ],
         dir.path(),
-        &["o: --out: another tswm run is writing to this folder"],
+        &["o: another tswm command is writing to this folder"],
     );
     assert_eq!(names(&out), [".tswm.lock"], "nothing written");
     drop(lock);
@@ -95,7 +95,7 @@ fn two_runs_into_one_folder_never_mix() {
     assert!(codes.contains(&Some(0)), "{codes:?}");
     if codes.contains(&Some(2)) {
         let refused = if a.status.code() == Some(2) { &a } else { &b };
-        assert!(String::from_utf8_lossy(&refused.stderr).contains("another tswm run"));
+        assert!(String::from_utf8_lossy(&refused.stderr).contains("another tswm command"));
     }
     // Whole, in lane order, and no partial file left behind.
     let (_, rows) = read_csv(&dir.path().join("o/lanes.csv"));

@@ -49,7 +49,7 @@ macro_rules! rust_layout {
 fn host_structs_match_the_shader() {
     let m = module();
     let lane = rust_layout!(GpuLane; m1, m2, tan_g, sin_g, cos_g, inv_cos_g, f2, motor, v_sync, sigma_k, f_crit, f1,
-        motor_off, friction, fric_a, fric_b, fric_c, mu, mu_s, x1_0, v1_0, t_end, pad0, pad1);
+        motor_off, friction, fric_a, fric_b, fric_c, mu, mu_s, x1_0, v1_0, t_end, t_max, pad1);
     assert_eq!(wgsl_layout(&m, "Lane"), lane);
     let state = rust_layout!(GpuState; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, side, dir, flags,
         status, switches, reversals, sticks, steps, events, pad0, pad1, pad2, pad3, pad4);
@@ -113,6 +113,9 @@ fn shared_constants_match_the_shader() {
         ("NY", tswm::integrator::NY as u32),
         ("EV_SWITCH", EventFn::Switch as u32),
         ("EV_REST", EventFn::Rest as u32),
+        ("EV_SPEEDING", EventFn::Speeding as u32),
+        ("F_RUNNING_ON", flags::RUNNING_ON),
+        ("F_SPEEDING", flags::SPEEDING),
     ];
     for &(name, want) in codes {
         assert_eq!(u32_const(&m, name), want, "shader `const {name}`");

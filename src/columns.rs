@@ -1,0 +1,490 @@
+//! The table of result columns: one row per column of the results table
+//! after the parameter columns, in their order, as `params::table` is for
+//! parameters. The CSV header and the Parquet schema, a row's cells, the
+//! reader's types, `summary.csv`, `tswm merge`, `tswm check`, the report's
+//! labels and choices, and the column table of the docs all derive from
+//! [`RESULTS`]; no other place spells a result column's name.
+
+use std::borrow::Cow;
+
+use crate::integrator::{Contact, Hold, LaneResult, RowPath, Status};
+
+/// The type of a column's cells (its Parquet type).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// f64; an empty cell (NaN: not applicable) is a null.
+    Float,
+    /// A count or index (i64, never empty).
+    Int,
+    /// A word (`motor`, `status`, ...); empty for none.
+    Text,
+}
+
+/// One cell of a row.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cell {
+    /// A float column's value (NaN: empty).
+    F(f64),
+    /// An integer column's value.
+    I(u64),
+    /// A word (borrowed when it is one of the fixed ones; empty for none).
+    S(Cow<'static, str>),
+}
+
+impl Cell {
+    /// The cell as a number: a float as it is, a count as f64, a word NaN.
+    pub fn number(&self) -> f64 {
+        match self {
+            Cell::F(v) => *v,
+            Cell::I(v) => *v as f64,
+            Cell::S(_) => f64::NAN,
+        }
+    }
+
+    /// The cell's word ("" for a number).
+    pub fn word(&self) -> &str {
+        match self {
+            Cell::S(t) => t,
+            _ => "",
+        }
+    }
+}
+
+/// Over which lanes `summary.csv` counts the shares of a word column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Of {
+    /// Every lane.
+    All,
+    /// Lanes whose status is `ok`.
+    Ok,
+    /// Lanes whose cell is not empty.
+    Given,
+}
+
+/// How `summary.csv` summarises a column.
+#[derive(Clone, Copy, Debug)]
+pub enum Summary {
+    /// Not summarised (the lane index, the row's path).
+    None,
+    /// Moments, quantiles and rank correlations of its numbers (empty
+    /// cells left out).
+    Numbers,
+    /// The share of each of its words, with a Wilson interval.
+    Shares(fn() -> Vec<&'static str>, Of),
+}
+
+/// How `tswm check` compares the CPU's and the GPU's cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Compare {
+    /// Not compared.
+    None,
+    /// Identical (counts and words).
+    Exact,
+    /// Within this many seconds (a first-switch time, when both have one).
+    Seconds(f64),
+    /// Within this share of max(1, |value|).
+    Relative(f64),
+}
+
+/// One row of the table: everything about a result column.
+#[derive(Clone, Copy, Debug)]
+pub struct Column {
+    /// The one name: the header of `lanes.csv`, the Parquet field.
+    pub name: &'static str,
+    /// Unit ("" for none).
+    pub unit: &'static str,
+    /// The quantity in words, for axis labels and legends.
+    pub quantity: &'static str,
+    /// What it means, for the docs.
+    pub meaning: &'static str,
+    /// When the cell is empty ("" for never).
+    pub empty: &'static str,
+    /// The cells' type.
+    pub kind: Kind,
+    /// How `summary.csv` summarises it.
+    pub summary: Summary,
+    /// How `tswm check` compares it.
+    pub compare: Compare,
+    /// One of the integrated results that the f64 path's error estimate
+    /// covers and the GPU row check tests (x1, v1, the works, the energies).
+    pub integrated: bool,
+    /// Lane `lane`'s cell.
+    pub cell: fn(u64, &LaneResult) -> Cell,
+}
+
+/// Bound of `tswm check` on first-switch times, s.
+pub const SWITCH_BOUND: f64 = 2e-5;
+/// Bound of `tswm check` on x1, v1, the works and energies, and the stop
+/// time, relative to max(1, |value|).
+pub const VALUE_BOUND: f64 = 5e-5;
+
+/// A number a lane that did not end `ok` does not report (empty cell).
+fn ok(r: &LaneResult, v: f64) -> Cell {
+    Cell::F(if r.status == Status::Ok { v } else { f64::NAN })
+}
+
+const ROW: Column = Column {
+    name: "",
+    unit: "",
+    quantity: "",
+    meaning: "",
+    empty: "",
+    kind: Kind::Float,
+    summary: Summary::Numbers,
+    compare: Compare::None,
+    integrated: false,
+    cell: |_, _| Cell::F(f64::NAN),
+};
+
+const NOT_OK: &str = "the lane's status is not ok";
+
+/// An integrated result: x1, v1 or an energy.
+const INTEGRATED: Column = Column {
+    compare: Compare::Relative(VALUE_BOUND),
+    integrated: true,
+    empty: NOT_OK,
+    ..ROW
+};
+
+fn status_words() -> Vec<&'static str> {
+    Status::ALL.map(Status::name).to_vec()
+}
+fn contact_words() -> Vec<&'static str> {
+    Contact::ALL.map(Contact::name).to_vec()
+}
+fn hold_words() -> Vec<&'static str> {
+    Hold::ALL.map(Hold::name).to_vec()
+}
+
+/// The result columns, in the order of the results table (after the
+/// parameters).
+pub const RESULTS: &[Column] = &[
+    Column {
+        name: "lane",
+        quantity: "lane",
+        meaning: "index of the lane in sweep order (0-based): grid point lane / n, sample lane % n",
+        kind: Kind::Int,
+        summary: Summary::None,
+        cell: |lane, _| Cell::I(lane),
+        ..ROW
+    },
+    Column {
+        name: "status",
+        quantity: "status",
+        meaning: "ok, or why the lane could not be finished: inconsistent (D <= 0: friction far \
+                  above the lead angle), nonfinite, max_steps, max_events, step_underflow",
+        kind: Kind::Text,
+        summary: Summary::Shares(status_words, Of::All),
+        compare: Compare::Exact,
+        cell: |_, r| Cell::S(Cow::Borrowed(r.status.name())),
+        ..ROW
+    },
+    Column {
+        name: "switches",
+        quantity: "contact switches",
+        meaning: "changes of the contact side a-a/b-b (resuming on the same side after a stop is none)",
+        kind: Kind::Int,
+        compare: Compare::Exact,
+        cell: |_, r| Cell::I(r.switches as u64),
+        ..ROW
+    },
+    Column {
+        name: "t_first_switch",
+        unit: "s",
+        quantity: "time of the first switch",
+        meaning: "time of the first change of contact side",
+        empty: "the lane never switches",
+        compare: Compare::Seconds(SWITCH_BOUND),
+        cell: |_, r| Cell::F(r.t_first_switch),
+        ..ROW
+    },
+    Column {
+        name: "reversals",
+        quantity: "reversals",
+        meaning: "changes of the direction of motion",
+        kind: Kind::Int,
+        compare: Compare::Exact,
+        cell: |_, r| Cell::I(r.reversals as u64),
+        ..ROW
+    },
+    Column {
+        name: "sticks",
+        quantity: "stick phases",
+        meaning: "phases at rest held by static friction (one from t = 0 included)",
+        kind: Kind::Int,
+        compare: Compare::Exact,
+        cell: |_, r| Cell::I(r.sticks as u64),
+        ..ROW
+    },
+    Column {
+        name: "contact_end",
+        quantity: "final contact",
+        meaning: "contact at the end: aa (worm pushes wheel), bb (wheel pushes worm), stick (at rest, held)",
+        kind: Kind::Text,
+        summary: Summary::Shares(contact_words, Of::Ok),
+        compare: Compare::Exact,
+        cell: |_, r| Cell::S(Cow::Borrowed(r.contact_end.name())),
+        ..ROW
+    },
+    Column {
+        name: "x1_end",
+        unit: "m",
+        quantity: "final position x1",
+        meaning: "position of body 1 (the worm's pitch circle) at the end",
+        cell: |_, r| ok(r, r.x1_end),
+        ..INTEGRATED
+    },
+    Column {
+        name: "v1_end",
+        unit: "m/s",
+        quantity: "final speed v1",
+        meaning: "speed of body 1 at the end",
+        cell: |_, r| ok(r, r.v1_end),
+        ..INTEGRATED
+    },
+    Column {
+        name: "w_motor",
+        unit: "J",
+        quantity: "motor work",
+        meaning: "work of the motor force, the integral of F1 v1",
+        cell: |_, r| ok(r, r.w_motor),
+        ..INTEGRATED
+    },
+    Column {
+        name: "w_load",
+        unit: "J",
+        quantity: "load work",
+        meaning: "work of the load, the integral of F2 v2 (negative while lifting)",
+        cell: |_, r| ok(r, r.w_load),
+        ..INTEGRATED
+    },
+    Column {
+        name: "w_friction",
+        unit: "J",
+        quantity: "friction heat",
+        meaning: "heat in the mesh, the integral of S1 v1 + S2 v2 (>= 0)",
+        cell: |_, r| ok(r, r.w_friction),
+        ..INTEGRATED
+    },
+    Column {
+        name: "eta_end",
+        quantity: "efficiency at the end",
+        meaning: "instantaneous mesh efficiency in the final mode (direct or inverse flow)",
+        empty: "the lane is at rest at the end, or its status is not ok",
+        cell: |_, r| ok(r, r.eta_end),
+        ..ROW
+    },
+    Column {
+        name: "steps",
+        quantity: "integration steps",
+        meaning: "accepted integration steps",
+        kind: Kind::Int,
+        cell: |_, r| Cell::I(r.steps as u64),
+        ..ROW
+    },
+    Column {
+        name: "w1_in",
+        unit: "J",
+        quantity: "energy the worm side put into the mesh",
+        meaning: "the integral of max(S1 v1, 0)",
+        cell: |_, r| ok(r, r.w1_in),
+        ..INTEGRATED
+    },
+    Column {
+        name: "w1_out",
+        unit: "J",
+        quantity: "energy the mesh gave the worm side",
+        meaning: "the integral of max(-S1 v1, 0)",
+        cell: |_, r| ok(r, r.w1_out),
+        ..INTEGRATED
+    },
+    Column {
+        name: "w2_in",
+        unit: "J",
+        quantity: "energy the wheel side put into the mesh",
+        meaning: "the integral of max(S2 v2, 0)",
+        cell: |_, r| ok(r, r.w2_in),
+        ..INTEGRATED
+    },
+    Column {
+        name: "w2_out",
+        unit: "J",
+        quantity: "energy the mesh gave the wheel side",
+        meaning: "the integral of max(-S2 v2, 0)",
+        cell: |_, r| ok(r, r.w2_out),
+        ..INTEGRATED
+    },
+    Column {
+        name: "eta_direct",
+        quantity: "direct efficiency (worm drives)",
+        meaning: "w2_out / w1_in: the share of the energy the worm side put into the mesh that \
+                  reached the wheel side, over the whole run",
+        empty: "the worm side put (almost) no energy into the mesh (w1_in <= 1e-6 of w1_in + w2_in), \
+                or the status is not ok",
+        cell: |_, r| ok(r, r.eta_direct),
+        ..ROW
+    },
+    Column {
+        name: "eta_inverse",
+        quantity: "inverse efficiency (wheel drives)",
+        meaning: "w1_out / w2_in: the share of the energy the wheel side put into the mesh that \
+                  reached the worm side; 0 when the wheel side only fed friction (a self-locking \
+                  drive braking itself)",
+        empty: "the wheel side put (almost) no energy into the mesh (w2_in <= 1e-6 of w1_in + w2_in), \
+                or the status is not ok",
+        cell: |_, r| ok(r, r.eta_inverse),
+        ..ROW
+    },
+    Column {
+        name: "eta_direct_ss",
+        quantity: "steady direct efficiency",
+        meaning: "tan(gamma) / tan(gamma + rho): steady direct efficiency at the final sliding speed \
+                  (at rest: the start-up value)",
+        empty: NOT_OK,
+        cell: |_, r| ok(r, r.eta_direct_ss),
+        ..ROW
+    },
+    Column {
+        name: "eta_inverse_ss",
+        quantity: "steady inverse efficiency",
+        meaning: "tan(gamma - rho) / tan(gamma): steady inverse efficiency at the final sliding speed; \
+                  <= 0 means the wheel cannot drive the worm at that speed",
+        empty: NOT_OK,
+        cell: |_, r| ok(r, r.eta_inverse_ss),
+        ..ROW
+    },
+    Column {
+        name: "lock_margin_deg",
+        unit: "deg",
+        quantity: "static lock margin",
+        meaning: "rho_s - gamma with rho_s = atan(mu_s): > 0 means the drive holds its load at rest \
+                  with the motor off (statically self-locking)",
+        empty: NOT_OK,
+        cell: |_, r| ok(r, r.lock_margin_deg),
+        ..ROW
+    },
+    Column {
+        name: "hold",
+        quantity: "does it hold",
+        meaning: "for a lane whose motor is cut before t_end: held (at rest, stuck), runs_away \
+                  (sliding and not slowing down) or coasting (sliding and slowing down: not decided; \
+                  set t_max)",
+        empty: "the motor is not cut before t_end, or the status is not ok",
+        kind: Kind::Text,
+        summary: Summary::Shares(hold_words, Of::Given),
+        compare: Compare::Exact,
+        cell: |_, r| Cell::S(Cow::Borrowed(r.hold.map_or("", Hold::name))),
+        ..ROW
+    },
+    Column {
+        name: "t_stop",
+        unit: "s",
+        quantity: "stop time",
+        meaning: "where the lane stopped: t_end, or for a lane that ran on past t_end (t_max), the \
+                  time it was held, began to run away, or reached t_max; every _end value and \
+                  integral is taken here",
+        empty: NOT_OK,
+        compare: Compare::Relative(VALUE_BOUND),
+        cell: |_, r| ok(r, r.t_stop),
+        ..ROW
+    },
+    Column {
+        name: "path",
+        quantity: "row path",
+        meaning: "where the row came from: cpu (f64 path), cpu:refined (run again at a tenth of the \
+                  tolerance), gpu (f32, checked and trusted), cpu:REASON (a GPU row recomputed in f64)",
+        kind: Kind::Text,
+        summary: Summary::None,
+        cell: |_, r| {
+            Cell::S(match r.path {
+                RowPath::Cpu => Cow::Borrowed("cpu"),
+                RowPath::Gpu => Cow::Borrowed("gpu"),
+                p => Cow::Owned(p.name()),
+            })
+        },
+        ..ROW
+    },
+];
+
+/// The result columns.
+pub fn results() -> &'static [Column] {
+    RESULTS
+}
+
+/// A result column by name.
+pub fn result(name: &str) -> Option<&'static Column> {
+    results().iter().find(|c| c.name == name)
+}
+
+/// The result columns `summary.csv` gives numbers for, in table order.
+pub fn number_columns() -> impl Iterator<Item = &'static Column> {
+    results()
+        .iter()
+        .filter(|c| matches!(c.summary, Summary::Numbers))
+}
+
+/// The integrated results (see [`Column::integrated`]) of a row, in table
+/// order: x1, v1, w_motor, w_load, w_friction, w1_in, w1_out, w2_in, w2_out.
+pub fn integrated(r: &LaneResult) -> impl Iterator<Item = f64> + '_ {
+    results()
+        .iter()
+        .filter(|c| c.integrated)
+        .map(move |c| (c.cell)(0, r).number())
+}
+
+/// "quantity, name (unit)": an axis label.
+pub fn label(name: &str, quantity: &str, unit: &str) -> String {
+    match (quantity.is_empty(), unit.is_empty()) {
+        (true, true) => name.to_string(),
+        (true, false) => format!("{name} ({unit})"),
+        (false, true) => format!("{quantity}, {name}"),
+        (false, false) => format!("{quantity}, {name} ({unit})"),
+    }
+}
+
+impl Column {
+    /// The column's axis label.
+    pub fn label(&self) -> String {
+        label(self.name, self.quantity, self.unit)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_not_parameters() {
+        let names: Vec<&str> = results().iter().map(|c| c.name).collect();
+        for (i, n) in names.iter().enumerate() {
+            assert!(!names[..i].contains(n), "{n} twice");
+            assert!(crate::params::Param::from_name(n).is_none(), "{n}");
+        }
+        assert_eq!(names.first(), Some(&"lane"));
+        assert_eq!(names.last(), Some(&"path"));
+    }
+
+    #[test]
+    fn the_integrated_results_are_nine_in_the_error_budgets_order() {
+        let names: Vec<&str> = results()
+            .iter()
+            .filter(|c| c.integrated)
+            .map(|c| c.name)
+            .collect();
+        assert_eq!(names.len(), crate::integrator::accuracy::RESULTS);
+        assert_eq!(
+            names,
+            [
+                "x1_end",
+                "v1_end",
+                "w_motor",
+                "w_load",
+                "w_friction",
+                "w1_in",
+                "w1_out",
+                "w2_in",
+                "w2_out"
+            ]
+        );
+    }
+}

@@ -1,0 +1,13 @@
+//! `tswm merge`: shard folders joined into one (see [`crate::merge`]).
+
+use std::path::{Path, PathBuf};
+
+use crate::error::Result;
+use crate::lanes_file::Format;
+
+/// Runs `tswm merge`; prints its summary line.
+pub fn run(dirs: &[PathBuf], out: &Path, format: Format, report: bool) -> Result<()> {
+    let merged = crate::merge::merge(dirs, out, format, report)?;
+    println!("{}", merged.line());
+    Ok(())
+}

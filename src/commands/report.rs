@@ -1,0 +1,16 @@
+//! `tswm report DIR`: the report again, from the folder's files, with the
+//! folder locked while it is written.
+
+use std::path::Path;
+
+use crate::error::Result;
+use crate::outdir::names::REPORT;
+use crate::outdir::OutDir;
+
+/// Runs `tswm report`.
+pub fn run(dir: &Path) -> Result<()> {
+    let mut d = OutDir::open_existing(dir)?;
+    crate::report::write(&mut d)?;
+    println!("tswm: wrote {}", d.join(REPORT).display());
+    Ok(())
+}

@@ -1,0 +1,197 @@
+//! `tswm run`: a sweep's lanes into an output folder, or one shard of
+//! them, committed together, then the report.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::backend::{self, Choice};
+use crate::cli::{trace_plan, LanesArgs};
+use crate::error::{Error, Result};
+use crate::lanes_file::Format;
+use crate::outdir::names::{MANIFEST, RESOLVED};
+use crate::outdir::{AtomicFile, OutDir};
+use crate::shard::{backend_kind, source_hash, Manifest, Shard};
+use crate::{output, runner};
+
+/// What `tswm run` was asked to do.
+pub struct RunArgs<'a> {
+    /// Where the lanes come from.
+    pub lanes: &'a LanesArgs,
+    /// The output folder.
+    pub out: &'a Path,
+    /// The backend.
+    pub backend: Choice,
+    /// `--trace` lanes.
+    pub trace: &'a [u64],
+    /// `--trace-dt`.
+    pub trace_dt: Option<f64>,
+    /// Write report.html.
+    pub report: bool,
+    /// `--shard K/N`.
+    pub shard: Option<&'a str>,
+    /// The table's format.
+    pub format: Format,
+    /// Show a progress bar.
+    pub progress: bool,
+}
+
+/// A shard this run is: which, its lanes, and its sweep's hashes.
+struct ShardRun {
+    shard: Shard,
+    range: (u64, u64),
+    hash: String,
+    lane_table: Option<String>,
+}
+
+/// Runs `tswm run`; prints its summary line.
+pub fn run(a: RunArgs) -> Result<()> {
+    let shard = a.shard.map(Shard::parse).transpose()?;
+    let plan = a.lanes.plan()?;
+    let trace = trace_plan(a.trace, a.trace_dt, &plan.source)?;
+    let mut dir = OutDir::open(a.out)?;
+    let total = plan.source.lane_count();
+    let shard = match shard {
+        None => None,
+        Some(s) => {
+            let (hash, lane_table) = source_hash(&plan.source, trace.as_ref())?;
+            // A scheduler retries a task with the same index: a complete
+            // result of this very shard is kept, not computed again.
+            if let Some(m) = Manifest::read(dir.path()).ok().flatten() {
+                if m.sweep_hash == hash
+                    && (m.shard, m.shards) == (s.k, s.n)
+                    && m.format == a.format
+                    && m.version == env!("CARGO_PKG_VERSION")
+                    && m.incomplete(dir.path()).is_none()
+                {
+                    println!(
+                        "tswm: shard {}/{} is already complete in {} ({} lanes, {} to {}, {}); nothing to do",
+                        s.k,
+                        s.n,
+                        dir.path().display(),
+                        m.rows,
+                        m.lane_start,
+                        m.lane_end.max(1) - 1,
+                        m.backend_name
+                    );
+                    return Ok(());
+                }
+            }
+            // Anything else here is redone from scratch; the old manifest
+            // goes first, so it can never stand beside new files.
+            remove_if_there(&dir.join(MANIFEST))?;
+            Some(ShardRun {
+                shard: s,
+                range: s.range(total),
+                hash,
+                lane_table,
+            })
+        }
+    };
+    let mut be = backend::open(a.backend, total, plan.threads, plan.settings)?;
+    let target = runner::Target {
+        dir: dir.path(),
+        format: a.format,
+        range: shard.as_ref().map(|s| s.range),
+        threads: plan.threads,
+        settings: plan.settings,
+    };
+    let written = runner::run(
+        &plan.source,
+        be.as_mut(),
+        target,
+        trace.as_ref(),
+        a.progress,
+    )?;
+    let text = output::provenance(
+        &plan.source,
+        trace.as_ref(),
+        &be.name(),
+        be.tolerance(),
+        written.summary.seconds,
+        shard.as_ref().map(|s| (s.shard, s.range)),
+    );
+    let mut files = vec![small_file(&dir.join(RESOLVED), &text, shard.is_some())?];
+    files.extend(written.stats);
+    files.extend(written.traces.map(|t| t.into_file()));
+    let table = dir.join(a.format.file_name());
+    files.push(written.lanes);
+    // The table last, or for a shard its manifest: its appearance means
+    // the run is complete.
+    if let Some(s) = &shard {
+        let mut digests = std::collections::BTreeMap::new();
+        for f in &mut files {
+            let name = f
+                .dest()
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let d = f
+                .digest()?
+                .ok_or_else(|| Error::Internal(format!("{name} of a shard was not hashed")))?;
+            digests.insert(name, d);
+        }
+        let m = Manifest {
+            tool: "tswm".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            sweep_hash: s.hash.clone(),
+            lane_table_sha256: s.lane_table.clone(),
+            shard: s.shard.k,
+            shards: s.shard.n,
+            lane_start: s.range.0,
+            lane_end: s.range.1,
+            lanes_total: total,
+            rows: written.summary.lanes,
+            backend: backend_kind(&be.name()).into(),
+            backend_name: be.name(),
+            format: a.format,
+            seconds: written.summary.seconds,
+            files: digests,
+        };
+        files.push(small_file(&dir.join(MANIFEST), &m.text(), false)?);
+    }
+    let replaced = dir.held_results();
+    dir.commit_run(files)?;
+    let mut line = written.summary.line(&be.name(), &table);
+    if replaced {
+        line.push_str("; replaced the earlier run's results there");
+    }
+    if let Some(s) = &shard {
+        line.push_str(&format!(
+            "; shard {}/{} (lanes {} to {}) with {MANIFEST}",
+            s.shard.k,
+            s.shard.n,
+            s.range.0,
+            s.range.1.max(1) - 1
+        ));
+    } else if a.report {
+        let start = std::time::Instant::now();
+        crate::report::write(&mut dir)?;
+        line.push_str(&format!(
+            "; report.html in {:.2} s",
+            start.elapsed().as_secs_f64()
+        ));
+    }
+    println!("{line}");
+    Ok(())
+}
+
+/// A small file, whole, not yet committed (hashed when `hashed`).
+fn small_file(path: &Path, text: &str, hashed: bool) -> Result<AtomicFile> {
+    let mut f = if hashed {
+        AtomicFile::create_hashed(path)?
+    } else {
+        AtomicFile::create(path)?
+    };
+    f.writer()
+        .write_all(text.as_bytes())
+        .map_err(|e| Error::io(path, e))?;
+    Ok(f)
+}
+
+fn remove_if_there(path: &PathBuf) -> Result<()> {
+    match std::fs::remove_file(path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(Error::io(path, e)),
+    }
+}
