@@ -100,3 +100,55 @@ pub fn shown(s: &str, max: usize) -> String {
     }
     t
 }
+
+/// " (did you mean `m1`?)" when `name` is a near miss of one of
+/// `candidates` (an edit or two away, or the same but for case), else "".
+pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+    let lower = name.to_ascii_lowercase();
+    let best = candidates
+        .into_iter()
+        .map(|c| (edit_distance(&lower, &c.to_ascii_lowercase()), c))
+        .min_by_key(|x| x.0);
+    match best {
+        Some((d, c)) if d <= (name.chars().count() / 3).max(2) && d < name.chars().count() => {
+            format!(" (did you mean `{c}`?)")
+        }
+        _ => String::new(),
+    }
+}
+
+/// Levenshtein distance (insertions, deletions, substitutions).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn near_misses_are_named() {
+        let names = ["m1", "m2", "gamma_deg", "t_end", "mu_static"];
+        assert_eq!(
+            did_you_mean("gama_deg", names),
+            " (did you mean `gamma_deg`?)"
+        );
+        assert_eq!(did_you_mean("T_END", names), " (did you mean `t_end`?)");
+        assert_eq!(did_you_mean("mass", names), "");
+        assert_eq!(
+            did_you_mean("mu_statik", names),
+            " (did you mean `mu_static`?)"
+        );
+    }
+}

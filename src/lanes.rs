@@ -255,7 +255,11 @@ impl Source {
                             path,
                             Some("line 1".into()),
                             Some(name),
-                            format!("unknown column; allowed: {}", Param::all_names()),
+                            format!(
+                                "unknown column{}; allowed: {}",
+                                crate::error::did_you_mean(name, Param::COLUMNS.map(|p| p.name())),
+                                Param::all_names()
+                            ),
                         )
                     })?;
                     if cols.contains(&p) {

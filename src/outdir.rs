@@ -517,3 +517,22 @@ fn write_marker(dir: &Path, listed: &[String]) -> Result<()> {
     f.sync()?;
     std::fs::rename(&f.tmp, &f.dest).map_err(|e| Error::io(&f.dest, e))
 }
+
+/// Waits where a test asks it to: `TSWM_TEST_PAUSE=POINT:MS` makes the
+/// command sleep MS milliseconds at POINT (`before-report`: results
+/// committed, report not yet written, the folder still locked). Tests
+/// use it to act inside that window (a second run, a signal); nothing
+/// else sets it.
+pub fn pause_for_tests(point: &str) {
+    let Some(v) = std::env::var_os("TSWM_TEST_PAUSE") else {
+        return;
+    };
+    let ms = v
+        .to_str()
+        .and_then(|v| v.strip_prefix(point))
+        .and_then(|r| r.strip_prefix(':'))
+        .and_then(|m| m.parse::<u64>().ok());
+    if let Some(ms) = ms {
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+}

@@ -78,11 +78,26 @@ pub(crate) fn push_f64(s: &mut String, v: f64) {
     }
 }
 
-/// A string as a TOML basic string (quoted, every control character and
-/// quote escaped), so no file name or device name can break a line of
-/// `sweep.resolved.toml`.
+/// A string as a one-line TOML basic string (quoted, every control
+/// character, quote and backslash escaped; the serializer would choose a
+/// multi-line string for text with a line break), so no file name or
+/// device name can break a line of `sweep.resolved.toml`.
 pub fn toml_string(s: &str) -> String {
-    toml::Value::String(s.to_string()).to_string()
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 /// The text of `sweep.resolved.toml`: header lines naming the tool, the
@@ -187,5 +202,20 @@ impl TracesCsv {
     /// The finished file, to be committed with the run's other files.
     pub fn into_file(self) -> AtomicFile {
         self.0.into_file()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_strings_stay_on_one_line_and_read_back() {
+        for s in ["a\nb.csv", "q\"uo\\te", "tab\tand\u{1}", "plain"] {
+            let t = toml_string(s);
+            assert_eq!(t.lines().count(), 1, "{t}");
+            let v: toml::Table = toml::from_str(&format!("x = {t}")).unwrap();
+            assert_eq!(v["x"].as_str(), Some(s));
+        }
     }
 }

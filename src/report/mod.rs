@@ -25,6 +25,7 @@ use html::Page;
 use plots::{
     category_map, heat_map, histogram, line_chart, points_chart, tornado, Axis, Curve, Series,
 };
+use plotters::chart::SeriesLabelPosition;
 use scan::{Folder, CONTACT_NAMES, LINE_POINTS};
 
 /// A grid axis with at most this many values is drawn as points at its
@@ -35,6 +36,7 @@ const FEW: usize = 8;
 /// Writes `DIR/report.html` from the run in the folder `dir` holds
 /// (locked), committed beside its other files.
 pub fn write(dir: &mut OutDir) -> Result<()> {
+    crate::outdir::pause_for_tests("before-report");
     let page = build(dir.path())?;
     let path = dir.join(REPORT);
     let mut f = AtomicFile::create(&path)?;
@@ -293,8 +295,9 @@ fn requirement(page: &mut Page, r: &aggregates::RequireData) {
         page.answer(&s);
         let x = Axis::grid(&param_label(axis), &r.xs);
         let y = Axis::fixed(&format!("share of lanes with {}", req.text()), 0.0, 1.0);
-        let series_of = |v: Verdict, name| Series {
+        let series_of = |v: Verdict, name, colour| Series {
             name,
+            colour: Some(colour),
             values: judged
                 .iter()
                 .map(|j| {
@@ -311,11 +314,12 @@ fn requirement(page: &mut Page, r: &aggregates::RequireData) {
             &x,
             &y,
             &[
-                series_of(Verdict::Met, "met"),
-                series_of(Verdict::Undecided, "not decided"),
-                series_of(Verdict::NotMet, "not met"),
+                series_of(Verdict::Met, "met", plots::VERDICT_COLOURS[0]),
+                series_of(Verdict::Undecided, "not decided", plots::VERDICT_COLOURS[1]),
+                series_of(Verdict::NotMet, "not met", plots::VERDICT_COLOURS[2]),
             ],
             Some((req.at_least, "required share")),
+            SeriesLabelPosition::LowerLeft,
         ));
     }
     if r.binned {
@@ -461,7 +465,7 @@ fn maps(page: &mut Page, f: &Folder) {
                 &x,
                 &y,
                 &p.means(r),
-                &c.label(),
+                &crate::columns::label(c.name, "", c.unit),
                 Some(&line),
             ));
         }
@@ -509,8 +513,10 @@ fn lines(page: &mut Page, f: &Folder) {
                 &[Series {
                     name: c.name,
                     values: vals,
+                    colour: None,
                 }],
                 None,
+                SeriesLabelPosition::UpperRight,
             ));
         } else {
             let (points, band) = l.curve(r);
@@ -519,6 +525,7 @@ fn lines(page: &mut Page, f: &Folder) {
                 name: c.name,
                 points,
                 band,
+                colour: None,
             }];
             let x = plots::x_axis(&x_label, &curves, &[], l.log);
             figs.push(line_chart(c.quantity, &x, l.log, &c.label(), &curves, &[]));
@@ -531,7 +538,20 @@ fn lines(page: &mut Page, f: &Folder) {
             .enumerate()
             .map(|(i, c)| Series {
                 name: c.1,
-                values: l.contact_share(i),
+                // One lane a point without a study: its share is 0 or 1,
+                // and an interval would say nothing.
+                values: l
+                    .contact_share(i)
+                    .into_iter()
+                    .map(|v| {
+                        if f.study {
+                            v
+                        } else {
+                            (v.0, f64::NAN, f64::NAN)
+                        }
+                    })
+                    .collect(),
+                colour: Some(plots::CONTACT_COLOURS[i]),
             })
             .collect();
         figs.push(points_chart(
@@ -540,6 +560,7 @@ fn lines(page: &mut Page, f: &Folder) {
             &share,
             &series,
             None,
+            SeriesLabelPosition::UpperRight,
         ));
     } else {
         let curves: Vec<Curve> = CONTACT_NAMES
@@ -555,6 +576,7 @@ fn lines(page: &mut Page, f: &Folder) {
                     .map(|(x, s)| (*x, s.0))
                     .collect(),
                 band: Vec::new(),
+                colour: Some(plots::CONTACT_COLOURS[i]),
             })
             .collect();
         let x = plots::x_axis(&x_label, &curves, &[], l.log);
@@ -650,10 +672,11 @@ fn traces(page: &mut Page, f: &Folder) {
     ));
     for t in &f.traces {
         page.heading(&format!(
-            "lane {} ({} rows, {} events{})",
+            "lane {} ({} rows, {} event{}{})",
             t.lane,
             t.rows,
             t.events,
+            if t.events == 1 { "" } else { "s" },
             if t.thinned() {
                 "; decimated for plotting"
             } else {
@@ -669,6 +692,7 @@ fn traces(page: &mut Page, f: &Folder) {
             name,
             points: t.series(s),
             band: Vec::new(),
+            colour: None,
         };
         page.figures(vec![
             chart(

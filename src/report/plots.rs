@@ -109,6 +109,14 @@ impl Axis {
         }
     }
 
+    /// The labelled ticks: (position, label).
+    pub fn ticks(&self) -> Vec<(f64, String)> {
+        self.key_points()
+            .into_iter()
+            .map(|p| (p, self.label_of(p)))
+            .collect()
+    }
+
     fn desc(&self) -> String {
         match self {
             Axis::Num { label, range } => range.label(label),
@@ -361,6 +369,8 @@ pub struct Curve<'a> {
     pub name: &'a str,
     pub points: Vec<(f64, f64)>,
     pub band: Vec<(f64, f64, f64)>,
+    /// Its colour (None: the palette's, by position).
+    pub colour: Option<RGBColor>,
 }
 
 pub(crate) const PALETTE: [RGBColor; 6] = [
@@ -441,7 +451,7 @@ pub fn line_chart(
             }
         }
         for (i, cv) in curves.iter().enumerate() {
-            let col = PALETTE[i % PALETTE.len()];
+            let col = cv.colour.unwrap_or(PALETTE[i % PALETTE.len()]);
             if !cv.band.is_empty() {
                 let upper = cv.band.iter().map(|b| pt((b.0, b.2)));
                 let lower = cv.band.iter().rev().map(|b| pt((b.0, b.1)));
@@ -477,7 +487,16 @@ pub fn line_chart(
 pub struct Series<'a> {
     pub name: &'a str,
     pub values: Vec<(f64, f64, f64)>,
+    /// Its colour (None: the palette's, by position).
+    pub colour: Option<RGBColor>,
 }
+
+/// Colours that say "yes", "undecided" and "no".
+pub const VERDICT_COLOURS: [RGBColor; 3] = [
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(214, 39, 40),
+];
 
 /// Points with whiskers at the categories of `x` (a grid axis with few
 /// values: its points are not joined, as a trend would suggest values in
@@ -489,6 +508,7 @@ pub fn points_chart(
     y: &Axis,
     series: &[Series],
     level: Option<(f64, &str)>,
+    legend_at: SeriesLabelPosition,
 ) -> Result<String, String> {
     let mut svg = String::new();
     {
@@ -505,7 +525,7 @@ pub fn points_chart(
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK.stroke_width(1)));
         }
         for (k, s) in series.iter().enumerate() {
-            let col = PALETTE[k % PALETTE.len()];
+            let col = s.colour.unwrap_or(PALETTE[k % PALETTE.len()]);
             // Side by side within a category.
             let dx = if n > 1.0 {
                 (k as f64 - (n - 1.0) / 2.0) * 0.6 / n
@@ -539,6 +559,7 @@ pub fn points_chart(
         }
         if series.len() > 1 || level.is_some() {
             c.configure_series_labels()
+                .position(legend_at)
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .draw()

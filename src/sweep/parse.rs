@@ -9,7 +9,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{Axis, AxisValues, Study, Sweep, Tolerance};
-use crate::error::{Error, Result};
+use crate::error::{did_you_mean, Error, Result};
 use crate::model::FrictionTable;
 use crate::params::{Num, Param, Spec};
 use crate::sampling::{Dist, Permutation};
@@ -52,7 +52,7 @@ struct TraceDef {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct AxisDef {
-    param: String,
+    param: Spanned<String>,
     values: Option<Spanned<Vec<f64>>>,
     from: Option<Spanned<f64>>,
     to: Option<Spanned<f64>>,
@@ -107,7 +107,7 @@ pub enum Method {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TolDef {
-    param: String,
+    param: Spanned<String>,
     dist: Dist,
     tol: Option<f64>,
     tol_rel: Option<f64>,
@@ -136,7 +136,30 @@ fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
             "duplicate key; each key may appear once in its table",
         );
     }
-    Error::input(path, at, None, msg)
+    Error::input(path, at, None, suggest_in(&msg))
+}
+
+/// The TOML reader's "unknown field `x`, expected one of `a`, `b`" (or
+/// "unknown variant"), with a "did you mean" for a near miss.
+fn suggest_in(msg: &str) -> String {
+    for kind in ["unknown field `", "unknown variant `"] {
+        let Some(rest) = msg.split(kind).nth(1) else {
+            continue;
+        };
+        let Some((name, tail)) = rest.split_once('`') else {
+            continue;
+        };
+        let candidates: Vec<&str> = tail.split('`').skip(1).step_by(2).collect();
+        let hint = did_you_mean(name, candidates.iter().copied());
+        if !hint.is_empty() {
+            return msg.replacen(
+                &format!("{kind}{name}`"),
+                &format!("{kind}{name}`{hint}"),
+                1,
+            );
+        }
+    }
+    msg.to_string()
 }
 
 fn line_of(text: &str, pos: usize) -> String {
@@ -299,7 +322,11 @@ fn parse_base(at: &At, keys: &BTreeMap<String, Spanned<toml::Value>>) -> Result<
             at.bad(
                 span.clone(),
                 key,
-                format!("unknown parameter; allowed: {}", Param::all_names()),
+                format!(
+                    "unknown parameter{}; allowed: {}",
+                    did_you_mean(key, Param::COLUMNS.map(|p| p.name())),
+                    Param::all_names()
+                ),
             )
         })?;
         let text_form = match (p, val.get_ref()) {
@@ -333,9 +360,9 @@ fn parse_axes(at: &At, grid: &[Spanned<AxisDef>]) -> Result<Vec<Axis>> {
         let a = ax.get_ref();
         // Errors point at the key concerned, else at the [[grid]] entry.
         let bad = |(span, m): (Option<std::ops::Range<usize>>, String)| {
-            at.bad(span.unwrap_or(ax.span()), &a.param, m)
+            at.bad(span.unwrap_or(a.param.span()), a.param.get_ref(), m)
         };
-        let param = numeric_param(&a.param).map_err(|m| bad((None, m)))?;
+        let param = numeric_param(a.param.get_ref()).map_err(|m| bad((None, m)))?;
         let values = axis_values(a).map_err(bad)?;
         if axes.iter().any(|x| x.param == param) {
             return Err(bad((None, "appears on two grid axes".into())));
@@ -384,7 +411,7 @@ fn parse_study(at: &At, file: &SweepFile, base: &Spec, axes: &[Axis]) -> Result<
         if params.iter().any(|x| x.param == tol.param) {
             return Err(at.bad(
                 t.span(),
-                &t.get_ref().param,
+                t.get_ref().param.get_ref(),
                 "appears in two [[tolerance]] entries".into(),
             ));
         }
@@ -406,8 +433,9 @@ fn parse_study(at: &At, file: &SweepFile, base: &Spec, axes: &[Axis]) -> Result<
 fn parse_tolerance(at: &At, t: &Spanned<TolDef>, base: &Spec, axes: &[Axis]) -> Result<Tolerance> {
     let span = t.span();
     let td = t.get_ref();
-    let bad = |m: String| at.bad(span.clone(), &td.param, m);
-    let param = numeric_param(&td.param).map_err(bad)?;
+    let bad = |m: String| at.bad(span.clone(), td.param.get_ref(), m);
+    let param = numeric_param(td.param.get_ref())
+        .map_err(|m| at.bad(td.param.span(), td.param.get_ref(), m))?;
     let (tol, relative) = match (td.tol, td.tol_rel) {
         (Some(t), None) => (t, false),
         (None, Some(t)) => (t, true),
@@ -436,7 +464,8 @@ fn numeric_param(name: &str) -> std::result::Result<Num, String> {
         Some(Param::Num(n)) => Ok(n),
         Some(_) => Err("is a law selector, not a number; only numeric parameters can vary".into()),
         None => Err(format!(
-            "unknown parameter; allowed: {}",
+            "unknown parameter{}; allowed: {}",
+            did_you_mean(name, Param::COLUMNS.map(|p| p.name())),
             Param::all_names()
         )),
     }

@@ -16,3 +16,4 @@ mod shader;
 mod shards;
 mod stats;
 mod traces;
+mod trust;
