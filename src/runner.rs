@@ -92,7 +92,7 @@ impl Summary {
             s.push_str(&format!(
                 "; {n} lanes still coasting when their run ended: whether they hold is not decided ({})",
                 if self.coasting_with_t_max {
-                    "raise t_max".to_string()
+                    "set t_max in [base], or raise it".to_string()
                 } else {
                     format!(
                         "set t_max in [base] so they run on until held or running away, e.g. t_max = {}",

@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -13,6 +13,12 @@ other synchronous speeds, slips and peaks in the rest, initial speeds
 (-3 to 3 m/s) in 30 % and positions in 20 %, Coulomb friction (mu 0.01
 to 0.16, static up to 40 % above) in 40 % and the paper law with its
 three parameters within +-20 % in the rest.
+
+`hold` draws lanes that answer "does it hold?": the motor cut in every
+lane (0.1 to 0.9 of t_end, 0.5 to 3 s), lead angle 2 to 12 deg, load -9
+to +9 kN, masses 0.5 to 1.5 times the paper's, Coulomb friction (mu 0.02
+to 0.12, static up to 50 % above) in half and the paper law in the rest,
+and t_max (t_end + 2 to 30 s) in 70 % of them.
 """
 import csv
 import random
@@ -50,6 +56,24 @@ if sys.argv[4:] == ["wide"]:
             else:
                 row.update(fric_a=0.174 * (0.8 + 0.4 * rng.random()), fric_b=0.612 * (0.8 + 0.4 * rng.random()),
                            fric_c=0.14 * (0.8 + 0.4 * rng.random()))
+            w.writerow([row[c] for c in cols])
+    sys.exit(0)
+if sys.argv[4:] == ["hold"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "mu", "mu_static"]
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for _ in range(n):
+            t_end = 0.5 + 2.5 * rng.random()
+            row = {c: "" for c in cols}
+            row.update(gamma_deg=2 + 10 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                       t_end=t_end, motor_off=t_end * (0.1 + 0.8 * rng.random()), friction="paper")
+            if rng.random() < 0.7:
+                row["t_max"] = t_end + 2 + 28 * rng.random()
+            if rng.random() < 0.5:
+                mu = 0.02 + 0.1 * rng.random()
+                row.update(friction="coulomb", mu=mu, mu_static=mu * (1 + 0.5 * rng.random()))
             w.writerow([row[c] for c in cols])
     sys.exit(0)
 cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static"]

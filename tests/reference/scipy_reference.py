@@ -6,7 +6,10 @@ rtol = atol = 1e-12 with located events, for checking tswm's results.
 
 LANES.csv holds lanes.csv's parameter columns (tswm's own lanes.csv will
 do); OUT.csv gets lane, status, contact_end, x1_end, v1_end, the works and
-the four mesh energies of section 10.
+the four mesh energies, then hold and t_stop ("Does it hold?": a lane whose
+motor is cut and that still slides, slowing down, at t_end runs on to
+t_max until it comes to rest (held, or it departs: runs away) or its
+acceleration turns to driving it (runs away)).
 """
 import csv
 import math
@@ -37,6 +40,7 @@ class Lane:
         self.mu_c = num(row, "mu")
         self.mu_static = num(row, "mu_static")
         self.x0, self.v0, self.t_end = num(row, "x1_0"), num(row, "v1_0"), num(row, "t_end")
+        self.t_max = num(row, "t_max", self.t_end)
 
     def mu(self, vs):
         """Sliding friction coefficient at sliding speed vs >= 0."""
@@ -70,8 +74,10 @@ class Lane:
 
 
 def simulate(L):
+    """status, y, c, stuck, hold, t_stop"""
     y = [L.x0, L.v0] + [0.0] * 7
     t, on = 0.0, not (L.motor_off <= 0.0)
+    end, running_on = L.t_end, False
     c = 1 if L.phi(L.v0, on) >= 0 else -1
     s, stuck = (1 if L.v0 > 0 else -1 if L.v0 < 0 else 0), False
 
@@ -90,8 +96,17 @@ def simulate(L):
     if L.v0 == 0.0:
         rest()
     last_kink, after_kink = 0.0, False
+    def hold(stuck, c, s, speeding):
+        if not L.motor_off < L.t_end:
+            return ""
+        if stuck:
+            return "held"
+        if speeding or s * L.forces(y[1], c, s, on)[0] >= 0:
+            return "runs_away"
+        return "coasting"
+
     for _ in range(100000):
-        t_stop = L.motor_off if on and L.motor_off < L.t_end else L.t_end
+        t_stop = L.motor_off if on and L.motor_off < end else end
         if stuck:
             t = t_stop
         else:
@@ -119,31 +134,44 @@ def simulate(L):
             def ev_kink(_, z, s=s, k=kink0):
                 return k * (L.mu(max(s * z[1], 0.0) / L.cg) - L.tg) if k else 1.0
 
-            for e in (ev_rest, ev_switch, ev_kink):
+            def ev_speeding(_, z, c=c, s=s, on=on):
+                return -s * L.forces(z[1], c, s, on)[0] if running_on else 1.0
+
+            for e in (ev_rest, ev_switch, ev_kink, ev_speeding):
                 e.terminal, e.direction = True, -1
             if L.forces(y[1], c, s, on)[1] <= 0:
-                return "inconsistent", y, c, stuck
+                return "inconsistent", y, c, stuck, "", t
             sol = solve_ivp(rhs, (t, t_stop), y, method="DOP853", rtol=RTOL, atol=ATOL,
-                            events=(ev_rest, ev_switch, ev_kink), first_step=1e-8)
+                            events=(ev_rest, ev_switch, ev_kink, ev_speeding), first_step=1e-8)
             y, t = list(sol.y[:, -1]), sol.t[-1]
             hit = [len(te) > 0 and te[0] > sol.t[0] for te in sol.t_events]
             if sol.status == 1 and hit[0]:
                 rest()
+                if running_on:
+                    # Answered: held, or departed and running away.
+                    return "ok", y, c, stuck, hold(stuck, c, s, False), t
                 continue
+            if sol.status == 1 and hit[3]:
+                return "ok", y, c, stuck, hold(stuck, c, s, True), t
             if sol.status == 1 and hit[1]:
                 c = -c
                 continue
             if sol.status == 1 and hit[2]:
                 after_kink = True
                 continue
-        if t >= L.t_end:
-            return "ok", y, c, stuck
+        if t >= end:
+            coasting = not stuck and s * L.forces(y[1], c, s, on)[0] < 0
+            if (not running_on and L.t_max > L.t_end and L.motor_off < L.t_end
+                    and coasting):
+                running_on, end = True, L.t_max
+                continue
+            return "ok", y, c, stuck, hold(stuck, c, s, False), t
         on = False  # the motor's cut-off
         if stuck:
             rest()
         else:
             c = 1 if L.phi(y[1], on) >= 0 else -1
-    return "max_events", y, c, stuck
+    return "max_events", y, c, stuck, "", t
 
 
 def main():
@@ -152,11 +180,12 @@ def main():
     with open(dst, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["lane", "status", "contact_end", "x1_end", "v1_end", "w_motor", "w_load",
-                    "w_friction", "w1_in", "w1_out", "w2_in", "w2_out"])
+                    "w_friction", "w1_in", "w1_out", "w2_in", "w2_out", "hold", "t_stop"])
         for i, row in enumerate(rows):
-            status, y, c, stuck = simulate(Lane(row))
+            status, y, c, stuck, hold, t = simulate(Lane(row))
             contact = "stick" if stuck else ("aa" if c > 0 else "bb")
-            w.writerow([row.get("lane", i), status, contact] + [repr(float(v)) for v in y])
+            w.writerow([row.get("lane", i), status, contact] + [repr(float(v)) for v in y]
+                       + [hold, repr(float(t))])
 
 
 if __name__ == "__main__":
