@@ -334,6 +334,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     }
     let first = &parts[0];
     let resolved_path = first.dir.join(RESOLVED);
+    // Verified (read_part): whole and UTF-8.
     let resolved =
         std::fs::read_to_string(&resolved_path).map_err(|e| Error::io(&resolved_path, e))?;
     let sweep = Sweep::parse(&resolved_path, &resolved)?;
@@ -509,7 +510,7 @@ fn merge_traces(parts: &[Part], out: &Path) -> Result<Option<AtomicFile>> {
         return Ok(None);
     }
     let mut w = CsvLines::create(&out.join(TRACES), TRACE_COLUMNS)?;
-    let mut line = String::new();
+    let mut line = Vec::new();
     for p in traced {
         let path = p.dir.join(TRACES);
         let f = std::fs::File::open(&path).map_err(|e| Error::io(&path, e))?;
@@ -517,11 +518,22 @@ fn merge_traces(parts: &[Part], out: &Path) -> Result<Option<AtomicFile>> {
         let mut first = true;
         loop {
             line.clear();
-            if r.read_line(&mut line).map_err(|e| Error::io(&path, e))? == 0 {
+            if r.read_until(b'\n', &mut line)
+                .map_err(|e| Error::io(&path, e))?
+                == 0
+            {
                 break;
             }
+            let text = std::str::from_utf8(&line).map_err(|_| {
+                Error::input(
+                    &path,
+                    None,
+                    None,
+                    "not UTF-8 text: not a tswm traces.csv; run the shard again",
+                )
+            })?;
             if std::mem::take(&mut first) {
-                if line.trim_end() != TRACE_COLUMNS {
+                if text.trim_end() != TRACE_COLUMNS {
                     return Err(Error::input(
                         &path,
                         Some("line 1".into()),
@@ -531,7 +543,7 @@ fn merge_traces(parts: &[Part], out: &Path) -> Result<Option<AtomicFile>> {
                 }
                 continue;
             }
-            w.line().push_str(line.trim_end_matches('\n'));
+            w.line().push_str(text.trim_end_matches('\n'));
             w.end_line()?;
         }
     }

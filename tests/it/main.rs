@@ -10,6 +10,7 @@ mod fixtures;
 mod fuzz;
 mod gpu;
 mod output;
+mod property;
 mod reference;
 mod report;
 mod shader;

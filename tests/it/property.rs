@@ -1,0 +1,219 @@
+//! The report on shapes, not on examples: 500 random sweeps (1 to 3 grid
+//! axes of 1 to 4 values, equal and near-equal values, sampled or not,
+//! extreme but allowed parameters, traces, requirements), each run on the
+//! CPU path and its report built; then the folder's results are replaced
+//! by values a folder can hold (constants, empty columns, huge and tiny
+//! numbers, a trace with many events) and the report built again. Every
+//! report must be a page: no panic, no error, no hang.
+
+use std::path::Path;
+
+use tswm::backend::Choice;
+use tswm::cli::LanesArgs;
+use tswm::commands::run::{run, RunArgs};
+
+/// A fixed generator (xorshift): the same sweeps on every run.
+struct Gen(u64);
+
+impl Gen {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn pick<'a, T>(&mut self, v: &'a [T]) -> &'a T {
+        &v[self.below(v.len() as u64) as usize]
+    }
+}
+
+/// Values for a grid axis of `param`: random, equal, near-equal, or the
+/// ends of the allowed range.
+fn axis_values(g: &mut Gen, param: &str, n: usize) -> Vec<f64> {
+    let (lo, hi) = match param {
+        "gamma_deg" => (0.5, 85.0),
+        "f2" => (-20000.0, 20000.0),
+        "m1" | "m2" => (1e-3, 1e9),
+        "mu" => (0.0, 1.0),
+        "t_end" => (1e-3, 3.0),
+        "v1_0" => (-100.0, 100.0),
+        _ => (0.0, 1.0),
+    };
+    let base = lo + (hi - lo) * g.unit();
+    (0..n)
+        .map(|i| match g.below(5) {
+            0 => base,
+            1 => base * (1.0 + 1e-12 * i as f64),
+            2 => *g.pick(&[lo, hi]),
+            _ => lo + (hi - lo) * g.unit(),
+        })
+        .map(|v| {
+            if param == "m1" || param == "m2" {
+                v.max(1e-3)
+            } else {
+                v
+            }
+        })
+        .collect()
+}
+
+/// A random sweep file and its lane count.
+fn random_sweep(g: &mut Gen) -> (String, u64) {
+    let coulomb = g.below(2) == 0;
+    let mut s = String::from("[base]\n");
+    let t_end = *g.pick(&[0.05, 0.2, 0.5]);
+    s += &format!("t_end = {t_end}\n");
+    if coulomb {
+        s += "friction = \"coulomb\"\nmu = 0.05\n";
+    }
+    if g.below(3) == 0 {
+        s += &format!("motor_off = {}\n", t_end * g.unit());
+        if g.below(2) == 0 {
+            s += "t_max = 10.0\n";
+        }
+    }
+    if g.below(8) == 0 {
+        s += "m1 = 1e9\nm2 = 1e9\n";
+    }
+    let params: &[&str] = if coulomb {
+        &["gamma_deg", "f2", "m1", "mu", "t_end", "v1_0"]
+    } else {
+        &["gamma_deg", "f2", "m1", "m2", "t_end", "v1_0"]
+    };
+    let axes = g.below(4) as usize;
+    let mut used: Vec<&str> = Vec::new();
+    let mut lanes = 1u64;
+    for _ in 0..axes {
+        let p = *g.pick(params);
+        if used.contains(&p) {
+            continue;
+        }
+        used.push(p);
+        let n = 1 + g.below(4) as usize;
+        let v = axis_values(g, p, n);
+        let list: Vec<String> = v.iter().map(|x| format!("{x:?}")).collect();
+        s += &format!(
+            "[[grid]]\nparam = \"{p}\"\nvalues = [{}]\n",
+            list.join(", ")
+        );
+        lanes *= n as u64;
+    }
+    if g.below(2) == 0 {
+        let n = 1 + g.below(6);
+        s += &format!(
+            "[sampling]\nmethod = \"{}\"\nn = {n}\nseed = {}\n\
+             [[tolerance]]\nparam = \"f2\"\ndist = \"{}\"\ntol = {}\n",
+            g.pick(&["monte_carlo", "latin_hypercube"]),
+            g.below(1000),
+            g.pick(&["uniform", "normal", "triangular"]),
+            *g.pick(&[0.0, 1.0, 2000.0])
+        );
+        lanes *= n;
+    }
+    if g.below(3) == 0 {
+        s += &format!("[trace]\nlanes = [0, {}]\ndt = 0.01\n", lanes - 1);
+    }
+    if g.below(3) == 0 {
+        let req = *g.pick(&[
+            "hold = held",
+            "contact_end = stick",
+            "eta_direct >= 0.5",
+            "status = ok",
+        ]);
+        s += &format!(
+            "[report]\nrequire = \"{req}\"\nat_least = {}\nresults = [\"{}\", \"lock_margin_deg\"]\n",
+            *g.pick(&[0.5, 0.99, 1.0]),
+            g.pick(&["eta_direct", "eta_inverse", "w_friction", "steps", "t_stop"])
+        );
+    }
+    (s, lanes)
+}
+
+/// Replaces the result cells of `dir/lanes.csv` by values a folder can
+/// hold: a whole column constant, empty, huge, tiny or mixed.
+fn odd_values(g: &mut Gen, dir: &Path) {
+    let p = dir.join("lanes.csv");
+    let text = std::fs::read_to_string(&p).unwrap();
+    let mut lines: Vec<Vec<String>> = text
+        .lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    let head = lines[0].clone();
+    for name in [
+        "eta_direct",
+        "eta_inverse",
+        "w_friction",
+        "lock_margin_deg",
+        "x1_end",
+        "steps",
+        "t_stop",
+    ] {
+        let i = head.iter().position(|h| h == name).unwrap();
+        let kind = g.below(6);
+        for row in lines.iter_mut().skip(1) {
+            row[i] = match (kind, name) {
+                (_, "steps") => g.below(1 << 40).to_string(),
+                (0, _) => "".into(),
+                (1, _) => "4774.0".into(),
+                (2, _) => format!("{:?}", *g.pick(&[1.7e308, -1.7e308, f64::MAX, f64::MIN])),
+                (3, _) => format!("{:?}", *g.pick(&[5e-324, -1e-300, 1e40, -1e40])),
+                (4, _) => format!("{:?}", 4774.0 + 1e-9 * g.unit()),
+                _ => continue,
+            };
+        }
+    }
+    let out: Vec<String> = lines.iter().map(|r| r.join(",")).collect();
+    std::fs::write(&p, out.join("\n") + "\n").unwrap();
+    // A traced lane's rows replaced by one with thousands of events.
+    let t = dir.join("traces.csv");
+    if t.exists() && g.below(2) == 0 {
+        let mut s = String::from("lane,t,x1,v1,a1,f1,s1,s2,psi,phi,contact\n");
+        for i in 0..6000 {
+            let time = i as f64 * 1e-5;
+            s += &format!("0,{time},0,{},0,0,1e308,-1e308,,0,stick\n", i % 3);
+            s += &format!("0,{time},0,0,0,0,0,0,-0.1,0,aa\n");
+        }
+        std::fs::write(&t, s).unwrap();
+    }
+}
+
+#[test]
+fn five_hundred_random_sweeps_get_their_reports() {
+    let mut g = Gen(0x2545_F491_4F6C_DD1D);
+    let root = tempfile::tempdir().unwrap();
+    for case in 0..500 {
+        let (text, _) = random_sweep(&mut g);
+        let dir = root.path().join(format!("c{case}"));
+        std::fs::create_dir(&dir).unwrap();
+        let sweep = dir.join("s.toml");
+        std::fs::write(&sweep, &text).unwrap();
+        let lanes = LanesArgs {
+            sweep: Some(sweep),
+            lanes: None,
+            threads: Some(1),
+        };
+        let out = dir.join("o");
+        run(RunArgs {
+            lanes: &lanes,
+            out: &out,
+            backend: Choice::Cpu,
+            trace: &[],
+            trace_dt: None,
+            report: true,
+            shard: None,
+            format: tswm::lanes_file::Format::Csv,
+            progress: false,
+        })
+        .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        odd_values(&mut g, &out);
+        let page = tswm::report::build(&out).unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        assert!(!page.contains("figure not drawn"), "case {case}\n{text}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
