@@ -20,15 +20,16 @@
 //! below 10^6 lanes.
 
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
-use tswm::backend::{run_cpu_lanes, Backend, CpuBackend};
-use tswm::gpu::layout::{GpuGlobals, GpuLane};
-use tswm::gpu::{Gpu, GpuBackend};
+use tswm::backend::cpu::run_cpu_lanes;
+use tswm::backend::gpu::layout::{GpuGlobals, GpuLane};
+use tswm::backend::gpu::{Gpu, GpuBackend};
+use tswm::backend::{Backend, CpuBackend};
+use tswm::input::lanes::Source;
+use tswm::input::testmodels::paper_like;
 use tswm::integrator::Settings;
-use tswm::lanes::Source;
-use tswm::lanes_file::{Format, LanesWriter};
 use tswm::model::Lane;
+use tswm::output::table::{Format, LanesWriter};
 use tswm::params::Params;
-use tswm::testmodels::paper_like;
 
 fn lanes(n: usize) -> Vec<Params> {
     paper_like(n, 1)
@@ -99,7 +100,7 @@ fn kernel(c: &mut Criterion) {
                 .map(|p| GpuLane::from(&Lane::new(p, None)))
                 .collect();
             let globals = GpuGlobals::new(&Settings::default(), None);
-            let chunk = tswm::gpu::WorkSize::of(&dev.info, &dev.limits).chunk_lanes;
+            let chunk = tswm::backend::gpu::WorkSize::of(&dev.info, &dev.limits).chunk_lanes;
             let mut states = Vec::new();
             g.bench_with_input(BenchmarkId::new("gpu", n), &l32, |b, l| {
                 b.iter(|| {
@@ -115,17 +116,17 @@ fn kernel(c: &mut Criterion) {
 
 /// One end-to-end run: lanes.csv streamed, synced and renamed into place.
 fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
-    let target = tswm::runner::Target {
+    let target = tswm::run::Target {
         dir,
         format: Format::Csv,
         range: None,
         threads: 0,
         settings: Default::default(),
     };
-    let written = tswm::runner::run(src, be, target, None, false).unwrap();
+    let written = tswm::run::run(src, be, target, None, false).unwrap();
     let mut files = vec![written.lanes];
     files.extend(written.stats);
-    tswm::outdir::commit_together(files, &[]).unwrap();
+    tswm::output::commit_together(files, &[]).unwrap();
 }
 
 /// Writing the results table alone: the rows of N paper-like lanes
@@ -168,7 +169,7 @@ fn table(c: &mut Criterion) {
                 w.write_lanes(&writers, (k * CHUNK) as u64, p, r, &mut cells)
                     .unwrap();
             }
-            tswm::outdir::commit_together(vec![w.into_file().unwrap()], &[]).unwrap();
+            tswm::output::commit_together(vec![w.into_file().unwrap()], &[]).unwrap();
         };
         write();
         let path = dir.path().join(format.file_name());
@@ -189,7 +190,8 @@ fn table(c: &mut Criterion) {
 /// cost of lanes of unlike length sharing a chunk.
 fn heterogeneous(c: &mut Criterion) {
     let Some(dev) = gpu() else { return };
-    let (params, sorted) = tswm::testmodels::heterogeneous_and_sorted(*sizes().last().unwrap());
+    let (params, sorted) =
+        tswm::backend::gpu::cost::heterogeneous_and_sorted(*sizes().last().unwrap());
     let mut be = GpuBackend::new(dev, Settings::default());
     let chunk = be.chunk_lanes();
     let mut g = c.benchmark_group("heterogeneous");

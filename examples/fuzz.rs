@@ -22,8 +22,8 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use tswm::lanes::Source;
-use tswm::sampling::Uniforms;
+use tswm::input::lanes::Source;
+use tswm::input::sampling::Uniforms;
 
 const TOKENS: &[&str] = &[
     "\"",
@@ -156,7 +156,7 @@ fn mutate(u: &mut Uniforms, corpus: &[Vec<u8>]) -> Vec<u8> {
 pub fn read_one(target: &str, bytes: &[u8], scratch: &Path) -> Result<(), String> {
     let outcome = std::panic::catch_unwind(|| match target {
         "sweep" => match std::str::from_utf8(bytes) {
-            Ok(text) => tswm::sweep::Sweep::parse(Path::new("fuzz.toml"), text)
+            Ok(text) => tswm::input::sweep::Sweep::parse(Path::new("fuzz.toml"), text)
                 .err()
                 .map(|e| e.to_string()),
             Err(_) => None,
@@ -207,7 +207,7 @@ fn base_folders(base: &Path) {
             trace_dt: None,
             report: false,
             shard,
-            format: tswm::lanes_file::Format::Csv,
+            format: tswm::output::table::Format::Csv,
             progress: false,
         })
         .expect("the base run");
@@ -267,8 +267,8 @@ fn mutate_folder(
     if target == "merge" && name != "shard.toml" && u.next() < 0.5 {
         // A forged manifest: the mutated rows themselves get read.
         let m = scratch.join(folder).join("shard.toml");
-        if let Ok(Some(mut man)) = tswm::shard::Manifest::read(&scratch.join(folder)) {
-            if let Ok(d) = tswm::shard::file_digest(&path) {
+        if let Ok(Some(mut man)) = tswm::run::shard::Manifest::read(&scratch.join(folder)) {
+            if let Ok(d) = tswm::output::digest::file_digest(&path) {
                 man.files.insert(name.to_string(), d);
                 std::fs::write(m, man.text()).unwrap();
             }
@@ -290,10 +290,10 @@ pub fn run_folder(target: &str, scratch: &Path) -> Result<(), String> {
                 tswm::report::build(&scratch.join("run")).map(|_| ())
             } else {
                 let _ = std::fs::remove_dir_all(scratch.join("m"));
-                tswm::merge::merge(
+                tswm::run::merge::merge(
                     &[scratch.join("s0"), scratch.join("s1")],
                     &scratch.join("m"),
-                    tswm::lanes_file::Format::Csv,
+                    tswm::output::table::Format::Csv,
                     true,
                 )
                 .map(|_| ())

@@ -6,9 +6,9 @@
 //!
 //!     cargo run --release --example gpu_trust -- [random|long|stiff]
 
-use tswm::backend::run_cpu_lanes;
-use tswm::gpu::layout::{GpuGlobals, GpuLane, GpuState};
-use tswm::gpu::Gpu;
+use tswm::backend::cpu::run_cpu_lanes;
+use tswm::backend::gpu::layout::{GpuGlobals, GpuLane, GpuState};
+use tswm::backend::gpu::Gpu;
 use tswm::integrator::Settings;
 use tswm::model::Lane;
 use tswm::params::Params;
@@ -16,9 +16,9 @@ use tswm::params::Params;
 fn main() {
     let which = std::env::args().nth(1).unwrap_or_else(|| "random".into());
     let specs = match which.as_str() {
-        "random" => tswm::testmodels::random_user_lanes(10_000, 31),
-        "long" => tswm::testmodels::long_stiff_lanes(300, 7),
-        _ => tswm::testmodels::stiff_at_sync_lanes(40),
+        "random" => tswm::input::testmodels::random_user_lanes(10_000, 31),
+        "long" => tswm::input::testmodels::long_stiff_lanes(300, 7),
+        _ => tswm::input::testmodels::stiff_at_sync_lanes(40),
     };
     let params: Vec<Params> = specs.iter().map(|s| s.resolve(false).unwrap()).collect();
     let lanes: Vec<Lane> = params.iter().map(|p| Lane::new(p, None)).collect();
@@ -75,7 +75,7 @@ fn main() {
             .fold(f64::MAX, f64::min)
             / scale;
         let done = st.flags & 4 != 0;
-        let why = tswm::gpu::verify::recheck(l, &g, done);
+        let why = tswm::backend::gpu::verify::recheck(l, &g, done);
         let f = [
             !done,
             res > 1e-4,
@@ -129,8 +129,8 @@ fn main() {
     let mut flagged_again = 0usize;
     for _ in 0..100 {
         for ((r, done), l) in rows.iter().zip(&lanes) {
-            flagged_again +=
-                tswm::gpu::verify::recheck(std::hint::black_box(l), r, *done).is_some() as usize;
+            flagged_again += tswm::backend::gpu::verify::recheck(std::hint::black_box(l), r, *done)
+                .is_some() as usize;
         }
     }
     let ns = t.elapsed().as_secs_f64() * 1e9 / (100.0 * rows.len() as f64);

@@ -11,8 +11,8 @@
 //! (defaults 9 passes, all 200,000 lanes).
 
 use std::time::Instant;
+use tswm::backend::gpu::{Gpu, GpuBackend};
 use tswm::backend::Backend;
-use tswm::gpu::{Gpu, GpuBackend};
 use tswm::integrator::Settings;
 use tswm::params::Params;
 
@@ -25,7 +25,7 @@ fn main() {
     let max: usize = args
         .next()
         .map_or(usize::MAX, |a| a.parse().expect("LANES"));
-    let (params, sorted) = tswm::testmodels::heterogeneous_and_sorted(max);
+    let (params, sorted) = tswm::backend::gpu::cost::heterogeneous_and_sorted(max);
     let gpu = Gpu::new(false).expect("a GPU adapter");
     println!("{} lanes on {}", params.len(), gpu.describe());
     let mut be = GpuBackend::new(gpu, Settings::default());

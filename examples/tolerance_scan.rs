@@ -14,7 +14,7 @@ fn main() {
         .skip(1)
         .map(|a| a.parse().expect("a tolerance"))
         .collect();
-    let specs = tswm::testmodels::random_user_lanes(3000, 11);
+    let specs = tswm::input::testmodels::random_user_lanes(3000, 11);
     let lanes: Vec<Lane> = specs
         .iter()
         .map(|s| Lane::new(&s.resolve(false).unwrap(), None))

@@ -6,11 +6,11 @@ use clap::{Parser, Subcommand};
 
 use crate::backend::Choice;
 use crate::error::{Error, Result};
+use crate::input::lanes::Source;
+use crate::input::sweep::TraceSpec;
 use crate::integrator::Settings;
-use crate::lanes::Source;
-use crate::lanes_file::Format;
+use crate::output::table::Format;
 use crate::params::Num;
-use crate::sweep::TraceSpec;
 
 /// Simulate thousands to millions of worm-drive (TSWM) variants.
 #[derive(Parser, Debug)]

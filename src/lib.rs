@@ -17,24 +17,15 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod backend;
-pub mod check;
 pub mod cli;
 pub mod columns;
 pub mod commands;
 pub mod error;
-pub mod gpu;
+pub mod input;
 pub mod integrator;
-pub mod lanes;
-pub mod lanes_file;
-pub mod merge;
 pub mod model;
-pub mod outdir;
 pub mod output;
 pub mod params;
 pub mod report;
-pub mod runner;
-pub mod sampling;
-pub mod shard;
+pub mod run;
 pub mod stats;
-pub mod sweep;
-pub mod testmodels;

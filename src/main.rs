@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use tswm::cli::{Cli, Command};
 use tswm::commands;
-use tswm::outdir::remove_partials_on_signal;
+use tswm::output::atomic::remove_partials_on_signal;
 
 fn main() -> ExitCode {
     quiet_mesa();

@@ -3,12 +3,12 @@
 use crate::backend::{self, Choice};
 use crate::cli::LanesArgs;
 use crate::error::Result;
-use crate::runner;
+use crate::run;
 
 /// Counts the lanes of each chunk and drops them.
 struct Discard(u64);
 
-impl runner::Sink for Discard {
+impl run::Sink for Discard {
     type Output = u64;
     fn chunk(
         &mut self,
@@ -34,7 +34,7 @@ pub fn run(lanes: &LanesArgs, choice: Choice) -> Result<()> {
         plan.settings,
     )?;
     let start = std::time::Instant::now();
-    let n = runner::pipeline(&plan.source, be.as_mut(), false, Discard(0))?;
+    let n = run::pipeline(&plan.source, be.as_mut(), false, Discard(0))?;
     let s = start.elapsed().as_secs_f64();
     println!(
         "tswm bench: {n} lanes in {s:.3} s ({:.0} lanes/s, {}); nothing written",

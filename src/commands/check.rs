@@ -3,11 +3,11 @@
 use std::io::IsTerminal;
 use std::path::Path;
 
+use crate::backend::gpu::{Gpu, GpuBackend};
 use crate::backend::{self, CpuBackend};
-use crate::check;
 use crate::cli::LanesArgs;
 use crate::error::{Error, Result};
-use crate::gpu::{Gpu, GpuBackend};
+use crate::run::compare as check;
 
 /// Runs `tswm check`; exit 1 (an error) when a bound is missed.
 pub fn run(lanes: &LanesArgs, disagreements: Option<&Path>) -> Result<()> {

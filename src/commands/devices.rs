@@ -5,13 +5,13 @@ use crate::error::Result;
 
 /// Runs `tswm devices`.
 pub fn run() -> Result<()> {
-    let list = crate::gpu::adapters();
+    let list = crate::backend::gpu::adapters();
     if list.is_empty() {
         println!("no GPU adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");
     }
     for a in list {
         let l = &a.limits;
-        let w = crate::gpu::WorkSize::of(&a.info, l);
+        let w = crate::backend::gpu::WorkSize::of(&a.info, l);
         println!(
             "{} ({:?}, {:?}, driver {} {})\n  max_storage_buffer_binding_size {} B, max_buffer_size {} B, \
              max_compute_workgroups_per_dimension {}, max_compute_invocations_per_workgroup {}\n  \
@@ -30,19 +30,19 @@ pub fn run() -> Result<()> {
             w.chunk_lanes,
             w.in_flight,
             w.slots,
-            if crate::gpu::is_hardware(&a.info) {
+            if crate::backend::gpu::is_hardware(&a.info) {
                 format!(
                     "hardware: a slot for each invocation an H100 keeps resident, {} lanes a slot",
-                    crate::gpu::HW_LANES_PER_SLOT
+                    crate::backend::gpu::HW_LANES_PER_SLOT
                 )
             } else {
                 format!(
                     "software: {} slots a core, {} lanes a slot",
-                    crate::gpu::SW_SLOTS_PER_CORE,
-                    crate::gpu::SW_LANES_PER_SLOT
+                    crate::backend::gpu::SW_SLOTS_PER_CORE,
+                    crate::backend::gpu::SW_LANES_PER_SLOT
                 )
             },
-            crate::gpu::max_chunk_lanes(l),
+            crate::backend::gpu::max_chunk_lanes(l),
         );
     }
     Ok(())

@@ -1,13 +1,13 @@
-//! `tswm merge`: shard folders joined into one (see [`crate::merge`]).
+//! `tswm merge`: shard folders joined into one (see [`crate::run::merge`]).
 
 use std::path::{Path, PathBuf};
 
 use crate::error::Result;
-use crate::lanes_file::Format;
+use crate::output::table::Format;
 
 /// Runs `tswm merge`; prints its summary line.
 pub fn run(dirs: &[PathBuf], out: &Path, format: Format, report: bool) -> Result<()> {
-    let merged = crate::merge::merge(dirs, out, format, report)?;
+    let merged = crate::run::merge::merge(dirs, out, format, report)?;
     println!("{}", merged.line());
     Ok(())
 }

@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use crate::error::Result;
-use crate::outdir::names::REPORT;
-use crate::outdir::OutDir;
+use crate::output::names::REPORT;
+use crate::output::OutDir;
 
 /// Runs `tswm report`.
 pub fn run(dir: &Path) -> Result<()> {

@@ -7,11 +7,12 @@ use std::path::{Path, PathBuf};
 use crate::backend::{self, Choice};
 use crate::cli::{trace_plan, LanesArgs};
 use crate::error::{Error, Result};
-use crate::lanes_file::Format;
-use crate::outdir::names::{MANIFEST, RESOLVED};
-use crate::outdir::{AtomicFile, OutDir};
-use crate::shard::{backend_kind, source_hash, Manifest, Shard};
-use crate::{output, runner};
+use crate::output::names::{MANIFEST, RESOLVED};
+use crate::output::provenance;
+use crate::output::table::Format;
+use crate::output::{AtomicFile, OutDir};
+use crate::run;
+use crate::run::shard::{backend_kind, source_hash, Manifest, Shard};
 
 /// What `tswm run` was asked to do.
 pub struct RunArgs<'a> {
@@ -88,27 +89,27 @@ pub fn run(a: RunArgs) -> Result<()> {
         }
     };
     let mut be = backend::open(a.backend, total, plan.threads, plan.settings)?;
-    let target = runner::Target {
+    let target = run::Target {
         dir: dir.path(),
         format: a.format,
         range: shard.as_ref().map(|s| s.range),
         threads: plan.threads,
         settings: plan.settings,
     };
-    let written = runner::run(
+    let written = run::run(
         &plan.source,
         be.as_mut(),
         target,
         trace.as_ref(),
         a.progress,
     )?;
-    let text = output::provenance(
+    let text = provenance::provenance(
         &plan.source,
         trace.as_ref(),
         &be.name(),
         be.tolerance(),
         written.summary.seconds,
-        shard.as_ref().map(|s| (s.shard, s.range)),
+        shard.as_ref().map(|s| ((s.shard.k, s.shard.n), s.range)),
     );
     let mut files = vec![small_file(&dir.join(RESOLVED), &text, shard.is_some())?];
     files.extend(written.stats);

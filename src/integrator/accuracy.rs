@@ -34,7 +34,6 @@
 
 use super::stepper::Trial;
 use super::{LaneResult, Settings, NY};
-use crate::model::Lane;
 
 /// Results the budget covers: x1, ẋ1, w_motor, w_load, w_friction, w1_in,
 /// w1_out, w2_in, w2_out (lanes.csv's order).
@@ -106,7 +105,7 @@ impl ErrorBudget {
     /// Whether every result of `r` is within [`LIMIT`] × [`BOUND`] by the
     /// estimate. A lane that did not end `ok` has no results to refine.
     pub fn within(&self, r: &LaneResult) -> bool {
-        crate::columns::integrated(r).enumerate().all(|(i, v)| {
+        r.integrated().iter().enumerate().all(|(i, v)| {
             let est = self.phase[i] + self.local[i];
             // NaN (a lane that did not finish) compares false: within.
             !(est > LIMIT * BOUND * v.abs().max(1.0))
@@ -118,104 +117,4 @@ impl ErrorBudget {
 /// run again at [`Settings::tighter`].
 pub fn needs_refining(set: &Settings, r: &LaneResult, budget: &ErrorBudget) -> bool {
     set.refine && r.status == super::Status::Ok && !budget.within(r)
-}
-
-/// The settings a lane's row comes from: `set`, or the tighter ones when
-/// its run under `set` needs refining (for traces, which must come from
-/// the same integration as the row).
-pub fn settings_for(
-    lane: &Lane,
-    table: Option<&crate::model::FrictionTable>,
-    set: &Settings,
-) -> Settings {
-    let (r, budget) = super::batch::run_lane(lane, table, set);
-    if needs_refining(set, &r, &budget) {
-        set.tighter()
-    } else {
-        *set
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::integrator::{simulate, RowPath};
-    use crate::params::{Num, Spec};
-
-    /// A paper-law lane with the given parameters (others at MODEL.md's
-    /// defaults).
-    fn lane(set: &[(Num, f64)]) -> Lane {
-        let mut s = Spec::default();
-        for &(n, v) in set {
-            s.set(n, v);
-        }
-        Lane::new(&s.resolve(false).unwrap(), None)
-    }
-
-    fn rel(a: f64, b: f64) -> f64 {
-        (a - b).abs() / b.abs().max(1.0)
-    }
-
-    // Reference values: scipy's DOP853 at rtol = atol = 1e-12 with located
-    // events (tests/reference/scipy_reference.py), an independent code.
-
-    /// A switch 0.045 s before t_end: the b-b parts w1_out and w2_in (about
-    /// 1 J of 10^4 J that flowed) move with the lane's timing.
-    #[test]
-    fn a_late_switch_is_refined_to_the_bound() {
-        let l = lane(&[
-            (Num::GammaDeg, 19.8137071019642),
-            (Num::F2, 325.2184819644972),
-            (Num::M1, 685.1808039516292),
-            (Num::M2, 12362.132407547735),
-            (Num::TEnd, 3.0489152427536252),
-        ]);
-        let set = Settings::default();
-        let (first, budget) = super::super::batch::run_lane(&l, None, &set);
-        // Unrefined, w1_out is 1.3e-6 off: the estimate must see it.
-        assert!(rel(first.w1_out, 1.094897114995884) > 1e-6);
-        assert!(!budget.within(&first));
-        let r = simulate(&l, None, &set);
-        assert_eq!(r.path, RowPath::Refined);
-        for (got, want) in [
-            (r.w1_out, 1.094897114995884),
-            (r.w2_in, 1.2225240031607394),
-            (r.w1_in, 9369.45812701097),
-            (r.w2_out, 8256.02832923246),
-            (r.x1_end, 6.203682240027558),
-        ] {
-            assert!(rel(got, want) < 1e-7, "{got} vs {want}");
-        }
-    }
-
-    /// Motor off at 0.27 s, the load runs the drive back to 0.5 mm from
-    /// its start: w_load ends at −0.26 J of the 210 J the motor put in.
-    #[test]
-    fn a_work_that_cancels_is_refined_to_the_bound() {
-        let l = lane(&[
-            (Num::GammaDeg, 7.517261162674344),
-            (Num::F2, -4120.3478216415415),
-            (Num::M1, 658.2318329800966),
-            (Num::M2, 15379.020814148982),
-            (Num::TEnd, 2.63037747275986),
-            (Num::MotorOff, 0.2669203756849327),
-        ]);
-        let set = Settings::default();
-        let (first, _) = super::super::batch::run_lane(&l, None, &set);
-        assert!(rel(first.w_load, -0.2639743164097439) > 1e-6);
-        let r = simulate(&l, None, &set);
-        assert_eq!(r.path, RowPath::Refined);
-        assert!(rel(r.w_load, -0.2639743164097439) < 1e-6, "{}", r.w_load);
-        assert!(rel(r.x1_end, 0.0004854995080163585) < 1e-6, "{}", r.x1_end);
-    }
-
-    /// The paper's cases (MODEL.md section 7) are within the bound as
-    /// they are: no second run.
-    #[test]
-    fn the_papers_cases_are_not_refined() {
-        for f2 in [4774.0, -4774.0] {
-            let r = simulate(&lane(&[(Num::F2, f2)]), None, &Settings::default());
-            assert_eq!(r.path, RowPath::Cpu, "f2 {f2}");
-        }
-    }
 }

@@ -82,8 +82,7 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::RowPath;
-    use crate::model::{motion, FrictionTable, Lane};
+    use crate::model::{motion, Lane};
     use crate::params::{FrictionKind, MotorKind, Num, Spec};
 
     fn paper() -> Lane {
@@ -127,32 +126,5 @@ mod tests {
         assert!((st.t - t_rest).abs() < 1e-12, "{} vs {}", st.t, t_rest);
         let x_rest = 2.0 * t_rest / 2.0;
         assert!((st.y[0] - x_rest).abs() < 1e-10);
-    }
-
-    /// Interleaving changes nothing: every field, bit for bit.
-    #[test]
-    fn simulate_batch_equals_simulate() {
-        let table = FrictionTable::new(&[0.0, 0.5, 2.0, 5.0], &[0.13, 0.07, 0.05, 0.04]).unwrap();
-        let mut specs = crate::testmodels::random_user_lanes(300, 5);
-        for (i, s) in specs.iter_mut().enumerate().filter(|(i, _)| i % 5 == 0) {
-            s.friction = Some(FrictionKind::Table);
-            s.num[Num::Mu as usize] = None;
-            s.num[Num::MuStatic as usize] = None;
-            s.set(Num::F2, -3000.0 + 20.0 * i as f64);
-        }
-        let lanes: Vec<Lane> = specs
-            .iter()
-            .map(|s| Lane::new(&s.resolve(true).unwrap(), Some(&table)))
-            .collect();
-        let set = Settings::default();
-        let mut out = vec![simulate(&lanes[0], Some(&table), &set); lanes.len()];
-        simulate_batch(&lanes, Some(&table), &set, &mut out);
-        for (l, got) in lanes.iter().zip(&out) {
-            let want = simulate(l, Some(&table), &set);
-            assert_eq!(format!("{want:?}"), format!("{got:?}"));
-        }
-        // Some of them are run again (the batch's second, interleaved pass).
-        let refined = out.iter().filter(|r| r.path == RowPath::Refined).count();
-        assert!(refined > 0, "no lane refined");
     }
 }

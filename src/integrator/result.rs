@@ -233,6 +233,24 @@ pub struct LaneResult {
 }
 
 impl LaneResult {
+    /// The integrated results, which the f64 path's error estimate covers
+    /// and the GPU row check tests: x1, v1, w_motor, w_load, w_friction,
+    /// w1_in, w1_out, w2_in, w2_out (the table's order; the table of
+    /// result columns marks the same ones `integrated`).
+    pub fn integrated(&self) -> [f64; 9] {
+        [
+            self.x1_end,
+            self.v1_end,
+            self.w_motor,
+            self.w_load,
+            self.w_friction,
+            self.w1_in,
+            self.w1_out,
+            self.w2_in,
+            self.w2_out,
+        ]
+    }
+
     /// A row with no results, for buffers that every lane's result
     /// overwrites.
     pub const EMPTY: LaneResult = LaneResult {

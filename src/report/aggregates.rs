@@ -1,13 +1,34 @@
 //! The bounded aggregates the report draws from: map panels, a line along
-//! one axis, a study's shown groups, the answer to a requirement, and
-//! traced lanes decimated to the plot's resolution (`scan` fills them
-//! from an output folder).
+//! one axis and a study's shown groups (`scan` fills them from an output
+//! folder; the answer to a requirement and the traced lanes have modules
+//! of their own).
 
-use super::scan::{bin, bin_values};
+use crate::input::sweep::{Axis, Sweep};
 use crate::params::Num;
-use crate::stats::{wilson_z, Z95_ONE_SIDED};
-use crate::sweep::require::Requirement;
-use crate::sweep::Sweep;
+
+/// Index `i` of `len` into `bins` bins.
+pub(super) fn bin(i: u64, len: u64, bins: u64) -> usize {
+    if len <= bins {
+        i as usize
+    } else {
+        (i as u128 * bins as u128 / len as u128) as usize
+    }
+}
+
+/// The axis value shown for each bin (its first grid value).
+pub(super) fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
+    let len = a.len();
+    let n = len.min(bins);
+    (0..n)
+        .map(|b| {
+            a.value(if len <= bins {
+                b
+            } else {
+                (b as u128 * len as u128).div_ceil(bins as u128) as u64
+            })
+        })
+        .collect()
+}
 
 /// One map panel: sums and counts per result and cell.
 pub struct Panel {
@@ -69,7 +90,7 @@ impl Panel {
 
 /// The other axes' values of panel `p` (mixed radix, slowest first),
 /// as "name = value" parts; every axis but those of `skip`.
-fn panel_label(sweep: &Sweep, skip: &[usize], p: u64) -> String {
+pub(super) fn panel_label(sweep: &Sweep, skip: &[usize], p: u64) -> String {
     let mut rest = p;
     let mut label = Vec::new();
     for (i, a) in sweep.axes.iter().enumerate().rev() {
@@ -92,7 +113,7 @@ fn panel_label(sweep: &Sweep, skip: &[usize], p: u64) -> String {
 }
 
 /// A grid point's index on each axis (the last axis runs fastest).
-fn axis_indices(lens: &[u64], point: u64, idx: &mut [u64]) {
+pub(super) fn axis_indices(lens: &[u64], point: u64, idx: &mut [u64]) {
     let mut rest = point;
     for (i, &len) in lens.iter().enumerate().rev() {
         idx[i] = rest % len;
@@ -101,7 +122,7 @@ fn axis_indices(lens: &[u64], point: u64, idx: &mut [u64]) {
 }
 
 /// The panel of a grid point: the mixed-radix index of the axes not in `skip`.
-fn panel_of(lens: &[u64], idx: &[u64], skip: &[usize]) -> u64 {
+pub(super) fn panel_of(lens: &[u64], idx: &[u64], skip: &[usize]) -> u64 {
     let mut p = 0u64;
     for (i, &len) in lens.iter().enumerate() {
         if !skip.contains(&i) {
@@ -329,243 +350,5 @@ impl GroupData {
             .collect();
         v.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
         v
-    }
-}
-
-/// Whether a share meets a requirement with 95 % confidence.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    /// The one-sided 95 % lower bound is at least the required share.
-    Met,
-    /// Neither bound decides: more lanes are needed.
-    Undecided,
-    /// The one-sided 95 % upper bound is below the required share.
-    NotMet,
-}
-
-/// The answer to a requirement: lanes that pass it and lanes counted,
-/// per value of the first grid axis (binned past a cap) and per value of
-/// the other axes (a panel each, at most the panel limit).
-pub struct RequireData {
-    pub req: Requirement,
-    /// The first axis (None: the sweep has no grid).
-    pub axis: Option<Num>,
-    /// The first axis's values, one per point (bin).
-    pub xs: Vec<f64>,
-    pub binned: bool,
-    pub panel_labels: Vec<String>,
-    pub panel_total: u64,
-    /// Per panel, per point: (passing, counted).
-    pub counts: Vec<Vec<(u64, u64)>>,
-    lens: Vec<u64>,
-    idx: Vec<u64>,
-    cap: u64,
-}
-
-impl RequireData {
-    /// The counts of `req` over a run of `sweep`.
-    pub fn new(req: Requirement, sweep: &Sweep, panels: usize, cap: u64) -> RequireData {
-        let lens: Vec<u64> = sweep.axes.iter().map(|a| a.len()).collect();
-        let (xs, binned, panel_total, labels) = match sweep.axes.first() {
-            None => (vec![f64::NAN], false, 1, vec!["all lanes".to_string()]),
-            Some(a) => {
-                let total = lens[1..].iter().fold(1u64, |p, &l| p.saturating_mul(l));
-                let shown = total.min(panels as u64);
-                (
-                    bin_values(a, cap),
-                    a.len() > cap,
-                    total,
-                    (0..shown).map(|p| panel_label(sweep, &[0], p)).collect(),
-                )
-            }
-        };
-        RequireData {
-            req,
-            axis: sweep.axes.first().map(|a| a.param),
-            counts: vec![vec![(0, 0); xs.len()]; labels.len()],
-            xs,
-            binned,
-            panel_labels: labels,
-            panel_total,
-            idx: vec![0; lens.len()],
-            lens,
-            cap,
-        }
-    }
-
-    /// Adds a lane of grid point `point` that passes or not.
-    pub fn add(&mut self, point: u64, passes: bool) {
-        let (p, b) = if self.lens.is_empty() {
-            (0, 0)
-        } else {
-            axis_indices(&self.lens, point, &mut self.idx);
-            (
-                panel_of(&self.lens, &self.idx, &[0]),
-                bin(self.idx[0], self.lens[0], self.cap),
-            )
-        };
-        if let Some(c) = self.counts.get_mut(p as usize).and_then(|v| v.get_mut(b)) {
-            c.0 += passes as u64;
-            c.1 += 1;
-        }
-    }
-
-    /// The share of (passing, counted), its one-sided 95 % bounds (low,
-    /// high) and the verdict.
-    pub fn judge(&self, (k, n): (u64, u64)) -> (f64, f64, f64, Option<Verdict>) {
-        if n == 0 {
-            return (f64::NAN, f64::NAN, f64::NAN, None);
-        }
-        let (lo, hi) = wilson_z(k, n, Z95_ONE_SIDED);
-        let v = if lo >= self.req.at_least {
-            Verdict::Met
-        } else if hi < self.req.at_least {
-            Verdict::NotMet
-        } else {
-            Verdict::Undecided
-        };
-        (k as f64 / n as f64, lo, hi, Some(v))
-    }
-
-    /// The fewest lanes a grid point needs for a requirement of all its
-    /// lanes passing to be confirmed: n / (n + z²) >= at_least.
-    pub fn lanes_needed(&self) -> u64 {
-        let a = self.req.at_least;
-        if a >= 1.0 {
-            return u64::MAX;
-        }
-        let z2 = Z95_ONE_SIDED * Z95_ONE_SIDED;
-        (a * z2 / (1.0 - a)).ceil() as u64
-    }
-}
-
-/// Time buckets of a trace plot: about two a pixel of its width.
-pub const TRACE_BUCKETS: usize = 1000;
-
-/// One series of a bucket: the first, lowest, highest and last value
-/// with their times, so that the plot of the bucket's points draws what
-/// the plot of every row would (jumps at events included).
-#[derive(Clone, Copy)]
-struct M4 {
-    first: (f64, f64),
-    min: (f64, f64),
-    max: (f64, f64),
-    last: (f64, f64),
-}
-
-impl M4 {
-    fn new(t: f64, v: f64) -> M4 {
-        M4 {
-            first: (t, v),
-            min: (t, v),
-            max: (t, v),
-            last: (t, v),
-        }
-    }
-
-    fn add(&mut self, t: f64, v: f64) {
-        if v < self.min.1 {
-            self.min = (t, v);
-        }
-        if v > self.max.1 {
-            self.max = (t, v);
-        }
-        self.last = (t, v);
-    }
-
-    /// The bucket's points in time order, once each.
-    fn points(&self, out: &mut Vec<(f64, f64)>) {
-        let mut p = [self.first, self.min, self.max, self.last];
-        p.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (i, q) in p.iter().enumerate() {
-            if i == 0 || *q != p[i - 1] {
-                out.push(*q);
-            }
-        }
-    }
-}
-
-/// Series of a trace: v1, S1, S2, psi.
-const SERIES: usize = 4;
-
-/// One traced lane, decimated: per time bucket and series, the M4 points
-/// (first, min, max, last), and the buckets that hold an event. Memory
-/// is fixed and time linear in the rows, whatever their number or that
-/// of events.
-pub struct TraceData {
-    pub lane: u64,
-    /// Rows read.
-    pub rows: u64,
-    /// Events read (rows that repeat the time before them).
-    pub events: u64,
-    horizon: f64,
-    buckets: Vec<[Option<M4>; SERIES]>,
-    event_at: Vec<Option<f64>>,
-}
-
-impl TraceData {
-    /// A lane traced from 0 to `horizon` s.
-    pub fn new(lane: u64, horizon: f64) -> TraceData {
-        TraceData {
-            lane,
-            rows: 0,
-            events: 0,
-            horizon: if horizon > 0.0 { horizon } else { 1.0 },
-            buckets: vec![[None; SERIES]; TRACE_BUCKETS],
-            event_at: vec![None; TRACE_BUCKETS],
-        }
-    }
-
-    fn bucket(&self, t: f64) -> usize {
-        let b = (t / self.horizon * TRACE_BUCKETS as f64).floor();
-        if b.is_finite() {
-            b.clamp(0.0, (TRACE_BUCKETS - 1) as f64) as usize
-        } else {
-            0
-        }
-    }
-
-    /// Adds a row at time `t` with v1, S1, S2, psi; `event`: it repeats
-    /// the row before's time (an event's after-row).
-    pub fn add(&mut self, t: f64, vals: [f64; SERIES], event: bool) {
-        self.rows += 1;
-        if !t.is_finite() {
-            return;
-        }
-        let b = self.bucket(t);
-        if event {
-            self.events += 1;
-            self.event_at[b].get_or_insert(t);
-        }
-        for (s, v) in self.buckets[b].iter_mut().zip(vals) {
-            if v.is_finite() {
-                match s {
-                    Some(m) => m.add(t, v),
-                    None => *s = Some(M4::new(t, v)),
-                }
-            }
-        }
-    }
-
-    /// Whether the plot holds fewer points than the lane has rows.
-    pub fn thinned(&self) -> bool {
-        let kept: usize = self.buckets.iter().flat_map(|b| b.iter().flatten()).count() * 4;
-        self.rows as usize > kept / SERIES
-    }
-
-    /// (t, value) points of series `s` (0 v1, 1 S1, 2 S2, 3 psi).
-    pub fn series(&self, s: usize) -> Vec<(f64, f64)> {
-        let mut out = Vec::new();
-        for b in &self.buckets {
-            if let Some(m) = &b[s] {
-                m.points(&mut out);
-            }
-        }
-        out
-    }
-
-    /// Times of the events marked: one per bucket that holds one.
-    pub fn marks(&self) -> Vec<f64> {
-        self.event_at.iter().flatten().copied().collect()
     }
 }

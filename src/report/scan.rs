@@ -13,12 +13,14 @@ use std::path::Path;
 
 use crate::columns::{results, Column, Summary};
 use crate::error::{Error, Result};
-use crate::lanes_file::{columns, Cell, RowReader};
-use crate::outdir::names::{SUMMARY, TRACES};
+use crate::input::sweep::Sweep;
+use crate::output::table::{columns, Cell, RowReader};
 use crate::params::Num;
-use crate::sweep::{Axis, Sweep};
 
-pub use super::aggregates::{GroupData, LineData, MapData, RequireData, TraceData};
+use super::aggregates::{bin, bin_values};
+pub use super::aggregates::{GroupData, LineData, MapData};
+pub use super::require::RequireData;
+pub use super::trace::TraceData;
 
 /// Final contacts as `lanes.csv` spells them, with the words the report
 /// uses; the order of the maps' colours.
@@ -31,9 +33,9 @@ pub(super) const LINE_POINTS: u64 = 1000;
 /// Lanes listed by name among those that could not be finished.
 const UNFINISHED_SHOWN: usize = 20;
 /// Histogram bins.
-const BINS: usize = 40;
+pub(super) const BINS: usize = 40;
 /// Traced lanes plotted.
-const TRACES_SHOWN: usize = 6;
+pub(super) const TRACES_SHOWN: usize = 6;
 
 /// What the report needs from an output folder.
 pub struct Folder {
@@ -64,17 +66,17 @@ pub struct Folder {
     pub require: Option<RequireData>,
 }
 
-fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>> {
+pub(super) fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>> {
     csv::Reader::from_path(path)
         .map_err(|e| Error::input(path, None, None, format!("cannot read it: {e}")))
 }
 
-fn bad_row(path: &Path, e: csv::Error) -> Error {
+pub(super) fn bad_row(path: &Path, e: csv::Error) -> Error {
     let line = e.position().map(|p| format!("line {}", p.line()));
     Error::input(path, line, None, format!("not a tswm table: {e}"))
 }
 
-fn column(path: &Path, head: &csv::ByteRecord, name: &str) -> Result<usize> {
+pub(super) fn column(path: &Path, head: &csv::ByteRecord, name: &str) -> Result<usize> {
     head.iter()
         .position(|h| h == name.as_bytes())
         .ok_or_else(|| Error::input(path, Some("line 1".into()), Some(name), "column missing"))
@@ -82,7 +84,7 @@ fn column(path: &Path, head: &csv::ByteRecord, name: &str) -> Result<usize> {
 
 /// A number cell of a CSV record: empty is NaN, anything else must be a
 /// finite number (else an error naming the line and column).
-fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> Result<f64> {
+pub(super) fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> Result<f64> {
     let t = rec.get(i).unwrap_or(b"");
     if t.is_empty() {
         return Ok(f64::NAN);
@@ -104,32 +106,8 @@ fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> Result<f64> 
     }
 }
 
-fn text(rec: &csv::ByteRecord, i: usize) -> String {
+pub(super) fn text(rec: &csv::ByteRecord, i: usize) -> String {
     String::from_utf8_lossy(rec.get(i).unwrap_or(b"")).into_owned()
-}
-
-/// Index `i` of `len` into `bins` bins.
-pub(super) fn bin(i: u64, len: u64, bins: u64) -> usize {
-    if len <= bins {
-        i as usize
-    } else {
-        (i as u128 * bins as u128 / len as u128) as usize
-    }
-}
-
-/// The axis value shown for each bin (its first grid value).
-pub(super) fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
-    let len = a.len();
-    let n = len.min(bins);
-    (0..n)
-        .map(|b| {
-            a.value(if len <= bins {
-                b
-            } else {
-                (b as u128 * len as u128).div_ceil(bins as u128) as u64
-            })
-        })
-        .collect()
 }
 
 /// The words of a word column of the results table.
@@ -179,7 +157,7 @@ impl Folder {
                 .unwrap_or_default()
         };
         let mut f = Folder {
-            table: crate::lanes_file::Format::of_folder(dir)?.file_name(),
+            table: crate::output::table::Format::of_folder(dir)?.file_name(),
             lanes: 0,
             by_status: word_counts("status"),
             by_contact: [0; 3],
@@ -210,7 +188,10 @@ impl Folder {
             let n = xs.len();
             f.line = Some(LineData {
                 axis: a.param,
-                log: matches!(a.values, crate::sweep::AxisValues::Range { log: true, .. }),
+                log: matches!(
+                    a.values,
+                    crate::input::sweep::AxisValues::Range { log: true, .. }
+                ),
                 xs,
                 len: a.len(),
                 acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; f.results.len()],
@@ -229,128 +210,6 @@ impl Folder {
         let traced = f.scan_lanes(dir, sweep, stated)?;
         f.read_traces(dir, &traced)?;
         Ok(f)
-    }
-
-    /// The shown groups' rows of summary.csv: tables, histogram ranges
-    /// and rank correlations.
-    fn read_summary(&mut self, dir: &Path, sweep: &Sweep, shown: usize) -> Result<()> {
-        let path = dir.join(SUMMARY);
-        let mut rd = open_csv(&path)?;
-        let head = rd.byte_headers().map_err(|e| bad_row(&path, e))?.clone();
-        let c = |n: &str| column(&path, &head, n);
-        let (group, kind, name, input, count) = (
-            c("group")?,
-            c("kind")?,
-            c("name")?,
-            c("input")?,
-            c("count")?,
-        );
-        let stat_names = [
-            "mean",
-            "std",
-            "min",
-            "p1",
-            "p5",
-            "p50",
-            "p95",
-            "p99",
-            "max",
-            "quantiles",
-        ];
-        let stat_cols: Vec<usize> = stat_names.iter().map(|n| c(n)).collect::<Result<_>>()?;
-        let (share, lo, hi, rho) = (c("share")?, c("ci95_low")?, c("ci95_high")?, c("rho")?);
-        let (minc, maxc) = (c("min")?, c("max")?);
-        let axis_cols: Vec<usize> = sweep
-            .axes
-            .iter()
-            .map(|a| c(a.param.name()))
-            .collect::<Result<_>>()?;
-        let mut rec = csv::ByteRecord::new();
-        while rd
-            .read_byte_record(&mut rec)
-            .map_err(|e| bad_row(&path, e))?
-        {
-            let g = num(&path, &rec, group, "group")?;
-            if !(g >= 0.0) || g.fract() != 0.0 {
-                return Err(Error::input(
-                    &path,
-                    rec.position().map(|p| format!("line {}", p.line())),
-                    Some("group"),
-                    "is not a group number; not a tswm summary",
-                ));
-            }
-            if g >= shown as f64 {
-                continue;
-            }
-            let g = g as usize;
-            while self.groups.len() <= g {
-                self.groups.push(GroupData {
-                    label: String::new(),
-                    quantile_rows: Vec::new(),
-                    contact_rows: Vec::new(),
-                    hists: vec![None; self.results.len()],
-                    spearman: Vec::new(),
-                });
-            }
-            if self.groups[g].label.is_empty() {
-                let mut parts = Vec::new();
-                for (a, &i) in sweep.axes.iter().zip(&axis_cols) {
-                    let v = num(&path, &rec, i, a.param.name())?;
-                    parts.push(format!(
-                        "{} = {}",
-                        super::param_label(a.param),
-                        super::plots::tick(v)
-                    ));
-                }
-                self.groups[g].label = if parts.is_empty() {
-                    "all lanes".into()
-                } else {
-                    format!("grid point {g}: {}", parts.join(", "))
-                };
-            }
-            let nm = text(&rec, name);
-            match rec.get(kind).unwrap_or(b"") {
-                b"number" => {
-                    if let Some(r) = self.results.iter().position(|x| x.name == nm) {
-                        let (a, b) = (
-                            num(&path, &rec, minc, "min")?,
-                            num(&path, &rec, maxc, "max")?,
-                        );
-                        if a.is_finite() && b.is_finite() {
-                            self.groups[g].hists[r] = Some((a, b, vec![0; BINS]));
-                        }
-                    }
-                    let mut row = vec![nm, text(&rec, count)];
-                    row.extend(stat_cols.iter().map(|&i| short(&text(&rec, i))));
-                    self.groups[g].quantile_rows.push(row);
-                }
-                b"contact_end" | b"hold" => {
-                    let word = CONTACT_NAMES
-                        .iter()
-                        .find(|c| c.0 == nm)
-                        .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
-                    let kind = text(&rec, kind);
-                    let pct = |x: f64| super::percent(x);
-                    let (s, l, h) = (
-                        num(&path, &rec, share, "share")?,
-                        num(&path, &rec, lo, "ci95_low")?,
-                        num(&path, &rec, hi, "ci95_high")?,
-                    );
-                    self.groups[g].contact_rows.push(vec![
-                        format!("{kind} = {word}"),
-                        text(&rec, count),
-                        pct(s),
-                        format!("{} to {}", pct(l), pct(h)),
-                    ]);
-                }
-                b"spearman" => {
-                    let r = num(&path, &rec, rho, "rho")?;
-                    self.groups[g].spearman.push((nm, text(&rec, input), r));
-                }
-                _ => {}
-            }
-        }
-        Ok(())
     }
 
     fn columns_of(&self, path: &Path, head: &csv::ByteRecord) -> Result<Cols> {
@@ -552,84 +411,5 @@ impl Folder {
             ));
         }
         Ok(traced)
-    }
-
-    /// The first traced lanes of `traces.csv`, decimated: `traced` gives
-    /// each lane the sweep traces with its horizon.
-    fn read_traces(&mut self, dir: &Path, traced: &[(u64, f64)]) -> Result<()> {
-        let path = dir.join(TRACES);
-        if !path.exists() {
-            return Ok(());
-        }
-        let mut rd = open_csv(&path)?;
-        let head = rd.byte_headers().map_err(|e| bad_row(&path, e))?.clone();
-        let c = |n: &str| column(&path, &head, n);
-        let (lane_c, t_c, v_c, s1_c, s2_c, psi_c) =
-            (c("lane")?, c("t")?, c("v1")?, c("s1")?, c("s2")?, c("psi")?);
-        let mut rec = csv::ByteRecord::new();
-        let mut last_t = f64::NAN;
-        while rd
-            .read_byte_record(&mut rec)
-            .map_err(|e| bad_row(&path, e))?
-        {
-            let at = || rec.position().map(|p| format!("line {}", p.line()));
-            let lane = num(&path, &rec, lane_c, "lane")?;
-            let horizon = traced
-                .iter()
-                .find(|(l, _)| *l as f64 == lane)
-                .map(|x| x.1)
-                .ok_or_else(|| {
-                    Error::input(
-                        &path,
-                        at(),
-                        Some("lane"),
-                        format!("lane {lane} is not a traced lane of the run; not its traces.csv"),
-                    )
-                })?;
-            let lane = lane as u64;
-            if self.traces.last().is_none_or(|t| t.lane != lane) {
-                if self.traces.iter().any(|t| t.lane == lane) {
-                    return Err(Error::input(
-                        &path,
-                        at(),
-                        Some("lane"),
-                        format!("the rows of lane {lane} are not together; not a tswm traces.csv"),
-                    ));
-                }
-                if self.traces.len() == TRACES_SHOWN {
-                    break;
-                }
-                self.traces.push(TraceData::new(lane, horizon));
-                last_t = f64::NAN;
-            }
-            let t = num(&path, &rec, t_c, "t")?;
-            let vals = [
-                num(&path, &rec, v_c, "v1")?,
-                num(&path, &rec, s1_c, "s1")?,
-                num(&path, &rec, s2_c, "s2")?,
-                num(&path, &rec, psi_c, "psi")?,
-            ];
-            // Two rows with one t are an event's before and after.
-            let event = t == last_t;
-            last_t = t;
-            self.traces.last_mut().expect("pushed").add(t, vals, event);
-        }
-        Ok(())
-    }
-}
-
-/// A long number cell shortened for a table (6 significant digits).
-fn short(s: &str) -> String {
-    match s.parse::<f64>() {
-        Ok(v) if v != 0.0 && v.is_finite() => {
-            let a = v.abs();
-            if (1e-3..1e6).contains(&a) {
-                let digits = (5 - a.log10().floor() as i32).max(0) as usize;
-                format!("{v:.digits$}")
-            } else {
-                format!("{v:.5e}")
-            }
-        }
-        _ => s.to_string(),
     }
 }

@@ -8,11 +8,11 @@ use super::quantile::{self, Sketch, PROBS};
 use super::{spearman, wilson};
 use crate::columns::{number_columns, results, Cell, Of, Summary};
 use crate::error::Result;
-use crate::lanes::Source;
-use crate::outdir::AtomicFile;
-use crate::output::CsvLines;
+use crate::input::lanes::Source;
+use crate::input::sweep::Axis;
+use crate::output::csv_lines::CsvLines;
+use crate::output::AtomicFile;
 use crate::params::{Num, Param, N_NUM};
-use crate::sweep::Axis;
 
 /// Lanes of a group kept for exact quantiles and rank correlations; past
 /// this the quantiles come from a [`Sketch`] (error stated there) and the

@@ -4,9 +4,9 @@
 
 use crate::common::rel1;
 use rayon::prelude::*;
+use tswm::input::testmodels::random_user_lanes;
 use tswm::integrator::{simulate, LaneResult, Settings};
 use tswm::model::Lane;
-use tswm::testmodels::random_user_lanes;
 
 const N: usize = 2000;
 
@@ -128,4 +128,35 @@ fn energy_balances_on_random_lanes() {
         .reduce(|| 0.0, f64::max);
     eprintln!("worst energy-balance residual over {N} lanes: {worst:.3e}");
     assert!(worst <= 1e-6, "energy balance off by {worst:e}");
+}
+
+/// Interleaving changes nothing: every field, bit for bit.
+#[test]
+fn simulate_batch_equals_simulate() {
+    use tswm::integrator::{simulate, simulate_batch, RowPath, Settings};
+    use tswm::model::{FrictionTable, Lane};
+    use tswm::params::{FrictionKind, Num};
+
+    let table = FrictionTable::new(&[0.0, 0.5, 2.0, 5.0], &[0.13, 0.07, 0.05, 0.04]).unwrap();
+    let mut specs = tswm::input::testmodels::random_user_lanes(300, 5);
+    for (i, s) in specs.iter_mut().enumerate().filter(|(i, _)| i % 5 == 0) {
+        s.friction = Some(FrictionKind::Table);
+        s.num[Num::Mu as usize] = None;
+        s.num[Num::MuStatic as usize] = None;
+        s.set(Num::F2, -3000.0 + 20.0 * i as f64);
+    }
+    let lanes: Vec<Lane> = specs
+        .iter()
+        .map(|s| Lane::new(&s.resolve(true).unwrap(), Some(&table)))
+        .collect();
+    let set = Settings::default();
+    let mut out = vec![simulate(&lanes[0], Some(&table), &set); lanes.len()];
+    simulate_batch(&lanes, Some(&table), &set, &mut out);
+    for (l, got) in lanes.iter().zip(&out) {
+        let want = simulate(l, Some(&table), &set);
+        assert_eq!(format!("{want:?}"), format!("{got:?}"));
+    }
+    // Some of them are run again (the batch's second, interleaved pass).
+    let refined = out.iter().filter(|r| r.path == RowPath::Refined).count();
+    assert!(refined > 0, "no lane refined");
 }

@@ -177,7 +177,8 @@ fn shipped_sweeps_parse_and_have_the_documented_size() {
         ("million.toml", 1_000_000),
         ("heterogeneous.toml", 200_000),
     ] {
-        let src = tswm::lanes::Source::open(Some(&root().join("sweeps").join(f)), None).unwrap();
+        let src =
+            tswm::input::lanes::Source::open(Some(&root().join("sweeps").join(f)), None).unwrap();
         assert_eq!(src.lane_count(), n, "{f}");
     }
 }

@@ -3,8 +3,8 @@
 
 use crate::common::*;
 use rayon::prelude::*;
+use tswm::input::lanes::Source;
 use tswm::integrator::{simulate, LaneResult, Settings};
-use tswm::lanes::Source;
 use tswm::model::Lane;
 
 fn fixture_lanes() -> Vec<tswm::params::Params> {
@@ -84,7 +84,7 @@ fn lanes_csv_has_the_engineering_columns() {
 /// w1_in − w1_out + w2_in − w2_out = w_friction, the four integrated apart.
 #[test]
 fn mesh_energies_add_up_to_the_heat() {
-    let specs = tswm::testmodels::random_user_lanes(2000, 404);
+    let specs = tswm::input::testmodels::random_user_lanes(2000, 404);
     let worst = specs
         .par_iter()
         .map(|s| {

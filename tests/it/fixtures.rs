@@ -2,8 +2,8 @@
 //! through the lane-table path and the CPU backend.
 
 use crate::common::*;
+use tswm::input::lanes::Source;
 use tswm::integrator::{simulate, Settings};
-use tswm::lanes::Source;
 use tswm::model::Lane;
 
 /// Discrete fields must be identical; times within 1e-6 s; x1, v1 and

@@ -12,11 +12,11 @@ fn replay(target: &str, path: &Path, scratch: &Path) {
     let err = std::panic::catch_unwind(|| match target {
         "sweep" => std::str::from_utf8(&bytes)
             .ok()
-            .and_then(|t| tswm::sweep::Sweep::parse(Path::new("fuzz.toml"), t).err())
+            .and_then(|t| tswm::input::sweep::Sweep::parse(Path::new("fuzz.toml"), t).err())
             .map(|e| e.to_string()),
         _ => {
             std::fs::write(scratch, &bytes).unwrap();
-            tswm::lanes::Source::open(None, Some(scratch))
+            tswm::input::lanes::Source::open(None, Some(scratch))
                 .err()
                 .map(|e| e.to_string())
         }

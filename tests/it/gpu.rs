@@ -5,12 +5,12 @@
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use crate::common::*;
+use tswm::backend::gpu::{Gpu, GpuBackend};
 use tswm::backend::{Backend, CpuBackend};
-use tswm::check::Report;
-use tswm::gpu::{Gpu, GpuBackend};
+use tswm::input::lanes::Source;
 use tswm::integrator::{LaneResult, Settings};
-use tswm::lanes::Source;
 use tswm::params::Params;
+use tswm::run::compare::Report;
 
 static GPU: OnceLock<Result<Mutex<GpuBackend>, String>> = OnceLock::new();
 
@@ -78,14 +78,14 @@ fn model_md_reference_cases_on_gpu() {
 }
 
 /// On 10,000 random user lanes, the raw f32 kernel (no self-check)
-/// against CPU within the bounds of `tswm::check`, discrete fields
+/// against CPU within the bounds of `tswm::run::compare`, discrete fields
 /// identical on at least 98 % of lanes.
 #[test]
 fn random_lanes_gpu_matches_cpu() {
     let Some(mut g) = gpu("random_lanes_gpu_matches_cpu") else {
         return;
     };
-    let params: Vec<Params> = tswm::testmodels::random_user_lanes(10_000, 31)
+    let params: Vec<Params> = tswm::input::testmodels::random_user_lanes(10_000, 31)
         .iter()
         .map(|s| s.resolve(false).unwrap())
         .collect();
@@ -128,7 +128,7 @@ fn no_wrong_ok_row(g: &mut GpuBackend, what: &str, specs: &[tswm::params::Spec])
             ("w_friction", r.w_friction, c.w_friction),
         ] {
             assert!(
-                rel1(a, b) <= tswm::gpu::verify::TRUSTED_BOUND,
+                rel1(a, b) <= tswm::backend::gpu::verify::TRUSTED_BOUND,
                 "{what} lane {i}: {name} {a} vs f64 {b}"
             );
         }
@@ -149,7 +149,7 @@ fn gpu_self_check_leaves_no_wrong_ok_row() {
     let Some(mut g) = gpu("gpu_self_check_leaves_no_wrong_ok_row") else {
         return;
     };
-    let random = tswm::testmodels::random_user_lanes(10_000, 31);
+    let random = tswm::input::testmodels::random_user_lanes(10_000, 31);
     let redone = no_wrong_ok_row(&mut g, "random user lanes", &random);
     assert!(
         redone < 200,
@@ -158,9 +158,9 @@ fn gpu_self_check_leaves_no_wrong_ok_row() {
     no_wrong_ok_row(
         &mut g,
         "long horizons, stiff motors",
-        &tswm::testmodels::long_stiff_lanes(100, 7),
+        &tswm::input::testmodels::long_stiff_lanes(100, 7),
     );
-    let stiff = tswm::testmodels::stiff_at_sync_lanes(20);
+    let stiff = tswm::input::testmodels::stiff_at_sync_lanes(20);
     assert_eq!(
         no_wrong_ok_row(&mut g, "stiff motors at v_sync", &stiff),
         stiff.len()
@@ -304,14 +304,14 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
     let dir = tempfile::tempdir().unwrap();
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut be = Failing(CpuBackend::new(1, Settings::default()).unwrap());
-    let target = tswm::runner::Target {
+    let target = tswm::run::Target {
         dir: dir.path(),
-        format: tswm::lanes_file::Format::Csv,
+        format: tswm::output::table::Format::Csv,
         range: None,
         threads: 1,
         settings: Default::default(),
     };
-    let err = match tswm::runner::run(&src, &mut be, target, None, false) {
+    let err = match tswm::run::run(&src, &mut be, target, None, false) {
         Ok(_) => panic!("the run must fail"),
         Err(e) => e.to_string(),
     };
@@ -327,9 +327,9 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
 /// the CPU path, without opening a software device.
 #[test]
 fn auto_runs_small_sweeps_on_the_cpu_without_a_hardware_gpu() {
-    if let Some(hw) = tswm::gpu::adapters()
+    if let Some(hw) = tswm::backend::gpu::adapters()
         .iter()
-        .find(|a| tswm::gpu::is_hardware(&a.info))
+        .find(|a| tswm::backend::gpu::is_hardware(&a.info))
     {
         use std::io::Write;
         let _ = writeln!(
@@ -366,7 +366,7 @@ fn engineering_columns_on_gpu() {
 /// a lane, 64 slots, 7 slots), on lanes of very unlike length.
 #[test]
 fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
-    use tswm::gpu::layout::{GpuGlobals, GpuLane};
+    use tswm::backend::gpu::layout::{GpuGlobals, GpuLane};
     if gpu("a_lanes_result_does_not_depend_on_the_slot_that_ran_it").is_none() {
         return;
     }
@@ -395,8 +395,8 @@ fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
 /// for bit as when it runs alone.
 #[test]
 fn parts_of_a_chunk_overlap_upload_compute_and_read_back() {
-    use tswm::gpu::layout::{GpuGlobals, GpuLane};
-    use tswm::gpu::{Phase, Span};
+    use tswm::backend::gpu::layout::{GpuGlobals, GpuLane};
+    use tswm::backend::gpu::{Phase, Span};
     if gpu("parts_of_a_chunk_overlap_upload_compute_and_read_back").is_none() {
         return;
     }

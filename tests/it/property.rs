@@ -207,7 +207,7 @@ fn five_hundred_random_sweeps_get_their_reports() {
             trace_dt: None,
             report: true,
             shard: None,
-            format: tswm::lanes_file::Format::Csv,
+            format: tswm::output::table::Format::Csv,
             progress: false,
         })
         .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));

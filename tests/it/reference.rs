@@ -186,7 +186,7 @@ fn hold_and_t_stop_agree_with_an_independent_integration() {
             ],
             d,
         );
-        if backend == "gpu" && tswm::gpu::adapters().is_empty() {
+        if backend == "gpu" && tswm::backend::gpu::adapters().is_empty() {
             assert!(
                 std::env::var("TSWM_REQUIRE_GPU").as_deref() != Ok("1"),
                 "TSWM_REQUIRE_GPU=1 but there is no GPU adapter"

@@ -5,11 +5,11 @@
 use std::mem::{offset_of, size_of};
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use tswm::gpu::layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
+use tswm::backend::gpu::layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
 
 fn module() -> naga::Module {
-    naga::front::wgsl::parse_str(tswm::gpu::SHADER)
-        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(tswm::gpu::SHADER)))
+    naga::front::wgsl::parse_str(tswm::backend::gpu::SHADER)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(tswm::backend::gpu::SHADER)))
 }
 
 #[test]
@@ -17,7 +17,7 @@ fn shader_parses_and_validates() {
     let m = module();
     Validator::new(ValidationFlags::all(), Capabilities::empty())
         .validate(&m)
-        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(tswm::gpu::SHADER)));
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(tswm::backend::gpu::SHADER)));
     assert!(m.entry_points.iter().any(|e| e.name == "main"));
 }
 
@@ -87,7 +87,7 @@ fn u32_const(m: &naga::Module, name: &str) -> u32 {
 /// status codes, event codes and the Dormand–Prince tableau.
 #[test]
 fn shared_constants_match_the_shader() {
-    use tswm::gpu::layout::flags;
+    use tswm::backend::gpu::layout::flags;
     use tswm::integrator::events::EventFn;
     use tswm::integrator::stepper as dp;
     use tswm::integrator::Status;

@@ -2,9 +2,9 @@
 //! integration as the lane's row.
 
 use crate::common::*;
+use tswm::input::lanes::Source;
 use tswm::integrator::trace::{simulate_traced, TraceRow};
 use tswm::integrator::{simulate, Settings};
-use tswm::lanes::Source;
 use tswm::model::Lane;
 
 fn traced(lane: usize, dt: f64) -> (Vec<TraceRow>, tswm::integrator::LaneResult, Lane) {
@@ -98,7 +98,7 @@ fn traces_csv_from_the_command_line() {
     let p = paper.to_str().unwrap();
     run_ok(&["run", p, "--out", "o", "--backend", "cpu"], dir.path());
     let (h, rows) = read_csv(&dir.path().join("o/traces.csv"));
-    assert_eq!(h.join(","), tswm::output::TRACE_COLUMNS);
+    assert_eq!(h.join(","), tswm::output::traces::TRACE_COLUMNS);
     // Both lanes of the sweep's [trace]: 201 rows each, lane 0's switch twice.
     assert_eq!(rows.len(), 201 + 2 + 201);
     run_ok(

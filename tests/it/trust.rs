@@ -760,9 +760,9 @@ fn an_edited_resolved_sweep_is_refused_even_with_its_digest() {
     merge_refused(dir.path(), &["s0", "sweep.resolved.toml is changed"]);
     // The manifest mended to the edited file's digest: the sweep hash
     // still tells.
-    let digest = tswm::shard::file_digest(&r).unwrap();
+    let digest = tswm::output::digest::file_digest(&r).unwrap();
     let m = dir.path().join("s0/shard.toml");
-    let mut man: tswm::shard::Manifest =
+    let mut man: tswm::run::shard::Manifest =
         toml::from_str(&std::fs::read_to_string(&m).unwrap()).unwrap();
     man.files.insert("sweep.resolved.toml".into(), digest);
     std::fs::write(&m, man.text()).unwrap();

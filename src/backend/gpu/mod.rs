@@ -22,7 +22,7 @@ use crate::error::{Error, Result};
 use layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
 
 /// The shader source.
-pub const SHADER: &str = include_str!("../../shaders/tswm.wgsl");
+pub const SHADER: &str = include_str!("../../../shaders/tswm.wgsl");
 
 /// Invocations per workgroup (`@workgroup_size` in the shader).
 pub const WORKGROUP: u32 = 64;

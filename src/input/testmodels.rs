@@ -2,10 +2,24 @@
 //! paper-like lanes of the throughput figures (the same as the `auto`
 //! trial's) and random lanes drawn as a user would for accuracy checks.
 
+use crate::input::sampling::Uniforms;
 use crate::params::{FrictionKind, Num, Spec};
-use crate::sampling::Uniforms;
 
-pub use crate::backend::paper_like;
+/// Paper-like lanes: the paper's design (Kloss motor, paper friction,
+/// start at rest, t_end 2 s) with the load spread uniformly over ±6 kN, so
+/// lanes cover direct and inverse flow, switches and stalls. The `auto`
+/// trial runs them; the throughput benchmarks too.
+pub fn paper_like(n: usize, seed: u64) -> Vec<Spec> {
+    let mut u = Uniforms::new(seed);
+    (0..n)
+        .map(|i| {
+            u.seek(i as u64, 1);
+            let mut s = Spec::default();
+            s.set(Num::F2, -6000.0 + 12000.0 * u.next());
+            s
+        })
+        .collect()
+}
 
 /// Random lanes drawn as a user would: lead angle 2 to 25 deg, loads
 /// ±9 kN, masses ±50 %, both friction laws, a motor cut-off in about a
@@ -76,30 +90,4 @@ pub fn stiff_at_sync_lanes(n: usize) -> Vec<Spec> {
             s
         })
         .collect()
-}
-
-/// The first `max` lanes of `sweeps/heterogeneous.toml` (lanes of very
-/// unlike length: t_end 0.2 to 7.8 s) in sweep order, and the same lanes
-/// sorted by their f64 step counts (all cores): the two orders the GPU's
-/// refill benchmarks compare.
-pub fn heterogeneous_and_sorted(
-    max: usize,
-) -> (Vec<crate::params::Params>, Vec<crate::params::Params>) {
-    use crate::backend::run_cpu_lanes;
-    use crate::integrator::Settings;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps/heterogeneous.toml");
-    let src = crate::lanes::Source::open(Some(&path), None).expect("sweeps/heterogeneous.toml");
-    let mut params = Vec::new();
-    src.reader()
-        .and_then(|mut r| r.fill(max, &mut params))
-        .expect("sweeps/heterogeneous.toml's lanes");
-    let pool = rayon::ThreadPoolBuilder::new()
-        .build()
-        .expect("a thread pool");
-    let mut results = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
-    let mut order: Vec<usize> = (0..params.len()).collect();
-    order.sort_by_key(|&i| results[i].steps);
-    let sorted = order.iter().map(|&i| params[i]).collect();
-    (params, sorted)
 }

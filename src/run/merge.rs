@@ -3,14 +3,8 @@
 //! the same backend), `traces.csv`, `summary.csv`,
 //! `sweep.resolved.toml` and the report.
 //!
-//! Shards are verified, not trusted. Before anything is written, each
-//! shard must have its manifest (written last by its run, so its presence
-//! means complete), the same sweep hash, shard count, tool version,
-//! backend kind and lane count as the others, the lane range its index
-//! gives, each index 0..N once, and files of the sizes and SHA-256 the
-//! manifest records; its `sweep.resolved.toml` must hash to the sweep
-//! hash, and `traces.csv` must be there exactly when a traced lane falls
-//! in the shard. The rows are then streamed, one shard after the other,
+//! Shards are verified, not trusted ([`super::verify`]). The rows are
+//! then streamed, one shard after the other,
 //! parsed cell by cell and checked lane by lane, and each table's SHA-256
 //! is compared as it ends (a CSV table is hashed as it is read); any
 //! failure drops the partial files, so nothing is written.
@@ -18,15 +12,18 @@
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
+use super::verify::{check_shards, refused, Part};
 use crate::error::{Error, Result};
-use crate::lanes::Source;
-use crate::lanes_file::{columns, Cell, Format, LanesWriter, RowReader};
-use crate::outdir::names::{RESOLVED, SUMMARY, TRACES};
-use crate::outdir::{AtomicFile, OutDir};
-use crate::output::{time_line, CsvLines, SHARD_LINE, TIME_LINE, TRACE_COLUMNS};
-use crate::shard::{file_digest, sweep_hash, Manifest, Shard, MANIFEST};
+use crate::input::lanes::Source;
+use crate::input::sweep::Sweep;
+use crate::output::csv_lines::CsvLines;
+use crate::output::digest::file_digest;
+use crate::output::names::{RESOLVED, SUMMARY, TRACES};
+use crate::output::provenance::{time_line, SHARD_LINE, TIME_LINE};
+use crate::output::table::{columns, Cell, Format, LanesWriter, RowReader};
+use crate::output::traces::TRACE_COLUMNS;
+use crate::output::{AtomicFile, OutDir};
 use crate::stats::{Grouping, Stats};
-use crate::sweep::Sweep;
 
 /// What a merge wrote.
 #[derive(Debug)]
@@ -64,257 +61,6 @@ impl Merged {
                 .unwrap_or_default()
         )
     }
-}
-
-/// A shard folder with its manifest.
-struct Part {
-    dir: PathBuf,
-    m: Manifest,
-}
-
-/// A shard refused: the shard's folder, and why.
-fn refused(dir: &Path, m: &Manifest, why: String) -> Error {
-    Error::input(
-        dir,
-        None,
-        None,
-        format!(
-            "shard {}/{} refused: {why}; run the shard again",
-            m.shard, m.shards
-        ),
-    )
-}
-
-/// The body of a `sweep.resolved.toml`: the text after its header
-/// comments (what the sweep hash covers).
-fn resolved_body(text: &str) -> &str {
-    let mut at = 0;
-    for line in text.split_inclusive('\n') {
-        if !line.starts_with('#') {
-            break;
-        }
-        at += line.len();
-    }
-    &text[at..]
-}
-
-/// Reads one shard's manifest and verifies its files, all but the table
-/// (hashed while it is merged): the resolved sweep and traces by SHA-256,
-/// the resolved sweep against the sweep hash, and traces.csv there
-/// exactly when a traced lane falls in the shard.
-fn read_part(dir: &Path) -> Result<Part> {
-    if !dir.is_dir() {
-        return Err(Error::input(
-            dir,
-            None,
-            None,
-            "missing shard folder: it does not exist or is not a folder; allowed: folders of `tswm run --shard K/N`",
-        ));
-    }
-    let m = Manifest::read(dir)?.ok_or_else(|| {
-        Error::input(
-            dir,
-            None,
-            None,
-            format!(
-                "incomplete shard: no {MANIFEST} (its run did not finish, or this is not a shard folder); \
-                 run the shard again"
-            ),
-        )
-    })?;
-    let table = m.format.file_name();
-    for name in [table, RESOLVED] {
-        if !m.files.contains_key(name) {
-            return Err(refused(
-                dir,
-                &m,
-                format!("{MANIFEST} does not cover {name}"),
-            ));
-        }
-    }
-    if let Some(extra) = m
-        .files
-        .keys()
-        .find(|n| ![table, RESOLVED, TRACES].contains(&n.as_str()))
-    {
-        return Err(refused(
-            dir,
-            &m,
-            format!(
-                "{MANIFEST} names {}, which is no file of a shard",
-                crate::error::shown(extra, 40)
-            ),
-        ));
-    }
-    for name in m.files.keys() {
-        // The table's SHA-256 is checked as it is merged.
-        if let Some(why) = m.file_differs(dir, name, name != table) {
-            return Err(refused(dir, &m, why));
-        }
-    }
-    let path = dir.join(RESOLVED);
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| refused(dir, &m, format!("{RESOLVED} cannot be read: {e}")))?;
-    let body = resolved_body(&text);
-    if sweep_hash(body, m.lane_table_sha256.as_deref()) != m.sweep_hash {
-        return Err(refused(
-            dir,
-            &m,
-            format!("its {RESOLVED} does not hash to the sweep hash its manifest records"),
-        ));
-    }
-    let sweep = Sweep::parse(&path, &text)?;
-    let traced = sweep.trace.as_ref().is_some_and(|t| {
-        t.lanes
-            .iter()
-            .any(|l| (m.lane_start..m.lane_end).contains(l))
-    });
-    match (traced, m.files.contains_key(TRACES)) {
-        (true, false) => {
-            return Err(refused(
-                dir,
-                &m,
-                format!("a traced lane falls in it but {MANIFEST} covers no {TRACES}"),
-            ))
-        }
-        (false, true) => {
-            return Err(refused(
-                dir,
-                &m,
-                format!("{MANIFEST} covers {TRACES} but no traced lane falls in it"),
-            ))
-        }
-        _ => {}
-    }
-    if !m.files.contains_key(TRACES) && dir.join(TRACES).exists() {
-        return Err(refused(
-            dir,
-            &m,
-            format!("{TRACES} is there but {MANIFEST} does not cover it"),
-        ));
-    }
-    Ok(Part {
-        dir: dir.to_path_buf(),
-        m,
-    })
-}
-
-/// Why shard `m` of `dir` does not belong with the first shard `f` (of
-/// `first`), if it does not.
-fn foreign(dir: &Path, m: &Manifest, first: &Path, f: &Manifest) -> Option<Error> {
-    let differ = |what: &str, ours: String, theirs: String| {
-        Some(Error::input(
-            dir,
-            None,
-            None,
-            format!(
-                "foreign shard: {what} {theirs}, but {} has {ours}; allowed: shards of one sweep, \
-                 one split and one tool version",
-                first.display()
-            ),
-        ))
-    };
-    if m.sweep_hash != f.sweep_hash {
-        return differ(
-            "another sweep: hash",
-            f.sweep_hash.clone(),
-            m.sweep_hash.clone(),
-        );
-    }
-    if m.shards != f.shards {
-        return differ(
-            "split into",
-            format!("{} shards", f.shards),
-            format!("{} shards", m.shards),
-        );
-    }
-    if m.version != f.version || m.tool != f.tool {
-        return differ(
-            "written by",
-            format!("{} {}", f.tool, f.version),
-            format!("{} {}", m.tool, m.version),
-        );
-    }
-    if m.backend != f.backend {
-        return differ(
-            "rows from the backend",
-            f.backend.clone(),
-            m.backend.clone(),
-        );
-    }
-    if m.lanes_total != f.lanes_total {
-        return differ(
-            "lanes in all",
-            f.lanes_total.to_string(),
-            m.lanes_total.to_string(),
-        );
-    }
-    None
-}
-
-/// Reads and checks every shard of `dirs`; returns them in shard order.
-fn check_shards(dirs: &[PathBuf]) -> Result<Vec<Part>> {
-    let mut parts: Vec<Part> = Vec::with_capacity(dirs.len());
-    for dir in dirs {
-        let p = read_part(dir)?;
-        let m = &p.m;
-        if let Some(first) = parts.first() {
-            if let Some(e) = foreign(dir, m, &first.dir, &first.m) {
-                return Err(e);
-            }
-        }
-        let want = Shard {
-            k: m.shard,
-            n: m.shards,
-        };
-        if m.shard >= m.shards
-            || want.range(m.lanes_total) != (m.lane_start, m.lane_end)
-            || m.rows != m.lane_end - m.lane_start
-        {
-            return Err(Error::input(
-                &dir.join(MANIFEST),
-                None,
-                None,
-                format!(
-                    "shard {}/{} records lanes {}..{} and {} rows, which its index does not give; \
-                     run the shard again",
-                    m.shard, m.shards, m.lane_start, m.lane_end, m.rows
-                ),
-            ));
-        }
-        if let Some(twin) = parts.iter().find(|q| q.m.shard == m.shard) {
-            return Err(Error::input(
-                dir,
-                None,
-                None,
-                format!(
-                    "doubled shard: shard {}/{} is also {}; give each shard once",
-                    m.shard,
-                    m.shards,
-                    twin.dir.display()
-                ),
-            ));
-        }
-        parts.push(p);
-    }
-    let n = parts.first().map_or(0, |p| p.m.shards);
-    let mut missing: Vec<String> = (0..n)
-        .filter(|k| !parts.iter().any(|p| p.m.shard == *k))
-        .map(|k| format!("{k}/{n}"))
-        .collect();
-    if !missing.is_empty() {
-        let more = missing.len().saturating_sub(10);
-        missing.truncate(10);
-        return Err(Error::Usage(format!(
-            "merge: missing shard {}{} of the sweep {} (lanes {} in all); give every shard's folder once",
-            missing.join(", "),
-            if more > 0 { format!(" and {more} more") } else { String::new() },
-            parts[0].m.sweep_hash,
-            parts[0].m.lanes_total
-        )));
-    }
-    parts.sort_by_key(|p| p.m.shard);
-    Ok(parts)
 }
 
 /// Merges the shard folders `dirs` into `out` as `format`, and writes its
@@ -392,7 +138,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
 /// each; the table's SHA-256 against the manifest. Returns the next lane.
 fn merge_part(
     p: &Part,
-    kinds: &[(&'static str, crate::lanes_file::Kind)],
+    kinds: &[(&'static str, crate::output::table::Kind)],
     mut next: u64,
     rec: &mut csv::ByteRecord,
     cells: &mut Vec<Cell>,

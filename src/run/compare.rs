@@ -20,11 +20,11 @@ use std::io::Write as _;
 use crate::backend::{Backend, CpuBackend};
 use crate::columns::{results, Column, Compare};
 use crate::error::Result;
+use crate::input::lanes::Source;
 use crate::integrator::LaneResult;
-use crate::lanes::Source;
 use crate::model::FrictionTable;
 use crate::params::Params;
-use crate::runner::{pipeline, Sink};
+use crate::run::{pipeline, Sink};
 
 pub use crate::columns::{SWITCH_BOUND, VALUE_BOUND};
 /// Least share of lanes that must agree.

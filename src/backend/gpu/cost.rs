@@ -258,6 +258,33 @@ fn ridge(upper: &[f64], b: &[f64], p: usize) -> Option<Vec<f64>> {
     beta.iter().all(|v| v.is_finite()).then_some(beta)
 }
 
+/// The first `max` lanes of `sweeps/heterogeneous.toml` (lanes of very
+/// unlike length: t_end 0.2 to 7.8 s) in sweep order, and the same lanes
+/// sorted by their f64 step counts (all cores): the two orders the GPU's
+/// refill benchmarks compare.
+pub fn heterogeneous_and_sorted(
+    max: usize,
+) -> (Vec<crate::params::Params>, Vec<crate::params::Params>) {
+    use crate::backend::cpu::run_cpu_lanes;
+    use crate::integrator::Settings;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps/heterogeneous.toml");
+    let src =
+        crate::input::lanes::Source::open(Some(&path), None).expect("sweeps/heterogeneous.toml");
+    let mut params = Vec::new();
+    src.reader()
+        .and_then(|mut r| r.fill(max, &mut params))
+        .expect("sweeps/heterogeneous.toml's lanes");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .build()
+        .expect("a thread pool");
+    let mut results = Vec::new();
+    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
+    let mut order: Vec<usize> = (0..params.len()).collect();
+    order.sort_by_key(|&i| results[i].steps);
+    let sorted = order.iter().map(|&i| params[i]).collect();
+    (params, sorted)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

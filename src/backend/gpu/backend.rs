@@ -6,7 +6,7 @@
 use super::cost::{CostModel, MIN_LEARNT};
 use super::layout::{flags, GpuGlobals, GpuLane, GpuState, GPU_TOL_F64};
 use super::{verify, Gpu};
-use crate::backend::{Backend, CpuBackend, PLACEHOLDER};
+use crate::backend::{Backend, CpuBackend};
 use crate::error::Result;
 use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
@@ -104,7 +104,7 @@ impl Backend for GpuBackend {
         self.lanes64
             .extend(lanes.iter().map(|p| Lane::new(p, table)));
         out.clear();
-        out.resize(lanes.len(), PLACEHOLDER);
+        out.resize(lanes.len(), LaneResult::EMPTY);
         self.redo.clear();
         // Lanes f32 cannot represent never go to the GPU.
         self.on_gpu.clear();

@@ -26,10 +26,10 @@ use crate::columns::results;
 pub use crate::columns::{Cell, Kind};
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
-use crate::outdir::AtomicFile;
-use crate::output::{push_f64, CsvLines};
+use crate::output::csv_lines::{push_f64, CsvLines};
+use crate::output::digest::{FileDigest, Hashing};
+use crate::output::AtomicFile;
 use crate::params::{Param, Params};
-use crate::shard::{FileDigest, Hashing};
 
 /// The format of the results table.
 #[derive(
@@ -287,7 +287,7 @@ fn encode_column(
 pub struct ParquetLanes {
     file: AtomicFile,
     path: PathBuf,
-    writer: Option<SerializedFileWriter<crate::outdir::FileWriter>>,
+    writer: Option<SerializedFileWriter<crate::output::atomic::FileWriter>>,
     bufs: Vec<Buffer>,
     rows: usize,
 }

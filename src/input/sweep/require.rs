@@ -3,8 +3,7 @@
 //! of drives must pass. The report states, per value of the first grid
 //! axis, whether the share is met with 95 % confidence.
 
-use crate::columns::{result, Kind, Summary};
-use crate::lanes_file::Cell;
+use crate::columns::{result, Cell, Kind, Summary};
 
 /// A comparison of a number column with a value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -28,7 +28,7 @@ const F32_ENERGY_RESOLUTION: f64 = 1e-6;
 
 /// What a trusted row promises at worst: 100 times the GPU bound on x1, v1
 /// and the works (5e-5 of max(1, |value|), `tswm check`).
-pub const TRUSTED_BOUND: f64 = 100.0 * crate::check::VALUE_BOUND;
+pub const TRUSTED_BOUND: f64 = 100.0 * crate::columns::VALUE_BOUND;
 
 /// Whether f32 represents a lane's inputs: finite, and not so small that
 /// they vanish. Lanes that fail go to the f64 path without a GPU attempt.
@@ -71,7 +71,11 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     if r.status != Status::Ok {
         return Some(Recheck::GpuStatus);
     }
-    if !crate::columns::integrated(r).all(|v| v.is_finite() && v.abs() <= f32::MAX as f64) {
+    if !r
+        .integrated()
+        .iter()
+        .all(|v| v.is_finite() && v.abs() <= f32::MAX as f64)
+    {
         return Some(Recheck::NonFinite);
     }
     if lane.motor == MOTOR_KLOSS && lane.sigma_k < STIFF_SIGMA_K {

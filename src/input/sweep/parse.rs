@@ -10,9 +10,9 @@ use toml::Spanned;
 
 use super::{Axis, AxisValues, Study, Sweep, Tolerance};
 use crate::error::{did_you_mean, Error, Result};
+use crate::input::sampling::{Dist, Permutation};
 use crate::model::FrictionTable;
 use crate::params::{Num, Param, Spec};
-use crate::sampling::{Dist, Permutation};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -14,9 +14,9 @@ mod parse;
 pub mod require;
 mod resolved;
 
+use crate::input::sampling::{Dist, Permutation, Uniforms};
 use crate::model::FrictionTable;
 use crate::params::{Num, Spec};
-use crate::sampling::{Dist, Permutation, Uniforms};
 
 pub use parse::Method;
 

@@ -1,15 +1,18 @@
 //! Backends: what turns lane parameters into results (the f64 CPU path
-//! here, the f32 GPU path in [`crate::gpu`]), and which one a run gets
+//! in [`cpu`], the f32 GPU path in [`gpu`]), and which one a run gets
 //! (`--backend auto|cpu|gpu`).
 
-use rayon::prelude::*;
+pub mod cpu;
+pub mod gpu;
 
-use crate::error::{Error, Result};
-use crate::gpu::{Gpu, GpuBackend};
-use crate::integrator::{simulate_batch, LaneResult, Settings};
-use crate::model::{FrictionTable, Lane};
-use crate::params::{Num, Params, Spec};
-use crate::sampling::Uniforms;
+pub use cpu::CpuBackend;
+
+use crate::error::Result;
+use crate::input::testmodels::paper_like;
+use crate::integrator::{LaneResult, Settings};
+use crate::model::FrictionTable;
+use crate::params::Params;
+use gpu::{Gpu, GpuBackend};
 
 /// Something that turns lane parameters into results.
 pub trait Backend {
@@ -38,97 +41,6 @@ pub enum Choice {
     Cpu,
     /// The f32 WGSL path on the best adapter.
     Gpu,
-}
-
-/// The f64 reference path: rayon over blocks of lanes, each block
-/// interleaved on its thread.
-pub struct CpuBackend {
-    pool: rayon::ThreadPool,
-    /// Integration settings.
-    pub settings: Settings,
-}
-
-impl CpuBackend {
-    /// A CPU backend on `threads` threads (0: all cores).
-    pub fn new(threads: usize, settings: Settings) -> Result<CpuBackend> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| Error::Usage(format!("cannot start {threads} threads: {e}")))?;
-        Ok(CpuBackend { pool, settings })
-    }
-
-    /// Threads in the pool.
-    pub fn threads(&self) -> usize {
-        self.pool.current_num_threads()
-    }
-}
-
-/// Runs lanes on the CPU into `out` (cleared first): rayon over blocks of
-/// lanes, each block interleaved on its thread (`simulate_batch`).
-pub fn run_cpu_lanes(
-    pool: &rayon::ThreadPool,
-    settings: &Settings,
-    lanes: &[Params],
-    table: Option<&FrictionTable>,
-    out: &mut Vec<LaneResult>,
-) {
-    const BLOCK: usize = 64;
-    out.clear();
-    out.resize(lanes.len(), PLACEHOLDER);
-    pool.install(|| {
-        lanes
-            .par_chunks(BLOCK)
-            .zip(out.par_chunks_mut(BLOCK))
-            .for_each(|(p, o)| {
-                let mut l = [Lane::new(&p[0], table); BLOCK];
-                for (d, s) in l.iter_mut().zip(p) {
-                    *d = Lane::new(s, table);
-                }
-                simulate_batch(&l[..p.len()], table, settings, o);
-            })
-    });
-}
-
-/// Filler overwritten by every lane's result.
-pub(crate) const PLACEHOLDER: LaneResult = LaneResult::EMPTY;
-
-impl Backend for CpuBackend {
-    fn name(&self) -> String {
-        format!("cpu ({} threads)", self.threads())
-    }
-    fn tolerance(&self) -> f64 {
-        self.settings.tol
-    }
-    fn chunk_lanes(&self) -> usize {
-        16384
-    }
-    fn run_chunk(
-        &mut self,
-        _first: u64,
-        lanes: &[Params],
-        table: Option<&FrictionTable>,
-        out: &mut Vec<LaneResult>,
-    ) -> Result<()> {
-        run_cpu_lanes(&self.pool, &self.settings, lanes, table, out);
-        Ok(())
-    }
-}
-
-/// Paper-like lanes: the paper's design (Kloss motor, paper friction,
-/// start at rest, t_end 2 s) with the load spread uniformly over ±6 kN, so
-/// lanes cover direct and inverse flow, switches and stalls. The `auto`
-/// trial runs them; the throughput benchmarks too.
-pub fn paper_like(n: usize, seed: u64) -> Vec<Spec> {
-    let mut u = Uniforms::new(seed);
-    (0..n)
-        .map(|i| {
-            u.seek(i as u64, 1);
-            let mut s = Spec::default();
-            s.set(Num::F2, -6000.0 + 12000.0 * u.next());
-            s
-        })
-        .collect()
 }
 
 /// Below this many lanes `auto` runs on the CPU without a trial: opening a

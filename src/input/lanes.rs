@@ -9,10 +9,10 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::input::sampling::Uniforms;
+use crate::input::sweep::Sweep;
 use crate::model::FrictionTable;
 use crate::params::{Param, Params, Spec};
-use crate::sampling::Uniforms;
-use crate::sweep::Sweep;
 
 /// The lanes of a run.
 pub enum Source {
@@ -33,9 +33,9 @@ pub enum Source {
         /// Friction table for `friction = table` rows.
         table: Option<FrictionTable>,
         /// What the report shows.
-        report: crate::sweep::ReportSpec,
+        report: crate::input::sweep::ReportSpec,
         /// Rows to trace (the sweep file's `[trace]`).
-        trace: Option<crate::sweep::TraceSpec>,
+        trace: Option<crate::input::sweep::TraceSpec>,
         /// Number of rows (counted by [`Source::open`]).
         rows: u64,
     },
@@ -104,7 +104,7 @@ impl Source {
     /// traces the run writes (`trace`): the sweep file resolved, or for a
     /// lane table the `[base]`, `[friction_table]` and `[report]` under
     /// its cells.
-    pub fn resolved_text(&self, trace: Option<&crate::sweep::TraceSpec>) -> String {
+    pub fn resolved_text(&self, trace: Option<&crate::input::sweep::TraceSpec>) -> String {
         let mut sweep = match self {
             Source::Sweep { sweep, .. } => sweep.clone(),
             Source::Table {
@@ -126,7 +126,7 @@ impl Source {
     }
 
     /// The traces the source's file asks for (`[trace]`), if any.
-    pub fn trace(&self) -> Option<&crate::sweep::TraceSpec> {
+    pub fn trace(&self) -> Option<&crate::input::sweep::TraceSpec> {
         match self {
             Source::Sweep { sweep, .. } => sweep.trace.as_ref(),
             Source::Table { trace, .. } => trace.as_ref(),

@@ -1,0 +1,81 @@
+//! The f64 CPU path: the reference that checks the GPU.
+
+use rayon::prelude::*;
+
+use super::Backend;
+use crate::error::{Error, Result};
+use crate::integrator::{simulate_batch, LaneResult, Settings};
+use crate::model::{FrictionTable, Lane};
+use crate::params::Params;
+
+/// The f64 reference path: rayon over blocks of lanes, each block
+/// interleaved on its thread.
+pub struct CpuBackend {
+    pool: rayon::ThreadPool,
+    /// Integration settings.
+    pub settings: Settings,
+}
+
+impl CpuBackend {
+    /// A CPU backend on `threads` threads (0: all cores).
+    pub fn new(threads: usize, settings: Settings) -> Result<CpuBackend> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::Usage(format!("cannot start {threads} threads: {e}")))?;
+        Ok(CpuBackend { pool, settings })
+    }
+
+    /// Threads in the pool.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+}
+
+/// Runs lanes on the CPU into `out` (cleared first): rayon over blocks of
+/// lanes, each block interleaved on its thread (`simulate_batch`).
+pub fn run_cpu_lanes(
+    pool: &rayon::ThreadPool,
+    settings: &Settings,
+    lanes: &[Params],
+    table: Option<&FrictionTable>,
+    out: &mut Vec<LaneResult>,
+) {
+    const BLOCK: usize = 64;
+    out.clear();
+    out.resize(lanes.len(), LaneResult::EMPTY);
+    pool.install(|| {
+        lanes
+            .par_chunks(BLOCK)
+            .zip(out.par_chunks_mut(BLOCK))
+            .for_each(|(p, o)| {
+                let mut l = [Lane::new(&p[0], table); BLOCK];
+                for (d, s) in l.iter_mut().zip(p) {
+                    *d = Lane::new(s, table);
+                }
+                simulate_batch(&l[..p.len()], table, settings, o);
+            })
+    });
+}
+
+impl Backend for CpuBackend {
+    fn name(&self) -> String {
+        format!("cpu ({} threads)", self.threads())
+    }
+    fn tolerance(&self) -> f64 {
+        self.settings.tol
+    }
+    fn chunk_lanes(&self) -> usize {
+        16384
+    }
+    fn run_chunk(
+        &mut self,
+        _first: u64,
+        lanes: &[Params],
+        table: Option<&FrictionTable>,
+        out: &mut Vec<LaneResult>,
+    ) -> Result<()> {
+        run_cpu_lanes(&self.pool, &self.settings, lanes, table, out);
+        Ok(())
+    }
+}

@@ -1,0 +1,9 @@
+//! Where lanes come from: sweep files ([`sweep`]), lane tables and the
+//! one reader of both ([`lanes`]), the seeded draws of tolerance studies
+//! ([`sampling`]), and lane sets of known character for tests and
+//! benchmarks ([`testmodels`]).
+
+pub mod lanes;
+pub mod sampling;
+pub mod sweep;
+pub mod testmodels;

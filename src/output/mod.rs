@@ -1,0 +1,17 @@
+//! Everything a run leaves in its output folder, and how it gets there:
+//! the folder and its lock ([`folder`]), files written under temporary
+//! names and committed together ([`atomic`]), their SHA-256
+//! ([`digest`]), the results table in either format ([`table`]),
+//! `sweep.resolved.toml` ([`provenance`]), `traces.csv` ([`traces`]) and
+//! the CSV line writer they share ([`csv_lines`]).
+
+pub mod atomic;
+pub mod csv_lines;
+pub mod digest;
+pub mod folder;
+pub mod provenance;
+pub mod table;
+pub mod traces;
+
+pub use atomic::{commit_together, AtomicFile};
+pub use folder::{names, OutDir};

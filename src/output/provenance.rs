@@ -1,0 +1,115 @@
+//! `sweep.resolved.toml`: the header lines that say where a run's lanes
+//! came from and how they ran, above the sweep with every lane's source
+//! spelled out.
+
+use crate::input::lanes::Source;
+use crate::input::sweep::TraceSpec;
+
+/// A string as a one-line TOML basic string (quoted, every control
+/// character, quote and backslash escaped; the serializer would choose a
+/// multi-line string for text with a line break), so no file name or
+/// device name can break a line of `sweep.resolved.toml`.
+pub fn toml_string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The text of `sweep.resolved.toml`: header lines naming the tool, the
+/// lanes' source, backend, tolerance, lane count, run time
+/// (`seconds`) and, for a shard, its lanes; then the sweep with every
+/// lane's source spelled out and the traces the run writes (`trace`).
+/// Every string in the header is a TOML string (escaped); the body is
+/// written by the TOML serializer.
+pub fn provenance(
+    source: &Source,
+    trace: Option<&TraceSpec>,
+    backend: &str,
+    tol: f64,
+    seconds: f64,
+    shard: Option<((u64, u64), (u64, u64))>,
+) -> String {
+    let from = match source {
+        Source::Sweep { .. } => "# every lane follows from this file\n".to_string(),
+        Source::Table { path, .. } => format!(
+            "# every lane follows from the lane table {} ({} rows) over the [base] and \
+             [friction_table] below\n",
+            toml_string(&path.display().to_string()),
+            source.lane_count()
+        ),
+    };
+    let resolved = source.resolved_text(trace);
+    let (shard_line, run) = match shard {
+        Some(((k, n), (a, b))) => (
+            format!(
+                "{SHARD_LINE}{k}/{n} (lanes {a} to {}, {} lanes)\n",
+                b.max(1) - 1,
+                b - a
+            ),
+            b - a,
+        ),
+        None => (String::new(), source.lane_count()),
+    };
+    format!(
+        "# tswm {} resolved sweep\n{from}\
+         # backend: {}, tol: {tol:e}\n\
+         {LANES_LINE}{}\n\
+         {shard_line}{}{resolved}",
+        env!("CARGO_PKG_VERSION"),
+        toml_string(backend),
+        source.lane_count(),
+        time_line(seconds, run),
+    )
+}
+
+/// How `sweep.resolved.toml` begins its line of the run's lane count.
+pub const LANES_LINE: &str = "# lanes: ";
+
+/// The lane count the header of a `sweep.resolved.toml` states.
+pub fn stated_lanes(text: &str) -> Option<u64> {
+    text.lines()
+        .take_while(|l| l.starts_with('#'))
+        .find_map(|l| l.strip_prefix(LANES_LINE))
+        .and_then(|n| n.trim().parse().ok())
+}
+
+/// How a shard's `sweep.resolved.toml` names the shard (a merge drops
+/// the line).
+pub const SHARD_LINE: &str = "# shard: ";
+/// How `sweep.resolved.toml` begins its line of the run time.
+pub const TIME_LINE: &str = "# time: ";
+
+/// The line of the run time of `lanes` lanes in `seconds`.
+pub fn time_line(seconds: f64, lanes: u64) -> String {
+    format!(
+        "{TIME_LINE}{seconds:.3} s ({:.0} lanes/s)\n",
+        lanes as f64 / seconds.max(1e-9)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_strings_stay_on_one_line_and_read_back() {
+        for s in ["a\nb.csv", "q\"uo\\te", "tab\tand\u{1}", "plain"] {
+            let t = toml_string(s);
+            assert_eq!(t.lines().count(), 1, "{t}");
+            let v: toml::Table = toml::from_str(&format!("x = {t}")).unwrap();
+            assert_eq!(v["x"].as_str(), Some(s));
+        }
+    }
+}

@@ -1,0 +1,209 @@
+//! What the report says first: lanes whose question is not answered yet,
+//! and the answer to the sweep's design requirement.
+
+use plotters::chart::SeriesLabelPosition;
+
+use super::charts::{points_chart, Series};
+use super::html::Page;
+use super::plots::{self, Axis};
+use super::require::{RequireData, Verdict};
+use super::scan::{Folder, LINE_POINTS};
+use super::{param_label, percent};
+
+/// At the top: lanes whose question is not answered yet (still coasting
+/// when their run ended), with what to do.
+pub(super) fn undecided(page: &mut Page, f: &Folder) {
+    let coasting = f
+        .by_hold
+        .iter()
+        .find(|h| h.0 == "coasting")
+        .map_or(0, |h| h.1);
+    if coasting == 0 {
+        return;
+    }
+    page.section("Not decided: lanes still coasting");
+    let what = if f.coasting_t_max.is_finite() {
+        format!(
+            "they ran on to t_max = {} s and were still sliding; set a larger t_max",
+            plots::tick(f.coasting_t_max)
+        )
+    } else {
+        format!(
+            "set t_max in [base] (s, > t_end) so that they run on until they are held or run away, \
+             e.g. t_max = {}",
+            plots::tick(10.0 * f.coasting_t_end)
+        )
+    };
+    page.warning(&format!(
+        "{coasting} of {} lanes whose motor is cut were still coasting (sliding, slowing down) when \
+         their run ended: whether they hold the load is not decided, and their final contact is not \
+         an answer to it. To decide them, {what}.",
+        f.hold_lanes
+    ));
+}
+
+/// "2 to 5.25 (12 values)" or "2, 3 and 5": the runs of consecutive
+/// points of `idx` (ascending) among `xs`.
+fn runs(xs: &[f64], idx: &[usize]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && idx[j + 1] == idx[j] + 1 {
+            j += 1;
+        }
+        let (a, b) = (plots::tick(xs[idx[i]]), plots::tick(xs[idx[j]]));
+        parts.push(match j - i {
+            0 => a,
+            1 => format!("{a}, {b}"),
+            n => format!("{a} to {b} ({} values)", n + 1),
+        });
+        i = j + 1;
+    }
+    match parts.len() {
+        0 => "none".into(),
+        1 => parts.remove(0),
+        _ => {
+            let last = parts.pop().unwrap_or_default();
+            format!("{} and {last}", parts.join(", "))
+        }
+    }
+}
+
+/// The answer to the sweep's design requirement, in sentences and a
+/// marked plot per panel.
+pub(super) fn requirement(page: &mut Page, r: &RequireData) {
+    let req = &r.req;
+    page.section("Requirement");
+    let want = format!(
+        "`{}` in at least {} of lanes, with 95 % confidence (one-sided Wilson bound; a lane that \
+         is not ok or has no value does not meet it)",
+        req.text(),
+        percent(req.at_least)
+    );
+    let Some(axis) = r.axis else {
+        let (share, lo, _, v) = r.judge(r.counts[0][0]);
+        let (k, n) = r.counts[0][0];
+        let verdict = match v {
+            Some(Verdict::Met) => "met",
+            Some(Verdict::NotMet) => "not met",
+            Some(Verdict::Undecided) => "not decided: more lanes are needed",
+            None => "not decided: no lanes",
+        };
+        page.answer(&format!(
+            "Requirement {want}: {verdict} ({k} of {n} lanes, {}; lower bound {}).",
+            percent(share),
+            percent(lo)
+        ));
+        return;
+    };
+    let name = axis.name();
+    let unit = axis.def().unit;
+    let mut figs = Vec::new();
+    for (p, label) in r.panel_labels.iter().enumerate() {
+        let judged: Vec<_> = r.counts[p].iter().map(|&c| r.judge(c)).collect();
+        let of = |v: Verdict| -> Vec<usize> {
+            (0..judged.len())
+                .filter(|&i| judged[i].3 == Some(v))
+                .collect()
+        };
+        let (met, open, not) = (
+            of(Verdict::Met),
+            of(Verdict::Undecided),
+            of(Verdict::NotMet),
+        );
+        let at = if label == "all lanes" {
+            String::new()
+        } else {
+            format!(" at {label}")
+        };
+        let mut s = format!(
+            "Requirement {want}{at}: met for {name} = {}",
+            runs(&r.xs, &met)
+        );
+        if let (Some(&a), Some(&b)) = (met.first(), met.last()) {
+            s.push_str(&format!(
+                " (smallest {}, largest {}{})",
+                plots::tick(r.xs[a]),
+                plots::tick(r.xs[b]),
+                if unit.is_empty() {
+                    String::new()
+                } else {
+                    format!(" {unit}")
+                }
+            ));
+        }
+        if !open.is_empty() {
+            s.push_str(&format!(
+                "; not decided for {} (more lanes are needed there)",
+                runs(&r.xs, &open)
+            ));
+        }
+        s.push_str(&format!("; not met for {}.", runs(&r.xs, &not)));
+        let most = r.counts[p].iter().map(|c| c.1).max().unwrap_or(0);
+        if met.is_empty() && most < r.lanes_needed() {
+            s.push_str(&format!(
+                " With {most} lanes a value, no share can be confirmed at {}: that takes at least {} \
+                 lanes a value, all of them meeting it (more samples in [sampling]).",
+                percent(req.at_least),
+                r.lanes_needed()
+            ));
+        }
+        page.answer(&s);
+        let x = Axis::grid(&param_label(axis), &r.xs);
+        let y = Axis::fixed(&format!("share of lanes with {}", req.text()), 0.0, 1.0);
+        let series_of = |v: Verdict, name, colour| Series {
+            name,
+            colour: Some(colour),
+            values: judged
+                .iter()
+                .map(|j| {
+                    if j.3 == Some(v) {
+                        (j.0, j.1, j.2)
+                    } else {
+                        (f64::NAN, f64::NAN, f64::NAN)
+                    }
+                })
+                .collect(),
+        };
+        figs.push(points_chart(
+            &format!("{}{at}", req.text()),
+            &x,
+            &y,
+            &[
+                series_of(Verdict::Met, "met", super::charts::VERDICT_COLOURS[0]),
+                series_of(
+                    Verdict::Undecided,
+                    "not decided",
+                    super::charts::VERDICT_COLOURS[1],
+                ),
+                series_of(
+                    Verdict::NotMet,
+                    "not met",
+                    super::charts::VERDICT_COLOURS[2],
+                ),
+            ],
+            Some((req.at_least, "required share")),
+            SeriesLabelPosition::LowerLeft,
+        ));
+    }
+    if r.binned {
+        page.note(&format!(
+            "{name} has more values than the answer lists: they are binned into {LINE_POINTS} \
+             (each named by its first value)."
+        ));
+    }
+    page.note(
+        "Points are the share of each value's lanes that meet the requirement; whiskers span its \
+         one-sided 95 % bounds (a 90 % interval). Met: the lower bound is at least the required \
+         share; not met: the upper bound is below it; otherwise the lanes cannot decide it.",
+    );
+    if (r.panel_labels.len() as u64) < r.panel_total {
+        page.note(&format!(
+            "Showing {} of {} combinations of the other axes ([report] panels sets the limit).",
+            r.panel_labels.len(),
+            r.panel_total
+        ));
+    }
+    page.figures(figs);
+}

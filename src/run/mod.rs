@@ -1,0 +1,17 @@
+//! Running lanes: the chunk pipeline from a lane source through a backend
+//! to a sink ([`pipeline`]), a run written to its folder ([`write`]) and
+//! its summary line ([`summary`]), shards of a run and their manifests
+//! ([`shard`]), their merge ([`merge`], verified by [`verify`]), and the
+//! CPU against the GPU ([`compare`]).
+
+pub mod compare;
+pub mod merge;
+pub mod pipeline;
+pub mod shard;
+pub mod summary;
+pub mod verify;
+pub mod write;
+
+pub use pipeline::{pipeline, pipeline_range, Sink};
+pub use summary::Summary;
+pub use write::{run, Target, Written};

@@ -1,0 +1,134 @@
+//! Runs a lane source through a backend, chunk by chunk, and hands each
+//! chunk's results, in lane order, to a [`Sink`] on its own thread: the
+//! results table for `tswm run`, the CPU comparison for `tswm check`.
+//!
+//! Three stages overlap: a producer thread generates and validates the
+//! next chunk of lanes, the calling thread runs the backend on the current
+//! one, and the sink's thread consumes the previous one. Chunk buffers
+//! circulate between them, so after the first few chunks nothing is
+//! allocated and memory stays bounded whatever the sweep's size.
+
+use crate::backend::Backend;
+use crate::error::{Error, Result};
+use crate::input::lanes::Source;
+use crate::integrator::LaneResult;
+use crate::params::Params;
+
+/// What consumes each chunk's results, in lane order.
+pub trait Sink: Send {
+    /// What the sink gives back when every chunk is in.
+    type Output: Send;
+    /// Lanes `first..first + params.len()` with their results.
+    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()>;
+    /// Called after the last chunk.
+    fn finish(self) -> Result<Self::Output>;
+}
+
+fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {
+    let bar = if show {
+        indicatif::ProgressBar::with_draw_target(
+            Some(total),
+            indicatif::ProgressDrawTarget::stderr(),
+        )
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} lanes, {per_sec}, eta {eta}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// A chunk on its way: its first lane, its lanes and their results.
+type Batch = (u64, Vec<Params>, Vec<LaneResult>);
+
+/// Runs every lane of `source` through `backend` into `sink`, chunk by
+/// chunk, in lane order.
+pub fn pipeline<S: Sink>(
+    source: &Source,
+    backend: &mut dyn Backend,
+    progress: bool,
+    sink: S,
+) -> Result<S::Output> {
+    pipeline_range(source, (0, source.lane_count()), backend, progress, sink)
+}
+
+/// Runs lanes `start..end` of `source` through `backend` into `sink`,
+/// chunk by chunk, in lane order.
+pub fn pipeline_range<S: Sink>(
+    source: &Source,
+    (start, end): (u64, u64),
+    backend: &mut dyn Backend,
+    progress: bool,
+    mut sink: S,
+) -> Result<S::Output> {
+    let table = source.friction_table().copied();
+    let bar = progress_bar(progress, end - start);
+    let chunk = backend.chunk_lanes().max(1);
+    let mut reader = source.reader_range(start, end)?;
+
+    const IN_FLIGHT: usize = 1;
+    let (to_backend, from_producer) = std::sync::mpsc::sync_channel::<Result<Batch>>(IN_FLIGHT);
+    let (to_sink, from_backend) = std::sync::mpsc::sync_channel::<Batch>(IN_FLIGHT);
+    let (recycle, recycled) = std::sync::mpsc::sync_channel::<Batch>(2 * IN_FLIGHT + 2);
+
+    let outcome = std::thread::scope(|scope| -> Result<S::Output> {
+        scope.spawn(move || {
+            let mut first = start;
+            loop {
+                let (_, mut params, results) = recycled
+                    .try_recv()
+                    .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
+                params.clear();
+                if let Err(e) = reader.fill(chunk, &mut params) {
+                    let _ = to_backend.send(Err(e));
+                    return;
+                }
+                let n = params.len() as u64;
+                if n == 0 || to_backend.send(Ok((first, params, results))).is_err() {
+                    return; // the end, or the run stopped
+                }
+                first += n;
+            }
+        });
+        let consumer = scope.spawn(move || -> Result<S::Output> {
+            for (first, params, results) in from_backend {
+                sink.chunk(first, &params, &results)?;
+                let _ = recycle.send((0, params, results));
+            }
+            sink.finish()
+        });
+        let mut failure = None;
+        for batch in &from_producer {
+            let (first, params, mut results) = match batch {
+                Ok(b) => b,
+                Err(e) => {
+                    failure = Some(e);
+                    break;
+                }
+            };
+            if let Err(e) = backend.run_chunk(first, &params, table.as_ref(), &mut results) {
+                failure = Some(e);
+                break;
+            }
+            let n = params.len() as u64;
+            if to_sink.send((first, params, results)).is_err() {
+                break; // the sink failed; its error is reported below
+            }
+            bar.set_position(first + n - start);
+        }
+        // Stop the producer (it sees the closed channel) and the sink.
+        drop(from_producer);
+        drop(to_sink);
+        let consumed = consumer
+            .join()
+            .map_err(|_| Error::Internal("the sink thread panicked".into()))?;
+        match failure {
+            Some(e) => Err(e),
+            None => consumed,
+        }
+    });
+    bar.finish_and_clear();
+    outcome
+}

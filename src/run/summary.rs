@@ -1,0 +1,136 @@
+//! The one-line summary of a run: lanes by status, final contact and
+//! hold, the rows recomputed or refined, and what to do about lanes still
+//! coasting.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::integrator::{Contact, Hold, LaneResult, RowPath, Status};
+use crate::params::{Num, Params};
+
+/// Counts for the end-of-run summary.
+#[derive(Debug, Default, Clone)]
+pub struct Summary {
+    /// Lanes run.
+    pub lanes: u64,
+    /// Wall time, s.
+    pub seconds: f64,
+    /// Lanes by status.
+    pub by_status: BTreeMap<Status, u64>,
+    /// Lanes by final contact (finished lanes).
+    pub by_contact: BTreeMap<Contact, u64>,
+    /// Lanes by the path their row came from.
+    pub by_path: BTreeMap<RowPath, u64>,
+    /// Lanes whose motor is cut, by what became of the load.
+    pub by_hold: BTreeMap<Hold, u64>,
+    /// The largest t_end of a lane still coasting, and whether one had a
+    /// t_max.
+    pub coasting_t_end: f64,
+    pub coasting_with_t_max: bool,
+}
+
+impl Summary {
+    pub(super) fn add(&mut self, p: &Params, r: &LaneResult) {
+        self.lanes += 1;
+        *self.by_status.entry(r.status).or_default() += 1;
+        if r.status == Status::Ok {
+            *self.by_contact.entry(r.contact_end).or_default() += 1;
+        }
+        if let Some(h) = r.hold {
+            *self.by_hold.entry(h).or_default() += 1;
+            if h == Hold::Coasting {
+                self.coasting_t_end = self.coasting_t_end.max(p.get(Num::TEnd));
+                self.coasting_with_t_max |= !p.get(Num::TMax).is_nan();
+            }
+        }
+        *self.by_path.entry(r.path).or_default() += 1;
+    }
+
+    /// "; hold: held N, runs_away N" for runs whose motors are cut, and
+    /// what to do when lanes are still coasting (not decided).
+    fn hold_note(&self) -> String {
+        if self.by_hold.is_empty() {
+            return String::new();
+        }
+        let list: Vec<String> = self
+            .by_hold
+            .iter()
+            .map(|(h, n)| format!("{} {n}", h.name()))
+            .collect();
+        let mut s = format!("; hold: {}", list.join(", "));
+        if let Some(&n) = self.by_hold.get(&Hold::Coasting) {
+            s.push_str(&format!(
+                "; {n} lanes still coasting when their run ended: whether they hold is not decided ({})",
+                if self.coasting_with_t_max {
+                    "set t_max in [base], or raise it".to_string()
+                } else {
+                    format!(
+                        "set t_max in [base] so they run on until held or running away, e.g. t_max = {}",
+                        10.0 * self.coasting_t_end
+                    )
+                }
+            ));
+        }
+        s
+    }
+
+    /// "; gpu rows: N checked, M recomputed in f64 (why n, ...)" for runs
+    /// with GPU rows, and "; N lanes refined (...)" when the f64 path ran
+    /// lanes again; empty otherwise.
+    fn recompute_note(&self) -> String {
+        let redone: Vec<String> = self
+            .by_path
+            .iter()
+            .filter_map(|(p, n)| match p {
+                RowPath::Recomputed(why) => Some(format!("{} {n}", why.name())),
+                _ => None,
+            })
+            .collect();
+        let count = |p: RowPath| self.by_path.get(&p).copied().unwrap_or(0);
+        let refined = count(RowPath::Refined);
+        let refined_note = if refined > 0 {
+            format!("; {refined} lanes refined (run again at a tenth of the tolerance: their error estimate was over the bound)")
+        } else {
+            String::new()
+        };
+        let cpu = count(RowPath::Cpu) + refined;
+        if cpu == self.lanes {
+            return refined_note;
+        }
+        let n: u64 = self.lanes - cpu - self.by_path.get(&RowPath::Gpu).copied().unwrap_or(0);
+        format!(
+            "; gpu rows: {} trusted, {n} recomputed in f64{}{refined_note}",
+            self.by_path.get(&RowPath::Gpu).copied().unwrap_or(0),
+            if redone.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", redone.join(", "))
+            }
+        )
+    }
+
+    /// The one-line summary.
+    pub fn line(&self, backend: &str, out: &Path) -> String {
+        let status: Vec<String> = self
+            .by_status
+            .iter()
+            .map(|(s, n)| format!("{} {n}", s.name()))
+            .collect();
+        let contact: Vec<String> = self
+            .by_contact
+            .iter()
+            .map(|(c, n)| format!("{} {n}", c.name()))
+            .collect();
+        format!(
+            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}; wrote {}",
+            self.lanes,
+            self.seconds,
+            self.lanes as f64 / self.seconds.max(1e-9),
+            status.join(", "),
+            if contact.is_empty() { "-".into() } else { contact.join(", ") },
+            self.hold_note(),
+            self.recompute_note(),
+            out.display()
+        )
+    }
+}

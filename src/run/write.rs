@@ -1,0 +1,200 @@
+//! A run written to its folder: the rows streamed to the results table,
+//! counted for the summary and into `summary.csv` (not for a shard: a
+//! shard's statistics would be of part of a group), and the traced lanes
+//! run again with rows taken on the way into `traces.csv`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use super::pipeline::{pipeline_range, Sink};
+use super::summary::Summary;
+use crate::backend::Backend;
+use crate::error::{Error, Result};
+use crate::input::lanes::Source;
+use crate::input::sweep::TraceSpec;
+use crate::integrator::batch::settings_for;
+use crate::integrator::trace::simulate_traced;
+use crate::integrator::{LaneResult, Settings};
+use crate::model::{FrictionTable, Lane};
+use crate::output::names::{SUMMARY, TRACES};
+use crate::output::table::{row_cells, Cell, Format, LanesWriter};
+use crate::output::traces::TracesCsv;
+use crate::output::AtomicFile;
+use crate::params::Params;
+use crate::stats::{Grouping, Stats};
+
+/// The results table as a sink: rows streamed to `lanes.csv` (or
+/// `lanes.parquet`), counted for the summary line and into `summary.csv`
+/// (not for a shard: a shard's statistics would be of part of a group);
+/// traced lanes streamed to `traces.csv`.
+struct TableSink {
+    table: LanesWriter,
+    /// Formats the table's rows in parallel.
+    pool: rayon::ThreadPool,
+    cells: Vec<Cell>,
+    summary: Summary,
+    stats: Option<Stats>,
+    traces: Option<Tracer>,
+}
+
+/// Traced lanes: run again on the f64 path with rows taken on the way
+/// (the same integration as the CPU path's, bit for bit, whatever the
+/// backend), one lane at a time, so memory does not grow with them.
+struct Tracer {
+    spec: TraceSpec,
+    /// The run's integration settings (a trace's lane is run as its row).
+    settings: Settings,
+    next: usize,
+    out: TracesCsv,
+    table: Option<FrictionTable>,
+}
+
+impl Tracer {
+    fn chunk(&mut self, first: u64, params: &[Params]) -> Result<()> {
+        let end = first + params.len() as u64;
+        while let Some(&lane) = self.spec.lanes.get(self.next) {
+            if lane >= end {
+                break;
+            }
+            let l = Lane::new(&params[(lane - first) as usize], self.table.as_ref());
+            let mut failed = None;
+            let (out, table) = (&mut self.out, self.table.as_ref());
+            // The settings the lane's f64 row comes from, refined or not.
+            let set = settings_for(&l, table, &self.settings);
+            simulate_traced(&l, table, &set, self.spec.dt, &mut |row| {
+                if failed.is_none() {
+                    failed = out.write(lane, row).err();
+                }
+            });
+            if let Some(e) = failed {
+                return Err(e);
+            }
+            self.next += 1;
+        }
+        Ok(())
+    }
+}
+
+impl Sink for TableSink {
+    type Output = Written;
+    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+        self.table
+            .write_lanes(&self.pool, first, params, results, &mut self.cells)?;
+        for (i, (p, r)) in params.iter().zip(results).enumerate() {
+            if let Some(s) = self.stats.as_mut() {
+                let lane = first + i as u64;
+                row_cells(lane, p, r, &mut self.cells);
+                s.add_row(lane, &self.cells)?;
+            }
+            self.summary.add(p, r);
+        }
+        if let Some(t) = self.traces.as_mut() {
+            t.chunk(first, params)?;
+        }
+        Ok(())
+    }
+    fn finish(self) -> Result<Self::Output> {
+        Ok(Written {
+            lanes: self.table.into_file()?,
+            stats: self.stats.map(Stats::finish).transpose()?,
+            traces: self.traces.map(|t| t.out),
+            summary: self.summary,
+        })
+    }
+}
+
+/// What a run wrote, not yet committed.
+pub struct Written {
+    /// `lanes.csv` or `lanes.parquet`.
+    pub lanes: AtomicFile,
+    /// `summary.csv` (not for a shard).
+    pub stats: Option<AtomicFile>,
+    /// `traces.csv`, when lanes were traced.
+    pub traces: Option<TracesCsv>,
+    /// Counts for the summary line.
+    pub summary: Summary,
+}
+
+/// Where a run's table goes and which lanes it runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Target<'a> {
+    /// The output folder.
+    pub dir: &'a Path,
+    /// The table's format.
+    pub format: Format,
+    /// Lanes `start..end` (a shard's), or every lane.
+    pub range: Option<(u64, u64)>,
+    /// Threads that format the table's rows (0: all cores).
+    pub threads: usize,
+    /// The run's integration settings (traced lanes are run with them).
+    pub settings: Settings,
+}
+
+/// Runs the lanes of `source` that `target` names on `backend`, streaming
+/// rows to a temporary file for the table (and the traced lanes' rows to
+/// one for `traces.csv` beside it, and statistics to one for
+/// `summary.csv` when every lane is run); the caller commits them (with
+/// the run's other files) or drops them. `progress` shows a bar on stderr
+/// when it is a terminal.
+pub fn run(
+    source: &Source,
+    backend: &mut dyn Backend,
+    target: Target<'_>,
+    trace: Option<&TraceSpec>,
+    progress: bool,
+) -> Result<Written> {
+    let start = Instant::now();
+    let dir = target.dir;
+    let (first, end) = target.range.unwrap_or((0, source.lane_count()));
+    let traces = match trace {
+        Some(spec) => {
+            // A shard traces the traced lanes in its range.
+            let lanes: Vec<u64> = spec
+                .lanes
+                .iter()
+                .copied()
+                .filter(|l| (first..end).contains(l))
+                .collect();
+            if lanes.is_empty() {
+                None
+            } else {
+                Some(Tracer {
+                    spec: TraceSpec { lanes, dt: spec.dt },
+                    settings: target.settings,
+                    next: 0,
+                    out: TracesCsv::create(&dir.join(TRACES), target.range.is_some())?,
+                    table: source.friction_table().copied(),
+                })
+            }
+        }
+        None => None,
+    };
+    let stats = match target.range {
+        None => Some(Stats::create(&dir.join(SUMMARY), Grouping::of(source))?),
+        Some(_) => None,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(target.threads)
+        .thread_name(|i| format!("tswm-writer-{i}"))
+        .build()
+        .map_err(|e| Error::Internal(format!("writer threads: {e}")))?;
+    let sink = TableSink {
+        // A shard's files are hashed as they are written: its manifest
+        // records their SHA-256.
+        table: LanesWriter::create(dir, target.format, target.range.is_some())?,
+        pool,
+        cells: Vec::with_capacity(64),
+        stats,
+        summary: Summary::default(),
+        traces,
+    };
+    let table = dir.join(target.format.file_name());
+    // On failure the sink's partial files are dropped, and so removed.
+    let mut written =
+        pipeline_range(source, (first, end), backend, progress, sink).map_err(|e| match e {
+            Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", table.display())),
+            e => e,
+        })?;
+    written.summary.seconds = start.elapsed().as_secs_f64();
+    Ok(written)
+}
