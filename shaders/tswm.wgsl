@@ -5,19 +5,20 @@
 //
 // The same algorithm as the f64 CPU path, in the same parts and order,
 // each section headed by the Rust file it mirrors:
-//   src/model.rs                  motor_force, tan_small, mu_sliding, phi, side_of,
-//                                 motion, stick_test
+//   src/model/ (mod.rs, friction.rs)  motor_force, tan_small, mu_sliding, phi,
+//                                 side_of, motion, stick_test
 //   src/integrator/result.rs      status codes
 //   src/integrator/stepper.rs     tableau, rhs, stage*_v, increment, error_term,
 //                                 error_scale, dense_coeffs, dense_r5, try_step
 //   src/integrator/events.rs      dense_v, event_value, locate_root, earliest_event
 //   src/integrator/flow.rs        dense_slope, split, dense_w, step_flow
 //   src/integrator/automaton.rs   State, init, set_side, check_mode, come_to_rest,
-//                                 depart, cut_motor, reach_time_event, prepare,
-//                                 step_factor, finish_step, step_to_event, attempt
+//                                 depart, cut_motor, horizon, reach_time_event
+//   src/integrator/step.rs        prepare, step_factor, finish_step, add_flow,
+//                                 step_to_event, attempt
 //   src/integrator/batch.rs       Globals, bindings, the entry point
 // Structs and constants shared with the host are mirrored in
-// src/gpu/layout.rs and src/model.rs; tests read them from this file with
+// src/backend/gpu/layout.rs and src/model/; tests read them from this file with
 // naga and compare.
 //
 // Differences forced by f32: x1, the works and the time are compensated
@@ -27,9 +28,9 @@
 // underflow; tan_small's series stops at x^9, exact in f32; "never" is
 // 3e38 rather than infinity.
 
-// ==== src/model.rs ====
+// ==== src/model/ (mod.rs, friction.rs) ====
 
-// Keep in sync with `GpuLane` in src/gpu/layout.rs.
+// Keep in sync with `GpuLane` in src/backend/gpu/layout.rs.
 struct Lane {
     m1: f32, m2: f32, tan_g: f32, sin_g: f32,
     cos_g: f32, inv_cos_g: f32, f2: f32, motor: u32,
@@ -39,7 +40,7 @@ struct Lane {
     v1_0: f32, t_end: f32, t_max: f32, pad1: f32,
 }
 
-// Law codes: keep in sync with src/model.rs.
+// Law codes: keep in sync with src/model/mod.rs.
 const MOTOR_KLOSS: u32 = 0u;
 const MOTOR_CONSTANT: u32 = 1u;
 const FRICTION_PAPER: u32 = 0u;
@@ -406,7 +407,7 @@ fn step_flow(k1: array<f32, NY>, tr: Trial, h: f32) -> vec4<f32> {
 
 // ==== src/integrator/automaton.rs ====
 
-// Keep in sync with `GpuState` in src/gpu/layout.rs.
+// Keep in sync with `GpuState` in src/backend/gpu/layout.rs.
 struct State {
     t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
     flow: vec4<f32>,    // w1_in, w1_out, w2_in, w2_out
@@ -420,7 +421,7 @@ struct State {
     pad3: u32, pad4: u32,
 }
 
-// Flag bits of State.flags: keep in sync with `flags` in src/gpu/layout.rs.
+// Flag bits of State.flags: keep in sync with `flags` in src/backend/gpu/layout.rs.
 const F_STUCK: u32 = 1u;
 const F_MOTOR_ON: u32 = 2u;
 const F_DONE: u32 = 4u;
@@ -551,6 +552,8 @@ fn reach_time_event(l: Lane, st: ptr<function, State>, t_stop: f32) {
     }
 }
 
+// ==== src/integrator/step.rs ====
+
 struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
 
 fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
@@ -664,7 +667,7 @@ fn attempt(l: Lane, st: ptr<function, State>) {
 
 // ==== src/integrator/batch.rs ====
 
-// Keep in sync with `GpuGlobals` in src/gpu/layout.rs.
+// Keep in sync with `GpuGlobals` in src/backend/gpu/layout.rs.
 struct Globals {
     n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
     tol: f32, h_initial: f32, table_n: u32, row_lanes: u32,
@@ -673,7 +676,7 @@ struct Globals {
     table_mu: array<vec4<f32>, 8>,
 }
 
-// Keep in sync with `GpuControl` in src/gpu/layout.rs.
+// Keep in sync with `GpuControl` in src/backend/gpu/layout.rs.
 struct Control {
     // Slots that still hold an unfinished lane after this dispatch.
     n_active: atomic<u32>,

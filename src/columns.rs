@@ -4,6 +4,10 @@
 //! reader's types, `summary.csv`, `tswm merge`, `tswm check`, the report's
 //! labels and choices, and the column table of the docs all derive from
 //! [`RESULTS`]; no other place spells a result column's name.
+//!
+//! Why over 400 lines: the rows and what reads them belong together, as in
+//! `params::table`; split, the one place that states each column's facts
+//! would become two.
 
 use std::borrow::Cow;
 
@@ -105,12 +109,26 @@ pub struct Column {
     pub summary: Summary,
     /// How `tswm check` compares it.
     pub compare: Compare,
+    /// Plotted by the report unless `[report] results` says otherwise.
+    pub plotted: bool,
     /// One of the integrated results that the f64 path's error estimate
     /// covers and the GPU row check tests (x1, v1, the works, the energies).
     pub integrated: bool,
     /// Lane `lane`'s cell.
     pub cell: fn(u64, &LaneResult) -> Cell,
 }
+
+/// The names of the columns that code reads by name (each used as its
+/// row's name below, so spelled once).
+pub const LANE: &str = "lane";
+/// See [`LANE`].
+pub const STATUS: &str = "status";
+/// See [`LANE`].
+pub const CONTACT_END: &str = "contact_end";
+/// See [`LANE`].
+pub const HOLD: &str = "hold";
+/// See [`LANE`].
+pub const LOCK_MARGIN_DEG: &str = "lock_margin_deg";
 
 /// Bound of `tswm check` on first-switch times, s.
 pub const SWITCH_BOUND: f64 = 2e-5;
@@ -132,6 +150,7 @@ const ROW: Column = Column {
     kind: Kind::Float,
     summary: Summary::Numbers,
     compare: Compare::None,
+    plotted: false,
     integrated: false,
     cell: |_, _| Cell::F(f64::NAN),
 };
@@ -160,8 +179,8 @@ fn hold_words() -> Vec<&'static str> {
 /// parameters).
 pub const RESULTS: &[Column] = &[
     Column {
-        name: "lane",
-        quantity: "lane",
+        name: LANE,
+        quantity: "lane index",
         meaning: "index of the lane in sweep order (0-based): grid point lane / n, sample lane % n",
         kind: Kind::Int,
         summary: Summary::None,
@@ -169,8 +188,8 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "status",
-        quantity: "status",
+        name: STATUS,
+        quantity: "lane status",
         meaning: "ok, or why the lane could not be finished: inconsistent (D <= 0: friction far \
                   above the lead angle), nonfinite, max_steps, max_events, step_underflow",
         kind: Kind::Text,
@@ -200,7 +219,7 @@ pub const RESULTS: &[Column] = &[
     },
     Column {
         name: "reversals",
-        quantity: "reversals",
+        quantity: "direction reversals",
         meaning: "changes of the direction of motion",
         kind: Kind::Int,
         compare: Compare::Exact,
@@ -217,7 +236,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "contact_end",
+        name: CONTACT_END,
         quantity: "final contact",
         meaning: "contact at the end: aa (worm pushes wheel), bb (wheel pushes worm), stick (at rest, held)",
         kind: Kind::Text,
@@ -260,6 +279,7 @@ pub const RESULTS: &[Column] = &[
     },
     Column {
         name: "w_friction",
+        plotted: true,
         unit: "J",
         quantity: "friction heat",
         meaning: "heat in the mesh, the integral of S1 v1 + S2 v2 (>= 0)",
@@ -316,6 +336,7 @@ pub const RESULTS: &[Column] = &[
     },
     Column {
         name: "eta_direct",
+        plotted: true,
         quantity: "direct efficiency (worm drives)",
         meaning: "w2_out / w1_in: the share of the energy the worm side put into the mesh that \
                   reached the wheel side, over the whole run",
@@ -326,6 +347,7 @@ pub const RESULTS: &[Column] = &[
     },
     Column {
         name: "eta_inverse",
+        plotted: true,
         quantity: "inverse efficiency (wheel drives)",
         meaning: "w1_out / w2_in: the share of the energy the wheel side put into the mesh that \
                   reached the worm side; 0 when the wheel side only fed friction (a self-locking \
@@ -354,7 +376,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "lock_margin_deg",
+        name: LOCK_MARGIN_DEG,
         unit: "deg",
         quantity: "static lock margin",
         meaning: "rho_s - gamma with rho_s = atan(mu_s): > 0 means the drive holds its load at rest \
@@ -364,7 +386,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "hold",
+        name: HOLD,
         quantity: "does it hold",
         meaning: "for a lane whose motor is cut before t_end: held (at rest, stuck), runs_away \
                   (sliding and not slowing down) or coasting (sliding and slowing down: not decided; \
@@ -416,6 +438,11 @@ pub fn result(name: &str) -> Option<&'static Column> {
     results().iter().find(|c| c.name == name)
 }
 
+/// The result columns the report plots unless told otherwise.
+pub fn plotted() -> impl Iterator<Item = &'static Column> {
+    results().iter().filter(|c| c.plotted)
+}
+
 /// The result columns `summary.csv` gives numbers for, in table order.
 pub fn number_columns() -> impl Iterator<Item = &'static Column> {
     results()
@@ -451,7 +478,7 @@ mod tests {
             assert!(!names[..i].contains(n), "{n} twice");
             assert!(crate::params::Param::from_name(n).is_none(), "{n}");
         }
-        assert_eq!(names.first(), Some(&"lane"));
+        assert_eq!(names.first(), Some(&LANE));
         assert_eq!(names.last(), Some(&"path"));
     }
 

@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 use crate::backend::{self, Choice};
 use crate::cli::{trace_plan, LanesArgs};
 use crate::error::{Error, Result};
+use crate::input::lanes::Source;
+use crate::input::sweep::TraceSpec;
 use crate::output::names::{MANIFEST, RESOLVED};
 use crate::output::provenance;
 use crate::output::table::Format;
@@ -42,6 +44,94 @@ struct ShardRun {
     range: (u64, u64),
     hash: String,
     lane_table: Option<String>,
+    total: u64,
+}
+
+impl ShardRun {
+    /// Shard `s` of `source`'s run with the traces `trace` into `dir`;
+    /// None when the folder already holds this shard's complete result (a
+    /// scheduler retries a task with the same index: it is kept, not
+    /// computed again, and said so).
+    fn start(
+        s: Shard,
+        source: &Source,
+        trace: Option<&TraceSpec>,
+        dir: &OutDir,
+        format: Format,
+    ) -> Result<Option<ShardRun>> {
+        let (hash, lane_table) = source_hash(source, trace)?;
+        if let Some(m) = Manifest::read(dir.path()).ok().flatten() {
+            if m.sweep_hash == hash
+                && (m.shard, m.shards) == (s.k, s.n)
+                && m.format == format
+                && m.version == env!("CARGO_PKG_VERSION")
+                && m.incomplete(dir.path()).is_none()
+            {
+                println!(
+                    "tswm: shard {}/{} is already complete in {} ({} lanes, {} to {}, {}); nothing to do",
+                    s.k,
+                    s.n,
+                    dir.path().display(),
+                    m.rows,
+                    m.lane_start,
+                    m.lane_end.max(1) - 1,
+                    m.backend_name
+                );
+                return Ok(None);
+            }
+        }
+        // Anything else here is redone from scratch; the old manifest goes
+        // first, so it can never stand beside new files.
+        remove_if_there(&dir.join(MANIFEST))?;
+        let total = source.lane_count();
+        Ok(Some(ShardRun {
+            shard: s,
+            range: s.range(total),
+            hash,
+            lane_table,
+            total,
+        }))
+    }
+
+    /// The shard's manifest over its `files` (hashed as they were
+    /// written), for a run on `backend` summed up by `summary`.
+    fn manifest(
+        &self,
+        files: &mut [AtomicFile],
+        backend: &str,
+        summary: &run::Summary,
+        format: Format,
+    ) -> Result<Manifest> {
+        let mut digests = std::collections::BTreeMap::new();
+        for f in files {
+            let name = f
+                .dest()
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let d = f
+                .digest()?
+                .ok_or_else(|| Error::Internal(format!("{name} of a shard was not hashed")))?;
+            digests.insert(name, d);
+        }
+        Ok(Manifest {
+            tool: "tswm".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            sweep_hash: self.hash.clone(),
+            lane_table_sha256: self.lane_table.clone(),
+            shard: self.shard.k,
+            shards: self.shard.n,
+            lane_start: self.range.0,
+            lane_end: self.range.1,
+            lanes_total: self.total,
+            rows: summary.lanes,
+            backend: backend_kind(backend).into(),
+            backend_name: backend.to_string(),
+            format,
+            seconds: summary.seconds,
+            files: digests,
+        })
+    }
 }
 
 /// Runs `tswm run`; prints its summary line.
@@ -53,40 +143,10 @@ pub fn run(a: RunArgs) -> Result<()> {
     let total = plan.source.lane_count();
     let shard = match shard {
         None => None,
-        Some(s) => {
-            let (hash, lane_table) = source_hash(&plan.source, trace.as_ref())?;
-            // A scheduler retries a task with the same index: a complete
-            // result of this very shard is kept, not computed again.
-            if let Some(m) = Manifest::read(dir.path()).ok().flatten() {
-                if m.sweep_hash == hash
-                    && (m.shard, m.shards) == (s.k, s.n)
-                    && m.format == a.format
-                    && m.version == env!("CARGO_PKG_VERSION")
-                    && m.incomplete(dir.path()).is_none()
-                {
-                    println!(
-                        "tswm: shard {}/{} is already complete in {} ({} lanes, {} to {}, {}); nothing to do",
-                        s.k,
-                        s.n,
-                        dir.path().display(),
-                        m.rows,
-                        m.lane_start,
-                        m.lane_end.max(1) - 1,
-                        m.backend_name
-                    );
-                    return Ok(());
-                }
-            }
-            // Anything else here is redone from scratch; the old manifest
-            // goes first, so it can never stand beside new files.
-            remove_if_there(&dir.join(MANIFEST))?;
-            Some(ShardRun {
-                shard: s,
-                range: s.range(total),
-                hash,
-                lane_table,
-            })
-        }
+        Some(s) => match ShardRun::start(s, &plan.source, trace.as_ref(), &dir, a.format)? {
+            Some(run) => Some(run),
+            None => return Ok(()),
+        },
     };
     let mut be = backend::open(a.backend, total, plan.threads, plan.settings)?;
     let target = run::Target {
@@ -119,35 +179,7 @@ pub fn run(a: RunArgs) -> Result<()> {
     // The table last, or for a shard its manifest: its appearance means
     // the run is complete.
     if let Some(s) = &shard {
-        let mut digests = std::collections::BTreeMap::new();
-        for f in &mut files {
-            let name = f
-                .dest()
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let d = f
-                .digest()?
-                .ok_or_else(|| Error::Internal(format!("{name} of a shard was not hashed")))?;
-            digests.insert(name, d);
-        }
-        let m = Manifest {
-            tool: "tswm".into(),
-            version: env!("CARGO_PKG_VERSION").into(),
-            sweep_hash: s.hash.clone(),
-            lane_table_sha256: s.lane_table.clone(),
-            shard: s.shard.k,
-            shards: s.shard.n,
-            lane_start: s.range.0,
-            lane_end: s.range.1,
-            lanes_total: total,
-            rows: written.summary.lanes,
-            backend: backend_kind(&be.name()).into(),
-            backend_name: be.name(),
-            format: a.format,
-            seconds: written.summary.seconds,
-            files: digests,
-        };
+        let m = s.manifest(&mut files, &be.name(), &written.summary, a.format)?;
         files.push(small_file(&dir.join(MANIFEST), &m.text(), false)?);
     }
     let replaced = dir.held_results();

@@ -4,6 +4,7 @@
 //! benchmarks ([`testmodels`]).
 
 pub mod lanes;
+mod reader;
 pub mod sampling;
 pub mod sweep;
 pub mod testmodels;

@@ -3,8 +3,9 @@
 //! invocation (the GPU path).
 
 use super::accuracy::{needs_refining, ErrorBudget};
-use super::automaton::{advance, finish_step, init, prepare, LaneState, StepPlan};
+use super::automaton::{init, LaneState};
 use super::result::{LaneResult, RowPath};
+use super::step::{advance, finish_step, prepare, StepPlan};
 use super::stepper::try_steps;
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};

@@ -14,13 +14,16 @@ pub mod automaton;
 pub mod batch;
 pub mod events;
 pub mod flow;
+pub mod path;
 pub mod result;
+pub mod step;
 pub mod stepper;
 pub mod trace;
 
-pub use automaton::{advance, init, LaneState, H_INITIAL};
+pub use automaton::{init, LaneState, H_INITIAL};
 pub use batch::{simulate, simulate_batch, INTERLEAVE};
 pub use result::{Contact, EndState, Hold, LaneResult, Recheck, RowPath, Status};
+pub use step::{advance, attempt};
 
 /// Components of the integrated state: x1, ẋ1, w_motor, w_load,
 /// w_friction and w_p1 = ∫p1 dt (MODEL.md sections 6 and 10; ∫p2 dt is

@@ -6,9 +6,10 @@
 //! every event, twice with the same t: the state just before it (old mode)
 //! and just after it (new mode).
 
-use super::automaton::{finish_step, init, prepare, LaneState};
+use super::automaton::{init, LaneState};
 use super::events::dense_v;
 use super::result::{Contact, LaneResult};
+use super::step::{finish_step, prepare};
 use super::stepper::try_step;
 use super::Settings;
 use crate::model::{motion, motor_force, mu_sliding, phi, FrictionTable, Lane};

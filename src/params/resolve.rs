@@ -102,21 +102,6 @@ impl Spec {
         Ok(())
     }
 
-    /// `other`'s set values replace this spec's.
-    pub fn overlay(&mut self, other: &Spec) {
-        for i in 0..N_NUM {
-            if other.num[i].is_some() {
-                self.num[i] = other.num[i];
-            }
-        }
-        if other.motor.is_some() {
-            self.motor = other.motor;
-        }
-        if other.friction.is_some() {
-            self.friction = other.friction;
-        }
-    }
-
     /// Resolves defaults and validates, row by row of the table. `has_table`
     /// says whether the sweep carries a friction table (required by
     /// `friction = "table"`).

@@ -6,6 +6,10 @@
 use crate::input::sweep::{Axis, Sweep};
 use crate::params::Num;
 
+/// Most points along a line (and values in a requirement's answer);
+/// longer axes are binned.
+pub(super) const LINE_POINTS: u64 = 1000;
+
 /// Index `i` of `len` into `bins` bins.
 pub(super) fn bin(i: u64, len: u64, bins: u64) -> usize {
     if len <= bins {
@@ -267,6 +271,24 @@ impl LineData {
         (pts, band)
     }
 
+    /// Adds a lane of grid point `point`: its plotted results and, for a
+    /// finished lane, its final contact.
+    pub fn add(&mut self, point: u64, vals: &[f64], contact: Option<usize>) {
+        let b = bin(point, self.len, LINE_POINTS).min(self.xs.len().saturating_sub(1));
+        for (r, &v) in vals.iter().enumerate() {
+            if v.is_finite() {
+                let a = &mut self.acc[r][b];
+                a.0 += v;
+                a.1 += 1;
+                a.2 = a.2.min(v);
+                a.3 = a.3.max(v);
+            }
+        }
+        if let Some(k) = contact {
+            self.contact[b][k] += 1;
+        }
+    }
+
     /// Per point (in order): mean, min and max of result `r` (NaN where
     /// none).
     pub fn per_point(&self, r: usize) -> Vec<(f64, f64, f64)> {
@@ -333,6 +355,21 @@ pub struct GroupData {
 }
 
 impl GroupData {
+    /// Adds a lane's plotted results to the group's histograms.
+    pub fn add(&mut self, vals: &[f64]) {
+        for (r, &v) in vals.iter().enumerate() {
+            if let (Some((lo, hi, counts)), true) = (self.hists[r].as_mut(), v.is_finite()) {
+                // Halves: the span of two finite values cannot overflow.
+                let w = (0.5 * *hi - 0.5 * *lo).max(f64::MIN_POSITIVE);
+                let bins = counts.len();
+                let k = ((0.5 * v - 0.5 * *lo) / w * bins as f64)
+                    .floor()
+                    .clamp(0.0, (bins - 1) as f64);
+                counts[k as usize] += 1;
+            }
+        }
+    }
+
     /// Histogram of result `r`.
     pub fn hist(&self, r: usize) -> Option<(f64, f64, &[u64])> {
         self.hists[r]

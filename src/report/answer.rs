@@ -3,12 +3,13 @@
 
 use plotters::chart::SeriesLabelPosition;
 
-use super::charts::{points_chart, Series};
+use super::charts::{points_chart, Series, VERDICT_COLOURS};
 use super::html::Page;
 use super::plots::{self, Axis};
 use super::require::{RequireData, Verdict};
 use super::scan::{Folder, LINE_POINTS};
 use super::{param_label, percent};
+use crate::params::Num;
 
 /// At the top: lanes whose question is not answered yet (still coasting
 /// when their run ended), with what to do.
@@ -82,115 +83,28 @@ pub(super) fn requirement(page: &mut Page, r: &RequireData) {
         percent(req.at_least)
     );
     let Some(axis) = r.axis else {
-        let (share, lo, _, v) = r.judge(r.counts[0][0]);
-        let (k, n) = r.counts[0][0];
-        let verdict = match v {
-            Some(Verdict::Met) => "met",
-            Some(Verdict::NotMet) => "not met",
-            Some(Verdict::Undecided) => "not decided: more lanes are needed",
-            None => "not decided: no lanes",
-        };
-        page.answer(&format!(
-            "Requirement {want}: {verdict} ({k} of {n} lanes, {}; lower bound {}).",
-            percent(share),
-            percent(lo)
-        ));
+        page.answer(&format!("Requirement {want}: {}", whole_run(r)));
         return;
     };
-    let name = axis.name();
-    let unit = axis.def().unit;
     let mut figs = Vec::new();
     for (p, label) in r.panel_labels.iter().enumerate() {
-        let judged: Vec<_> = r.counts[p].iter().map(|&c| r.judge(c)).collect();
-        let of = |v: Verdict| -> Vec<usize> {
-            (0..judged.len())
-                .filter(|&i| judged[i].3 == Some(v))
-                .collect()
-        };
-        let (met, open, not) = (
-            of(Verdict::Met),
-            of(Verdict::Undecided),
-            of(Verdict::NotMet),
-        );
+        let judged: Vec<Judged> = r.counts[p].iter().map(|&c| r.judge(c)).collect();
         let at = if label == "all lanes" {
             String::new()
         } else {
             format!(" at {label}")
         };
-        let mut s = format!(
-            "Requirement {want}{at}: met for {name} = {}",
-            runs(&r.xs, &met)
-        );
-        if let (Some(&a), Some(&b)) = (met.first(), met.last()) {
-            s.push_str(&format!(
-                " (smallest {}, largest {}{})",
-                plots::tick(r.xs[a]),
-                plots::tick(r.xs[b]),
-                if unit.is_empty() {
-                    String::new()
-                } else {
-                    format!(" {unit}")
-                }
-            ));
-        }
-        if !open.is_empty() {
-            s.push_str(&format!(
-                "; not decided for {} (more lanes are needed there)",
-                runs(&r.xs, &open)
-            ));
-        }
-        s.push_str(&format!("; not met for {}.", runs(&r.xs, &not)));
-        let most = r.counts[p].iter().map(|c| c.1).max().unwrap_or(0);
-        if met.is_empty() && most < r.lanes_needed() {
-            s.push_str(&format!(
-                " With {most} lanes a value, no share can be confirmed at {}: that takes at least {} \
-                 lanes a value, all of them meeting it (more samples in [sampling]).",
-                percent(req.at_least),
-                r.lanes_needed()
-            ));
-        }
-        page.answer(&s);
-        let x = Axis::grid(&param_label(axis), &r.xs);
-        let y = Axis::fixed(&format!("share of lanes with {}", req.text()), 0.0, 1.0);
-        let series_of = |v: Verdict, name, colour| Series {
-            name,
-            colour: Some(colour),
-            values: judged
-                .iter()
-                .map(|j| {
-                    if j.3 == Some(v) {
-                        (j.0, j.1, j.2)
-                    } else {
-                        (f64::NAN, f64::NAN, f64::NAN)
-                    }
-                })
-                .collect(),
-        };
-        figs.push(points_chart(
-            &format!("{}{at}", req.text()),
-            &x,
-            &y,
-            &[
-                series_of(Verdict::Met, "met", super::charts::VERDICT_COLOURS[0]),
-                series_of(
-                    Verdict::Undecided,
-                    "not decided",
-                    super::charts::VERDICT_COLOURS[1],
-                ),
-                series_of(
-                    Verdict::NotMet,
-                    "not met",
-                    super::charts::VERDICT_COLOURS[2],
-                ),
-            ],
-            Some((req.at_least, "required share")),
-            SeriesLabelPosition::LowerLeft,
+        page.answer(&format!(
+            "Requirement {want}{at}: {}",
+            along_axis(r, axis, p, &judged)
         ));
+        figs.push(marked_chart(r, axis, &at, &judged));
     }
     if r.binned {
         page.note(&format!(
-            "{name} has more values than the answer lists: they are binned into {LINE_POINTS} \
-             (each named by its first value)."
+            "{} has more values than the answer lists: they are binned into {LINE_POINTS} \
+             (each named by its first value).",
+            axis.name()
         ));
     }
     page.note(
@@ -206,4 +120,105 @@ pub(super) fn requirement(page: &mut Page, r: &RequireData) {
         ));
     }
     page.figures(figs);
+}
+
+/// A point's share, its one-sided bounds and verdict (see
+/// [`RequireData::judge`]).
+type Judged = (f64, f64, f64, Option<Verdict>);
+
+/// The answer for a sweep without a grid: all its lanes at once.
+fn whole_run(r: &RequireData) -> String {
+    let (share, lo, _, v) = r.judge(r.counts[0][0]);
+    let (k, n) = r.counts[0][0];
+    let verdict = match v {
+        Some(Verdict::Met) => "met",
+        Some(Verdict::NotMet) => "not met",
+        Some(Verdict::Undecided) => "not decided: more lanes are needed",
+        None => "not decided: no lanes",
+    };
+    format!(
+        "{verdict} ({k} of {n} lanes, {}; lower bound {}).",
+        percent(share),
+        percent(lo)
+    )
+}
+
+/// The answer along the first axis for panel `p`: the values that meet
+/// it (with the smallest and largest), those that cannot be decided, those
+/// that do not, and how many lanes a value would take when too few ran.
+fn along_axis(r: &RequireData, axis: Num, p: usize, judged: &[Judged]) -> String {
+    let of = |v: Verdict| -> Vec<usize> {
+        (0..judged.len())
+            .filter(|&i| judged[i].3 == Some(v))
+            .collect()
+    };
+    let (met, open, not) = (
+        of(Verdict::Met),
+        of(Verdict::Undecided),
+        of(Verdict::NotMet),
+    );
+    let unit = axis.def().unit;
+    let mut s = format!("met for {} = {}", axis.name(), runs(&r.xs, &met));
+    if let (Some(&a), Some(&b)) = (met.first(), met.last()) {
+        s.push_str(&format!(
+            " (smallest {}, largest {}{})",
+            plots::tick(r.xs[a]),
+            plots::tick(r.xs[b]),
+            if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {unit}")
+            }
+        ));
+    }
+    if !open.is_empty() {
+        s.push_str(&format!(
+            "; not decided for {} (more lanes are needed there)",
+            runs(&r.xs, &open)
+        ));
+    }
+    s.push_str(&format!("; not met for {}.", runs(&r.xs, &not)));
+    let most = r.counts[p].iter().map(|c| c.1).max().unwrap_or(0);
+    if met.is_empty() && most < r.lanes_needed() {
+        s.push_str(&format!(
+            " With {most} lanes a value, no share can be confirmed at {}: that takes at least {} \
+             lanes a value, all of them meeting it (more samples in [sampling]).",
+            percent(r.req.at_least),
+            r.lanes_needed()
+        ));
+    }
+    s
+}
+
+/// The share of each value that meets the requirement, marked by its
+/// verdict, with the required share as a line.
+fn marked_chart(r: &RequireData, axis: Num, at: &str, judged: &[Judged]) -> Result<String, String> {
+    let x = Axis::grid(&param_label(axis), &r.xs);
+    let y = Axis::fixed(&format!("share of lanes with {}", r.req.text()), 0.0, 1.0);
+    let series_of = |v: Verdict, name, colour| Series {
+        name,
+        colour: Some(colour),
+        values: judged
+            .iter()
+            .map(|j| {
+                if j.3 == Some(v) {
+                    (j.0, j.1, j.2)
+                } else {
+                    (f64::NAN, f64::NAN, f64::NAN)
+                }
+            })
+            .collect(),
+    };
+    points_chart(
+        &format!("{}{at}", r.req.text()),
+        &x,
+        &y,
+        &[
+            series_of(Verdict::Met, "met", VERDICT_COLOURS[0]),
+            series_of(Verdict::Undecided, "not decided", VERDICT_COLOURS[1]),
+            series_of(Verdict::NotMet, "not met", VERDICT_COLOURS[2]),
+        ],
+        Some((r.req.at_least, "required share")),
+        SeriesLabelPosition::LowerLeft,
+    )
 }

@@ -8,6 +8,7 @@
 mod aggregates;
 mod answer;
 pub mod axis;
+mod cells;
 pub mod charts;
 pub mod html;
 pub mod plots;

@@ -12,13 +12,16 @@
 use std::path::Path;
 
 use crate::columns::{results, Column, Summary};
+use crate::columns::{CONTACT_END, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::output::table::{columns, Cell, RowReader};
 use crate::params::Num;
 
-use super::aggregates::{bin, bin_values};
+use super::aggregates::bin_values;
+pub(super) use super::aggregates::LINE_POINTS;
 pub use super::aggregates::{GroupData, LineData, MapData};
+pub(super) use super::cells::{bad_row, column, num, open_csv, text};
 pub use super::require::RequireData;
 pub use super::trace::TraceData;
 
@@ -29,7 +32,7 @@ pub const CONTACT_NAMES: [(&str, &str); 3] = [("stick", "held"), ("aa", "a-a"), 
 /// Most cells along one axis of a map, and points along a line; longer
 /// axes are binned.
 const MAP_CELLS: u64 = 120;
-pub(super) const LINE_POINTS: u64 = 1000;
+
 /// Lanes listed by name among those that could not be finished.
 const UNFINISHED_SHOWN: usize = 20;
 /// Histogram bins.
@@ -64,50 +67,6 @@ pub struct Folder {
     pub groups_total: usize,
     pub traces: Vec<TraceData>,
     pub require: Option<RequireData>,
-}
-
-pub(super) fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>> {
-    csv::Reader::from_path(path)
-        .map_err(|e| Error::input(path, None, None, format!("cannot read it: {e}")))
-}
-
-pub(super) fn bad_row(path: &Path, e: csv::Error) -> Error {
-    let line = e.position().map(|p| format!("line {}", p.line()));
-    Error::input(path, line, None, format!("not a tswm table: {e}"))
-}
-
-pub(super) fn column(path: &Path, head: &csv::ByteRecord, name: &str) -> Result<usize> {
-    head.iter()
-        .position(|h| h == name.as_bytes())
-        .ok_or_else(|| Error::input(path, Some("line 1".into()), Some(name), "column missing"))
-}
-
-/// A number cell of a CSV record: empty is NaN, anything else must be a
-/// finite number (else an error naming the line and column).
-pub(super) fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> Result<f64> {
-    let t = rec.get(i).unwrap_or(b"");
-    if t.is_empty() {
-        return Ok(f64::NAN);
-    }
-    match std::str::from_utf8(t)
-        .ok()
-        .and_then(|s| s.parse::<f64>().ok())
-    {
-        Some(v) if v.is_finite() => Ok(v),
-        _ => Err(Error::input(
-            path,
-            rec.position().map(|p| format!("line {}", p.line())),
-            Some(name),
-            format!(
-                "`{}` is not a finite number; not a tswm table",
-                crate::error::shown(&String::from_utf8_lossy(t), 40)
-            ),
-        )),
-    }
-}
-
-pub(super) fn text(rec: &csv::ByteRecord, i: usize) -> String {
-    String::from_utf8_lossy(rec.get(i).unwrap_or(b"")).into_owned()
 }
 
 /// The words of a word column of the results table.
@@ -159,9 +118,9 @@ impl Folder {
         let mut f = Folder {
             table: crate::output::table::Format::of_folder(dir)?.file_name(),
             lanes: 0,
-            by_status: word_counts("status"),
+            by_status: word_counts(STATUS),
             by_contact: [0; 3],
-            by_hold: word_counts("hold"),
+            by_hold: word_counts(HOLD),
             hold_lanes: 0,
             coasting_t_end: f64::NAN,
             coasting_t_max: f64::NAN,
@@ -220,11 +179,11 @@ impl Folder {
             .map(|r| Ok((c(r.name)?, r.name, words_of(r))))
             .collect::<Result<Vec<_>>>()?;
         Ok(Cols {
-            lane: c("lane")?,
-            status: c("status")?,
-            contact: c("contact_end")?,
-            hold: c("hold")?,
-            lock: c("lock_margin_deg")?,
+            lane: c(LANE)?,
+            status: c(STATUS)?,
+            contact: c(CONTACT_END)?,
+            hold: c(HOLD)?,
+            lock: c(LOCK_MARGIN_DEG)?,
             t_end: c(Num::TEnd.name())?,
             t_max: c(Num::TMax.name())?,
             results: self
@@ -268,113 +227,28 @@ impl Folder {
         let mut cells: Vec<Cell> = Vec::with_capacity(kinds.len());
         let mut vals = vec![0.0; cols.results.len()];
         while rd.read_cells(&mut rec, &kinds, &mut cells)? {
-            let row = self.lanes;
-            let at = || Some(format!("row {}", row + 1));
-            if cells[cols.lane] != Cell::I(row) {
-                return Err(Error::input(
-                    &path,
-                    at(),
-                    Some("lane"),
-                    format!(
-                        "is {}, expected {row}: a table's rows are its lanes 0, 1, 2, ... in order; \
-                         not a table tswm wrote",
-                        text(&rec, cols.lane)
-                    ),
-                ));
-            }
-            if row >= stated {
-                return Err(Error::input(
-                    &path,
-                    at(),
-                    Some("lane"),
-                    format!(
-                        "lane {row} is not in the run: its sweep.resolved.toml states {stated} lanes; \
-                         the table belongs to another run"
-                    ),
-                ));
-            }
-            for (i, name, words) in &cols.words {
-                let w = cells[*i].word();
-                if !(words.contains(&w) || (w.is_empty() && *name == "hold")) {
-                    return Err(Error::input(
-                        &path,
-                        at(),
-                        Some(name),
-                        format!(
-                            "`{}` is not one of {}; not a tswm table",
-                            crate::error::shown(w, 40),
-                            words.join(", ")
-                        ),
-                    ));
-                }
-            }
+            let lane = self.lanes;
+            check_row(&path, lane, stated, &cells, &rec, &cols)?;
             self.lanes += 1;
-            let lane = row;
-            let status = cells[cols.status].word();
-            let ok = status == "ok";
-            if let Some(e) = self.by_status.iter_mut().find(|e| e.0 == status) {
-                e.1 += 1;
-            }
-            let hold = cells[cols.hold].word();
-            if !hold.is_empty() {
-                self.hold_lanes += 1;
-                if let Some(e) = self.by_hold.iter_mut().find(|e| e.0 == hold) {
-                    e.1 += 1;
-                }
-                if hold == "coasting" {
-                    let (te, tm) = (cells[cols.t_end].number(), cells[cols.t_max].number());
-                    self.coasting_t_end = self.coasting_t_end.max(te);
-                    if tm.is_finite() {
-                        self.coasting_t_max = self.coasting_t_max.max(tm);
-                    }
-                }
-            }
             if traced_lanes.binary_search(&lane).is_ok() {
                 let (te, tm) = (cells[cols.t_end].number(), cells[cols.t_max].number());
                 traced.push((lane, if tm.is_finite() { tm.max(te) } else { te }));
             }
-            let contact = CONTACT_NAMES
-                .iter()
-                .position(|c| c.0 == cells[cols.contact].word());
-            if !ok {
-                self.unfinished_total += 1;
-                if self.unfinished.len() < UNFINISHED_SHOWN {
-                    let mut r = vec![lane.to_string(), status.to_string()];
-                    r.extend(cols.shown.iter().map(|&i| text(&rec, i)));
-                    self.unfinished.push(r);
-                }
-            } else if let Some(k) = contact {
-                self.by_contact[k] += 1;
-            }
+            let (ok, contact) = self.count_outcomes(lane, &cells, &rec, &cols);
             for (v, &i) in vals.iter_mut().zip(&cols.results) {
                 *v = cells[i].number();
             }
             let point = lane / samples;
-            let passes = match (&self.require, cols.require) {
-                (Some(r), Some(i)) => Some(r.req.passes(&cells[i])),
-                _ => None,
-            };
-            if let (Some(r), Some(p)) = (self.require.as_mut(), passes) {
-                r.add(point, p);
+            if let (Some(r), Some(i)) = (self.require.as_mut(), cols.require) {
+                let passes = r.req.passes(&cells[i]);
+                r.add(point, passes);
             }
+            let contact = if ok { contact } else { None };
             if let Some(m) = self.map.as_mut() {
-                let lock = cells[cols.lock].number();
-                m.add(point, &vals, if ok { contact } else { None }, lock);
+                m.add(point, &vals, contact, cells[cols.lock].number());
             }
             if let Some(l) = self.line.as_mut() {
-                let b = bin(point, l.len, LINE_POINTS).min(l.xs.len().saturating_sub(1));
-                for (r, &v) in vals.iter().enumerate() {
-                    if v.is_finite() {
-                        let a = &mut l.acc[r][b];
-                        a.0 += v;
-                        a.1 += 1;
-                        a.2 = a.2.min(v);
-                        a.3 = a.3.max(v);
-                    }
-                }
-                if let (true, Some(k)) = (ok, contact) {
-                    l.contact[b][k] += 1;
-                }
+                l.add(point, &vals, contact);
             }
             if self.study {
                 let g = if sweep.axes.is_empty() {
@@ -383,18 +257,7 @@ impl Folder {
                     point as usize
                 };
                 if let Some(gd) = self.groups.get_mut(g) {
-                    for (r, &v) in vals.iter().enumerate() {
-                        if let (Some((lo, hi, counts)), true) =
-                            (gd.hists[r].as_mut(), v.is_finite())
-                        {
-                            // Halves: the span of two finite values cannot overflow.
-                            let w = (0.5 * *hi - 0.5 * *lo).max(f64::MIN_POSITIVE);
-                            let k = ((0.5 * v - 0.5 * *lo) / w * BINS as f64)
-                                .floor()
-                                .clamp(0.0, (BINS - 1) as f64);
-                            counts[k as usize] += 1;
-                        }
-                    }
+                    gd.add(&vals);
                 }
             }
         }
@@ -412,4 +275,101 @@ impl Folder {
         }
         Ok(traced)
     }
+
+    /// Counts a lane's status, hold and final contact, and lists it when
+    /// it did not finish; whether it is ok, and its contact's index.
+    fn count_outcomes(
+        &mut self,
+        lane: u64,
+        cells: &[Cell],
+        rec: &csv::ByteRecord,
+        cols: &Cols,
+    ) -> (bool, Option<usize>) {
+        let status = cells[cols.status].word();
+        let ok = status == "ok";
+        if let Some(e) = self.by_status.iter_mut().find(|e| e.0 == status) {
+            e.1 += 1;
+        }
+        let hold = cells[cols.hold].word();
+        if !hold.is_empty() {
+            self.hold_lanes += 1;
+            if let Some(e) = self.by_hold.iter_mut().find(|e| e.0 == hold) {
+                e.1 += 1;
+            }
+            if hold == "coasting" {
+                let (te, tm) = (cells[cols.t_end].number(), cells[cols.t_max].number());
+                self.coasting_t_end = self.coasting_t_end.max(te);
+                if tm.is_finite() {
+                    self.coasting_t_max = self.coasting_t_max.max(tm);
+                }
+            }
+        }
+        let contact = CONTACT_NAMES
+            .iter()
+            .position(|c| c.0 == cells[cols.contact].word());
+        if !ok {
+            self.unfinished_total += 1;
+            if self.unfinished.len() < UNFINISHED_SHOWN {
+                let mut r = vec![lane.to_string(), status.to_string()];
+                r.extend(cols.shown.iter().map(|&i| text(rec, i)));
+                self.unfinished.push(r);
+            }
+        } else if let Some(k) = contact {
+            self.by_contact[k] += 1;
+        }
+        (ok, contact)
+    }
+}
+
+/// Checks row `lane` of a results table: its lane is its row, within the
+/// run's `stated` lanes, and every word column holds one of its words.
+fn check_row(
+    path: &Path,
+    lane: u64,
+    stated: u64,
+    cells: &[Cell],
+    rec: &csv::ByteRecord,
+    cols: &Cols,
+) -> Result<()> {
+    let at = || Some(format!("row {}", lane + 1));
+    if cells[cols.lane] != Cell::I(lane) {
+        return Err(Error::input(
+            path,
+            at(),
+            Some(LANE),
+            format!(
+                "is {}, expected {lane}: a table's rows are its lanes 0, 1, 2, ... in order; \
+                 not a table tswm wrote",
+                text(rec, cols.lane)
+            ),
+        ));
+    }
+    if lane >= stated {
+        return Err(Error::input(
+            path,
+            at(),
+            Some(LANE),
+            format!(
+                "lane {lane} is not in the run: its sweep.resolved.toml states {stated} lanes; \
+                 the table belongs to another run"
+            ),
+        ));
+    }
+    for (i, name, words) in &cols.words {
+        let w = cells[*i].word();
+        // `hold` is empty for a lane whose motor runs to the end.
+        if !(words.contains(&w) || (w.is_empty() && *name == HOLD)) {
+            return Err(Error::input(
+                path,
+                at(),
+                Some(name),
+                format!(
+                    "`{}` is not one of {}; not a tswm table",
+                    crate::error::shown(w, 40),
+                    words.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
 }

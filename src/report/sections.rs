@@ -3,12 +3,14 @@
 
 use plotters::chart::SeriesLabelPosition;
 
-use super::charts::{histogram, line_chart, points_chart, tornado, Curve, Series};
+use super::charts::{histogram, line_chart, points_chart, tornado, x_axis, Curve, Series};
 use super::html::Page;
 use super::plots::{self, category_map, heat_map, Axis};
+use super::scan::LineData;
 use super::scan::{Folder, CONTACT_NAMES};
 use super::{param_label, share_cells, FEW};
 use crate::columns::Column;
+use crate::columns::{HOLD, LANE, STATUS};
 use crate::output::names::{SUMMARY, TRACES};
 
 pub(super) fn outcomes(page: &mut Page, f: &Folder) {
@@ -23,10 +25,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
             vec![s.to_string(), a, b, c]
         })
         .collect();
-    page.table(
-        &["status", "lanes", "share", "95 % interval (Wilson)"],
-        &rows,
-    );
+    page.table(&[STATUS, "lanes", "share", "95 % interval (Wilson)"], &rows);
     let ok = f.by_status.iter().find(|s| s.0 == "ok").map_or(0, |s| s.1);
     let rows: Vec<Vec<String>> = CONTACT_NAMES
         .iter()
@@ -55,7 +54,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
                 vec![w.to_string(), a, b, c]
             })
             .collect();
-        page.table(&["hold", "lanes", "share", "95 % interval (Wilson)"], &rows);
+        page.table(&[HOLD, "lanes", "share", "95 % interval (Wilson)"], &rows);
         page.note(
             "held: at rest and stuck with the motor off; runs_away: sliding and not slowing down, \
              the load back-drives the gear; coasting: still sliding and slowing down when the run \
@@ -64,7 +63,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
     }
     if f.unfinished_total > 0 {
         page.heading("Lanes that could not be finished");
-        let mut head = vec!["lane", "status"];
+        let mut head = vec![LANE, STATUS];
         head.extend(f.shown_params.iter().map(|n| n.name()));
         page.table(&head, &f.unfinished);
         if f.unfinished_total > f.unfinished.len() as u64 {
@@ -161,45 +160,74 @@ pub(super) fn lines(page: &mut Page, f: &Folder) {
         });
     }
     efficiency_note(page, &f.results);
-    let x_label = param_label(l.axis);
-    let mut figs = Vec::new();
-    for (r, c) in f.results.iter().enumerate() {
-        if few {
-            let vals = l.per_point(r);
-            let y = Axis::numeric(&c.label(), vals.iter().flat_map(|v| [v.0, v.1, v.2]));
-            let vals = if f.study {
-                vals
-            } else {
-                vals.into_iter()
-                    .map(|v| (v.0, f64::NAN, f64::NAN))
-                    .collect()
-            };
-            figs.push(points_chart(
-                c.quantity,
-                &Axis::grid(&x_label, l.xs()),
-                &y,
-                &[Series {
-                    name: c.name,
-                    values: vals,
-                    colour: None,
-                }],
-                None,
-                SeriesLabelPosition::UpperRight,
-            ));
-        } else {
-            let (points, band) = l.curve(r);
-            let band = if f.study { band } else { Vec::new() };
-            let curves = [Curve {
-                name: c.name,
-                points,
-                band,
-                colour: None,
-            }];
-            let x = super::charts::x_axis(&x_label, &curves, &[], l.log);
-            figs.push(line_chart(c.quantity, &x, l.log, &c.label(), &curves, &[]));
-        }
+    let mut figs: Vec<_> = (0..f.results.len())
+        .map(|r| result_along(f, l, r, few))
+        .collect();
+    figs.push(contact_along(f, l, few));
+    page.figures(figs);
+    if f.study {
+        page.heading(&format!("Final contact against {}", l.axis.name()));
+        page.note(
+            "The probability of each final contact over each grid point's sampled lanes, with its \
+             95 % Wilson interval. Held (stick) means the drive holds its load at the end of the run.",
+        );
+        let rows = l.contact_rows();
+        let head = [
+            crate::columns::label(l.axis.name(), "", l.axis.def().unit),
+            "finished lanes".into(),
+            "held".into(),
+            "held, 95 % interval".into(),
+            "a-a".into(),
+            "b-b".into(),
+        ];
+        let head: Vec<&str> = head.iter().map(|s| s.as_str()).collect();
+        page.table(&head, &rows);
     }
-    let share = Axis::fixed("share of finished lanes", 0.0, 1.0);
+}
+
+/// Result `r` along the one grid axis: points with whiskers for a few
+/// values (a study's min to max), else a line with a band.
+fn result_along(f: &Folder, l: &LineData, r: usize, few: bool) -> Result<String, String> {
+    let c = f.results[r];
+    let x_label = param_label(l.axis);
+    if few {
+        let vals = l.per_point(r);
+        let y = Axis::numeric(&c.label(), vals.iter().flat_map(|v| [v.0, v.1, v.2]));
+        let vals = if f.study {
+            vals
+        } else {
+            vals.into_iter()
+                .map(|v| (v.0, f64::NAN, f64::NAN))
+                .collect()
+        };
+        return points_chart(
+            c.quantity,
+            &Axis::grid(&x_label, l.xs()),
+            &y,
+            &[Series {
+                name: c.name,
+                values: vals,
+                colour: None,
+            }],
+            None,
+            SeriesLabelPosition::UpperRight,
+        );
+    }
+    let (points, band) = l.curve(r);
+    let band = if f.study { band } else { Vec::new() };
+    let curves = [Curve {
+        name: c.name,
+        points,
+        band,
+        colour: None,
+    }];
+    let x = x_axis(&x_label, &curves, &[], l.log);
+    line_chart(c.quantity, &x, l.log, &c.label(), &curves, &[])
+}
+
+/// The share of each final contact along the one grid axis.
+fn contact_along(f: &Folder, l: &LineData, few: bool) -> Result<String, String> {
+    let x_label = param_label(l.axis);
     if few {
         let series: Vec<Series> = CONTACT_NAMES
             .iter()
@@ -222,60 +250,40 @@ pub(super) fn lines(page: &mut Page, f: &Folder) {
                 colour: Some(plots::CONTACT_COLOURS[i]),
             })
             .collect();
-        figs.push(points_chart(
+        return points_chart(
             "final contact",
             &Axis::grid(&x_label, l.xs()),
-            &share,
+            &Axis::fixed("share of finished lanes", 0.0, 1.0),
             &series,
             None,
             SeriesLabelPosition::UpperRight,
-        ));
-    } else {
-        let curves: Vec<Curve> = CONTACT_NAMES
-            .iter()
-            .enumerate()
-            .map(|(i, c)| Curve {
-                name: c.1,
-                points: l
-                    .xs()
-                    .iter()
-                    .zip(l.contact_share(i))
-                    .filter(|(_, s)| s.0.is_finite())
-                    .map(|(x, s)| (*x, s.0))
-                    .collect(),
-                band: Vec::new(),
-                colour: Some(plots::CONTACT_COLOURS[i]),
-            })
-            .collect();
-        let x = super::charts::x_axis(&x_label, &curves, &[], l.log);
-        figs.push(line_chart(
-            "final contact",
-            &x,
-            l.log,
-            "share of finished lanes",
-            &curves,
-            &[],
-        ));
-    }
-    page.figures(figs);
-    if f.study {
-        page.heading(&format!("Final contact against {}", l.axis.name()));
-        page.note(
-            "The probability of each final contact over each grid point's sampled lanes, with its \
-             95 % Wilson interval. Held (stick) means the drive holds its load at the end of the run.",
         );
-        let rows = l.contact_rows();
-        let head = [
-            crate::columns::label(l.axis.name(), "", l.axis.def().unit),
-            "finished lanes".into(),
-            "held".into(),
-            "held, 95 % interval".into(),
-            "a-a".into(),
-            "b-b".into(),
-        ];
-        let head: Vec<&str> = head.iter().map(|s| s.as_str()).collect();
-        page.table(&head, &rows);
     }
+    let curves: Vec<Curve> = CONTACT_NAMES
+        .iter()
+        .enumerate()
+        .map(|(i, c)| Curve {
+            name: c.1,
+            points: l
+                .xs()
+                .iter()
+                .zip(l.contact_share(i))
+                .filter(|(_, s)| s.0.is_finite())
+                .map(|(x, s)| (*x, s.0))
+                .collect(),
+            band: Vec::new(),
+            colour: Some(plots::CONTACT_COLOURS[i]),
+        })
+        .collect();
+    let x = x_axis(&x_label, &curves, &[], l.log);
+    line_chart(
+        "final contact",
+        &x,
+        l.log,
+        "share of finished lanes",
+        &curves,
+        &[],
+    )
 }
 
 pub(super) fn study(page: &mut Page, f: &Folder) {
@@ -353,7 +361,7 @@ pub(super) fn traces(page: &mut Page, f: &Folder) {
         ));
         let marks = t.marks();
         let chart = |title: &str, y: &str, curves: &[Curve]| {
-            let x = super::charts::x_axis("time, t (s)", curves, &marks, false);
+            let x = x_axis("time, t (s)", curves, &marks, false);
             line_chart(title, &x, false, y, curves, &marks)
         };
         let curve = |name, s| Curve {

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use super::aggregates::GroupData;
 use super::scan::{bad_row, column, num, open_csv, text, Folder, BINS, CONTACT_NAMES};
+use crate::columns::{CONTACT_END, HOLD};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::output::names::SUMMARY;
@@ -16,40 +17,13 @@ impl Folder {
         let path = dir.join(SUMMARY);
         let mut rd = open_csv(&path)?;
         let head = rd.byte_headers().map_err(|e| bad_row(&path, e))?.clone();
-        let c = |n: &str| column(&path, &head, n);
-        let (group, kind, name, input, count) = (
-            c("group")?,
-            c("kind")?,
-            c("name")?,
-            c("input")?,
-            c("count")?,
-        );
-        let stat_names = [
-            "mean",
-            "std",
-            "min",
-            "p1",
-            "p5",
-            "p50",
-            "p95",
-            "p99",
-            "max",
-            "quantiles",
-        ];
-        let stat_cols: Vec<usize> = stat_names.iter().map(|n| c(n)).collect::<Result<_>>()?;
-        let (share, lo, hi, rho) = (c("share")?, c("ci95_low")?, c("ci95_high")?, c("rho")?);
-        let (minc, maxc) = (c("min")?, c("max")?);
-        let axis_cols: Vec<usize> = sweep
-            .axes
-            .iter()
-            .map(|a| c(a.param.name()))
-            .collect::<Result<_>>()?;
+        let cols = SummaryCols::of(&path, &head, sweep)?;
         let mut rec = csv::ByteRecord::new();
         while rd
             .read_byte_record(&mut rec)
             .map_err(|e| bad_row(&path, e))?
         {
-            let g = num(&path, &rec, group, "group")?;
+            let g = num(&path, &rec, cols.group, "group")?;
             if !(g >= 0.0) || g.fract() != 0.0 {
                 return Err(Error::input(
                     &path,
@@ -58,76 +32,87 @@ impl Folder {
                     "is not a group number; not a tswm summary",
                 ));
             }
-            if g >= shown as f64 {
-                continue;
+            if g < shown as f64 {
+                self.add_summary_row(&path, &rec, &cols, sweep, g as usize)?;
             }
-            let g = g as usize;
-            while self.groups.len() <= g {
-                self.groups.push(GroupData {
-                    label: String::new(),
-                    quantile_rows: Vec::new(),
-                    contact_rows: Vec::new(),
-                    hists: vec![None; self.results.len()],
-                    spearman: Vec::new(),
-                });
+        }
+        Ok(())
+    }
+
+    /// One row of summary.csv, of shown group `g`.
+    fn add_summary_row(
+        &mut self,
+        path: &Path,
+        rec: &csv::ByteRecord,
+        cols: &SummaryCols,
+        sweep: &Sweep,
+        g: usize,
+    ) -> Result<()> {
+        while self.groups.len() <= g {
+            self.groups.push(GroupData {
+                label: String::new(),
+                quantile_rows: Vec::new(),
+                contact_rows: Vec::new(),
+                hists: vec![None; self.results.len()],
+                spearman: Vec::new(),
+            });
+        }
+        if self.groups[g].label.is_empty() {
+            let mut parts = Vec::new();
+            for (a, &i) in sweep.axes.iter().zip(&cols.axes) {
+                let v = num(path, rec, i, a.param.name())?;
+                parts.push(format!(
+                    "{} = {}",
+                    super::param_label(a.param),
+                    super::plots::tick(v)
+                ));
             }
-            if self.groups[g].label.is_empty() {
-                let mut parts = Vec::new();
-                for (a, &i) in sweep.axes.iter().zip(&axis_cols) {
-                    let v = num(&path, &rec, i, a.param.name())?;
-                    parts.push(format!(
-                        "{} = {}",
-                        super::param_label(a.param),
-                        super::plots::tick(v)
-                    ));
-                }
-                self.groups[g].label = if parts.is_empty() {
-                    "all lanes".into()
-                } else {
-                    format!("grid point {g}: {}", parts.join(", "))
-                };
-            }
-            let nm = text(&rec, name);
-            match rec.get(kind).unwrap_or(b"") {
-                b"number" => {
-                    if let Some(r) = self.results.iter().position(|x| x.name == nm) {
-                        let (a, b) = (
-                            num(&path, &rec, minc, "min")?,
-                            num(&path, &rec, maxc, "max")?,
-                        );
-                        if a.is_finite() && b.is_finite() {
-                            self.groups[g].hists[r] = Some((a, b, vec![0; BINS]));
-                        }
-                    }
-                    let mut row = vec![nm, text(&rec, count)];
-                    row.extend(stat_cols.iter().map(|&i| short(&text(&rec, i))));
-                    self.groups[g].quantile_rows.push(row);
-                }
-                b"contact_end" | b"hold" => {
-                    let word = CONTACT_NAMES
-                        .iter()
-                        .find(|c| c.0 == nm)
-                        .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
-                    let kind = text(&rec, kind);
-                    let pct = |x: f64| super::percent(x);
-                    let (s, l, h) = (
-                        num(&path, &rec, share, "share")?,
-                        num(&path, &rec, lo, "ci95_low")?,
-                        num(&path, &rec, hi, "ci95_high")?,
+            self.groups[g].label = if parts.is_empty() {
+                "all lanes".into()
+            } else {
+                format!("grid point {g}: {}", parts.join(", "))
+            };
+        }
+        let nm = text(rec, cols.name);
+        match rec.get(cols.kind).unwrap_or(b"") {
+            b"number" => {
+                if let Some(r) = self.results.iter().position(|x| x.name == nm) {
+                    let (a, b) = (
+                        num(path, rec, cols.min, "min")?,
+                        num(path, rec, cols.max, "max")?,
                     );
-                    self.groups[g].contact_rows.push(vec![
-                        format!("{kind} = {word}"),
-                        text(&rec, count),
-                        pct(s),
-                        format!("{} to {}", pct(l), pct(h)),
-                    ]);
+                    if a.is_finite() && b.is_finite() {
+                        self.groups[g].hists[r] = Some((a, b, vec![0; BINS]));
+                    }
                 }
-                b"spearman" => {
-                    let r = num(&path, &rec, rho, "rho")?;
-                    self.groups[g].spearman.push((nm, text(&rec, input), r));
-                }
-                _ => {}
+                let mut row = vec![nm, text(rec, cols.count)];
+                row.extend(cols.stats.iter().map(|&i| short(&text(rec, i))));
+                self.groups[g].quantile_rows.push(row);
             }
+            k if k == CONTACT_END.as_bytes() || k == HOLD.as_bytes() => {
+                let word = CONTACT_NAMES
+                    .iter()
+                    .find(|c| c.0 == nm)
+                    .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
+                let kind = text(rec, cols.kind);
+                let pct = super::percent;
+                let (s, l, h) = (
+                    num(path, rec, cols.share, "share")?,
+                    num(path, rec, cols.lo, "ci95_low")?,
+                    num(path, rec, cols.hi, "ci95_high")?,
+                );
+                self.groups[g].contact_rows.push(vec![
+                    format!("{kind} = {word}"),
+                    text(rec, cols.count),
+                    pct(s),
+                    format!("{} to {}", pct(l), pct(h)),
+                ]);
+            }
+            b"spearman" => {
+                let r = num(path, rec, cols.rho, "rho")?;
+                self.groups[g].spearman.push((nm, text(rec, cols.input), r));
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -146,5 +131,61 @@ fn short(s: &str) -> String {
             }
         }
         _ => s.to_string(),
+    }
+}
+
+/// Where the report reads a row of summary.csv.
+struct SummaryCols {
+    group: usize,
+    kind: usize,
+    name: usize,
+    input: usize,
+    count: usize,
+    /// mean to quantiles, as the study's table shows them.
+    stats: Vec<usize>,
+    min: usize,
+    max: usize,
+    share: usize,
+    lo: usize,
+    hi: usize,
+    rho: usize,
+    /// The grid parameters' columns.
+    axes: Vec<usize>,
+}
+
+impl SummaryCols {
+    fn of(path: &Path, head: &csv::ByteRecord, sweep: &Sweep) -> Result<SummaryCols> {
+        let c = |n: &str| column(path, head, n);
+        let stats = [
+            "mean",
+            "std",
+            "min",
+            "p1",
+            "p5",
+            "p50",
+            "p95",
+            "p99",
+            "max",
+            "quantiles",
+        ];
+        Ok(SummaryCols {
+            group: c("group")?,
+            kind: c("kind")?,
+            name: c("name")?,
+            input: c("input")?,
+            count: c("count")?,
+            stats: stats.iter().map(|n| c(n)).collect::<Result<_>>()?,
+            min: c("min")?,
+            max: c("max")?,
+            share: c("share")?,
+            lo: c("ci95_low")?,
+            hi: c("ci95_high")?,
+            rho: c("rho")?,
+            axes: sweep
+                .axes
+                .iter()
+                .map(|a| c(a.param.name()))
+                .collect::<Result<_>>()?,
+        })
     }
 }

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use super::scan::{bad_row, column, num, open_csv, Folder, TRACES_SHOWN};
 use super::trace::TraceData;
+use crate::columns::LANE;
 use crate::error::{Error, Result};
 use crate::output::names::TRACES;
 
@@ -20,7 +21,7 @@ impl Folder {
         let head = rd.byte_headers().map_err(|e| bad_row(&path, e))?.clone();
         let c = |n: &str| column(&path, &head, n);
         let (lane_c, t_c, v_c, s1_c, s2_c, psi_c) =
-            (c("lane")?, c("t")?, c("v1")?, c("s1")?, c("s2")?, c("psi")?);
+            (c(LANE)?, c("t")?, c("v1")?, c("s1")?, c("s2")?, c("psi")?);
         let mut rec = csv::ByteRecord::new();
         let mut last_t = f64::NAN;
         while rd
@@ -28,7 +29,7 @@ impl Folder {
             .map_err(|e| bad_row(&path, e))?
         {
             let at = || rec.position().map(|p| format!("line {}", p.line()));
-            let lane = num(&path, &rec, lane_c, "lane")?;
+            let lane = num(&path, &rec, lane_c, LANE)?;
             let horizon = traced
                 .iter()
                 .find(|(l, _)| *l as f64 == lane)
@@ -37,7 +38,7 @@ impl Folder {
                     Error::input(
                         &path,
                         at(),
-                        Some("lane"),
+                        Some(LANE),
                         format!("lane {lane} is not a traced lane of the run; not its traces.csv"),
                     )
                 })?;
@@ -47,7 +48,7 @@ impl Folder {
                     return Err(Error::input(
                         &path,
                         at(),
-                        Some("lane"),
+                        Some(LANE),
                         format!("the rows of lane {lane} are not together; not a tswm traces.csv"),
                     ));
                 }

@@ -13,6 +13,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use super::verify::{check_shards, refused, Part};
+use crate::columns::LANE;
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
 use crate::input::sweep::Sweep;
@@ -167,13 +168,13 @@ fn merge_part(
             "its columns are not those of this tswm version's table; run the shard again",
         ));
     }
-    let lane_col = kinds.iter().position(|k| k.0 == "lane").unwrap_or(0);
+    let lane_col = kinds.iter().position(|k| k.0 == LANE).unwrap_or(0);
     while rd.read_cells(rec, kinds, cells)? {
         if cells[lane_col] != Cell::I(next) || next >= p.m.lane_end {
             return Err(Error::input(
                 &path,
                 Some(format!("row {}", next - p.m.lane_start + 1)),
-                Some("lane"),
+                Some(LANE),
                 format!(
                     "expected lane {next} (shard {}/{} holds lanes {}..{}); run the shard again",
                     p.m.shard, p.m.shards, p.m.lane_start, p.m.lane_end

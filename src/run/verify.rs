@@ -100,14 +100,24 @@ fn read_part(dir: &Path) -> Result<Part> {
             return Err(refused(dir, &m, why));
         }
     }
+    check_resolved_and_traces(dir, &m)?;
+    Ok(Part {
+        dir: dir.to_path_buf(),
+        m,
+    })
+}
+
+/// A shard's `sweep.resolved.toml` hashes to its sweep hash, and its
+/// `traces.csv` is there exactly when a traced lane falls in it.
+fn check_resolved_and_traces(dir: &Path, m: &Manifest) -> Result<()> {
     let path = dir.join(RESOLVED);
     let text = std::fs::read_to_string(&path)
-        .map_err(|e| refused(dir, &m, format!("{RESOLVED} cannot be read: {e}")))?;
+        .map_err(|e| refused(dir, m, format!("{RESOLVED} cannot be read: {e}")))?;
     let body = resolved_body(&text);
     if sweep_hash(body, m.lane_table_sha256.as_deref()) != m.sweep_hash {
         return Err(refused(
             dir,
-            &m,
+            m,
             format!("its {RESOLVED} does not hash to the sweep hash its manifest records"),
         ));
     }
@@ -121,14 +131,14 @@ fn read_part(dir: &Path) -> Result<Part> {
         (true, false) => {
             return Err(refused(
                 dir,
-                &m,
+                m,
                 format!("a traced lane falls in it but {MANIFEST} covers no {TRACES}"),
             ))
         }
         (false, true) => {
             return Err(refused(
                 dir,
-                &m,
+                m,
                 format!("{MANIFEST} covers {TRACES} but no traced lane falls in it"),
             ))
         }
@@ -137,14 +147,11 @@ fn read_part(dir: &Path) -> Result<Part> {
     if !m.files.contains_key(TRACES) && dir.join(TRACES).exists() {
         return Err(refused(
             dir,
-            &m,
+            m,
             format!("{TRACES} is there but {MANIFEST} does not cover it"),
         ));
     }
-    Ok(Part {
-        dir: dir.to_path_buf(),
-        m,
-    })
+    Ok(())
 }
 
 /// Why shard `m` of `dir` does not belong with the first shard `f` (of

@@ -177,7 +177,7 @@ impl Layout {
         Layout {
             numbers: number_columns().map(|c| at(c.name)).collect(),
             words,
-            status: at("status"),
+            status: at(crate::columns::STATUS),
             params: std::array::from_fn(|k| {
                 Param::COLUMNS
                     .iter()

@@ -1,6 +1,7 @@
 //! Integration tests, built as one binary.
 
 mod accuracy;
+mod architecture;
 mod bad_input;
 mod cli;
 mod cluster;

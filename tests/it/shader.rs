@@ -1,6 +1,6 @@
 //! The WGSL shader without a GPU: naga validates it, and the structs it
 //! shares with the host have the same size and member offsets as their
-//! `#[repr(C)]` mirrors in `src/gpu/layout.rs`.
+//! `#[repr(C)]` mirrors in `src/backend/gpu/layout.rs`.
 
 use std::mem::{offset_of, size_of};
 

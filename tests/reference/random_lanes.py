@@ -1,5 +1,5 @@
 """Random user lanes drawn in Python, independently of tswm's own
-generator but with the same recipe (src/testmodels.rs, random_user_lanes):
+generator but with the same recipe (src/input/testmodels.rs, random_user_lanes):
 lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.

@@ -10,15 +10,18 @@
 //! Sample `k` draws the same uniforms at every grid point (common random
 //! numbers), so designs are compared under the same tolerances.
 
+mod axes;
+mod file;
 mod parse;
 pub mod require;
 mod resolved;
+mod study;
 
 use crate::input::sampling::{Dist, Permutation, Uniforms};
 use crate::model::FrictionTable;
 use crate::params::{Num, Spec};
 
-pub use parse::Method;
+pub use file::{Method, MAX_SEED};
 
 /// One grid axis: a numeric parameter and its values.
 #[derive(Clone, Debug)]
@@ -130,7 +133,8 @@ pub struct ReportSpec {
     /// The grid parameters of the heat maps (x, then y); empty: the first
     /// two axes.
     pub axes: Vec<Num>,
-    /// Result columns to plot; empty: [`ReportSpec::DEFAULT_RESULTS`].
+    /// Result columns to plot; empty: those the table of result columns
+    /// marks `plotted`.
     pub results: Vec<String>,
     /// Most panels (one per value of the other axes, or per grid point of
     /// a study).
@@ -140,8 +144,6 @@ pub struct ReportSpec {
 }
 
 impl ReportSpec {
-    /// Results plotted unless `[report] results` says otherwise.
-    pub const DEFAULT_RESULTS: [&'static str; 3] = ["eta_direct", "eta_inverse", "w_friction"];
     /// Panels unless `[report] panels` says otherwise.
     pub const DEFAULT_PANELS: usize = 6;
     /// Most panels allowed (each is a few tens of kB of SVG).
@@ -150,9 +152,9 @@ impl ReportSpec {
     /// The results to plot.
     pub fn results(&self) -> Vec<String> {
         if self.results.is_empty() {
-            Self::DEFAULT_RESULTS
-                .iter()
-                .map(|s| s.to_string())
+            // The table of result columns marks them.
+            crate::columns::plotted()
+                .map(|c| c.name.to_string())
                 .collect()
         } else {
             self.results.clone()

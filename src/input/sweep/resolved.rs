@@ -9,8 +9,38 @@ impl Sweep {
     /// defaults resolved, axes as value lists, the study and the table.
     pub fn resolved_toml(&self) -> toml::Table {
         let mut t = toml::Table::new();
-        // The base as set, plus the defaults of the laws it chooses; not
-        // validated, since axes and samples may supply what it lacks.
+        t.insert("base".into(), self.base_toml().into());
+        let grid: Vec<toml::Value> = self.axes.iter().map(axis_toml).collect();
+        if !grid.is_empty() {
+            t.insert("grid".into(), grid.into());
+        }
+        if let Some(st) = &self.study {
+            let (sampling, tols) = study_toml(st);
+            t.insert("sampling".into(), sampling.into());
+            t.insert("tolerance".into(), tols.into());
+        }
+        if let Some(tr) = &self.trace {
+            let mut x = toml::Table::new();
+            let lanes: Vec<toml::Value> = tr.lanes.iter().map(|&l| (l as i64).into()).collect();
+            x.insert("lanes".into(), lanes.into());
+            x.insert("dt".into(), tr.dt.into());
+            t.insert("trace".into(), x.into());
+        }
+        if self.report != super::ReportSpec::default() {
+            t.insert("report".into(), report_toml(&self.report).into());
+        }
+        if let Some(tb) = &self.table {
+            let mut x = toml::Table::new();
+            x.insert("vs".into(), floats(&tb.vs[..tb.n]));
+            x.insert("mu".into(), floats(&tb.mu[..tb.n]));
+            t.insert("friction_table".into(), x.into());
+        }
+        t
+    }
+
+    /// The base as set, plus the defaults of the laws it chooses; not
+    /// validated, since axes and samples may supply what it lacks.
+    fn base_toml(&self) -> toml::Table {
         let mut base = toml::Table::new();
         let motor = self.base.motor.unwrap_or(MotorKind::Kloss);
         let friction = self.base.friction.unwrap_or(FrictionKind::Paper);
@@ -24,90 +54,73 @@ impl Sweep {
                 base.insert(n.name().into(), v.into());
             }
         }
-        t.insert("base".into(), base.into());
-        let grid: Vec<toml::Value> = self
-            .axes
-            .iter()
-            .map(|a| {
-                let mut x = toml::Table::new();
-                x.insert("param".into(), a.param.name().into());
-                match &a.values {
-                    &AxisValues::Range { from, to, n, log } => {
-                        x.insert("from".into(), from.into());
-                        x.insert("to".into(), to.into());
-                        x.insert("n".into(), (n as i64).into());
-                        x.insert("scale".into(), if log { "log" } else { "linear" }.into());
-                    }
-                    AxisValues::List(v) => {
-                        x.insert("values".into(), floats(v));
-                    }
-                }
-                x.into()
-            })
-            .collect();
-        if !grid.is_empty() {
-            t.insert("grid".into(), grid.into());
-        }
-        if let Some(st) = &self.study {
-            let mut s = toml::Table::new();
-            s.insert("method".into(), serde_name(&st.method));
-            s.insert("n".into(), (st.n as i64).into());
-            s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
-            t.insert("sampling".into(), s.into());
-            let tols: Vec<toml::Value> = st
-                .params
-                .iter()
-                .map(|p| {
-                    let mut x = toml::Table::new();
-                    x.insert("param".into(), p.param.name().into());
-                    x.insert("dist".into(), serde_name(&p.dist));
-                    x.insert(
-                        if p.relative { "tol_rel" } else { "tol" }.into(),
-                        p.tol.into(),
-                    );
-                    x.into()
-                })
-                .collect();
-            t.insert("tolerance".into(), tols.into());
-        }
-        if let Some(tr) = &self.trace {
-            let mut x = toml::Table::new();
-            let lanes: Vec<toml::Value> = tr.lanes.iter().map(|&l| (l as i64).into()).collect();
-            x.insert("lanes".into(), lanes.into());
-            x.insert("dt".into(), tr.dt.into());
-            t.insert("trace".into(), x.into());
-        }
-        let r = &self.report;
-        if *r != super::ReportSpec::default() {
-            let mut x = toml::Table::new();
-            if let Some(t) = &r.title {
-                x.insert("title".into(), t.clone().into());
-            }
-            if !r.axes.is_empty() {
-                let a: Vec<toml::Value> = r.axes.iter().map(|a| a.name().into()).collect();
-                x.insert("axes".into(), a.into());
-            }
-            if !r.results.is_empty() {
-                let v: Vec<toml::Value> = r.results.iter().map(|s| s.clone().into()).collect();
-                x.insert("results".into(), v.into());
-            }
-            if r.panels > 0 {
-                x.insert("panels".into(), (r.panels as i64).into());
-            }
-            if let Some(q) = &r.require {
-                x.insert("require".into(), q.text().into());
-                x.insert("at_least".into(), q.at_least.into());
-            }
-            t.insert("report".into(), x.into());
-        }
-        if let Some(tb) = &self.table {
-            let mut x = toml::Table::new();
-            x.insert("vs".into(), floats(&tb.vs[..tb.n]));
-            x.insert("mu".into(), floats(&tb.mu[..tb.n]));
-            t.insert("friction_table".into(), x.into());
-        }
-        t
+        base
     }
+}
+
+/// A grid axis: its values as a list, or its range.
+fn axis_toml(a: &super::Axis) -> toml::Value {
+    let mut x = toml::Table::new();
+    x.insert("param".into(), a.param.name().into());
+    match &a.values {
+        &AxisValues::Range { from, to, n, log } => {
+            x.insert("from".into(), from.into());
+            x.insert("to".into(), to.into());
+            x.insert("n".into(), (n as i64).into());
+            x.insert("scale".into(), if log { "log" } else { "linear" }.into());
+        }
+        AxisValues::List(v) => {
+            x.insert("values".into(), floats(v));
+        }
+    }
+    x.into()
+}
+
+/// A study's `[sampling]` and its `[[tolerance]]` entries.
+fn study_toml(st: &super::Study) -> (toml::Table, Vec<toml::Value>) {
+    let mut s = toml::Table::new();
+    s.insert("method".into(), serde_name(&st.method));
+    s.insert("n".into(), (st.n as i64).into());
+    s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
+    let tols = st
+        .params
+        .iter()
+        .map(|p| {
+            let mut x = toml::Table::new();
+            x.insert("param".into(), p.param.name().into());
+            x.insert("dist".into(), serde_name(&p.dist));
+            x.insert(
+                if p.relative { "tol_rel" } else { "tol" }.into(),
+                p.tol.into(),
+            );
+            x.into()
+        })
+        .collect();
+    (s, tols)
+}
+
+/// The `[report]` table, keys that were set only.
+fn report_toml(r: &super::ReportSpec) -> toml::Table {
+    let mut x = toml::Table::new();
+    if let Some(t) = &r.title {
+        x.insert("title".into(), t.clone().into());
+    }
+    if !r.axes.is_empty() {
+        let a: Vec<toml::Value> = r.axes.iter().map(|a| a.name().into()).collect();
+        x.insert("axes".into(), a.into());
+    }
+    if !r.results.is_empty() {
+        let v: Vec<toml::Value> = r.results.iter().map(|s| s.clone().into()).collect();
+        x.insert("results".into(), v.into());
+    }
+    if r.panels > 0 {
+        x.insert("panels".into(), (r.panels as i64).into());
+    }
+    if let Some(q) = &r.require {
+        x.insert("require".into(), q.text().into());
+        x.insert("at_least".into(), q.at_least.into());
+    }
+    x
 }
 
 /// A list of floats as a TOML array.

@@ -2,87 +2,19 @@
 //! function ψ, the equation of motion, the switching function φ and the
 //! stick test. No integration here: the integrator calls these.
 //!
-//! Keep in sync with the shader's section `src/model.rs` in
-//! `shaders/tswm.wgsl` (functions of the same names, same order).
+//! Keep in sync with the shader's section `src/model/` in
+//! `shaders/tswm.wgsl` (functions of the same names, same order); the
+//! friction laws are in [`friction`].
+
+mod friction;
 
 use crate::params::{FrictionKind, MotorKind, Num, Params};
-
-/// Most points a friction table may hold (fixed so the GPU can keep it in a
-/// fixed-size uniform).
-pub const MAX_TABLE_POINTS: usize = 32;
-
-/// μ(Vs) as points, interpolated linearly and held constant past its ends.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FrictionTable {
-    /// Number of points used.
-    pub n: usize,
-    /// Sliding speeds, m/s, strictly increasing, the first >= 0.
-    pub vs: [f64; MAX_TABLE_POINTS],
-    /// Friction coefficients, >= 0.
-    pub mu: [f64; MAX_TABLE_POINTS],
-}
-
-impl FrictionTable {
-    /// Builds a table; errors say what is allowed.
-    pub fn new(vs: &[f64], mu: &[f64]) -> Result<Self, String> {
-        if vs.len() != mu.len() {
-            return Err(format!(
-                "vs has {} points but mu has {}; they must match",
-                vs.len(),
-                mu.len()
-            ));
-        }
-        if vs.len() < 2 || vs.len() > MAX_TABLE_POINTS {
-            return Err(format!(
-                "needs 2 to {MAX_TABLE_POINTS} points, got {}",
-                vs.len()
-            ));
-        }
-        let mut t = FrictionTable {
-            n: vs.len(),
-            vs: [0.0; MAX_TABLE_POINTS],
-            mu: [0.0; MAX_TABLE_POINTS],
-        };
-        for i in 0..vs.len() {
-            if !vs[i].is_finite() || !mu[i].is_finite() {
-                return Err(format!("point {} is not finite", i + 1));
-            }
-            if vs[i] < 0.0 || (i > 0 && vs[i] <= vs[i - 1]) {
-                return Err(format!(
-                    "vs must start >= 0 and increase strictly (point {})",
-                    i + 1
-                ));
-            }
-            if mu[i] < 0.0 {
-                return Err(format!("mu must be >= 0 (point {})", i + 1));
-            }
-            t.vs[i] = vs[i];
-            t.mu[i] = mu[i];
-        }
-        Ok(t)
-    }
-
-    /// μ at sliding speed `vs` (linear between points, constant outside).
-    #[inline]
-    pub fn mu_at(&self, vs: f64) -> f64 {
-        let n = self.n;
-        if vs <= self.vs[0] {
-            return self.mu[0];
-        }
-        for i in 1..n {
-            if vs < self.vs[i] {
-                let w = (vs - self.vs[i - 1]) / (self.vs[i] - self.vs[i - 1]);
-                return self.mu[i - 1] + w * (self.mu[i] - self.mu[i - 1]);
-            }
-        }
-        self.mu[n - 1]
-    }
-}
+pub use friction::{mu_sliding, tan_small, FrictionTable, MAX_TABLE_POINTS};
 
 /// A lane's constants in the form the integrator uses: fixed size, laws as
 /// codes, trigonometry done once.
 ///
-/// Keep in sync with `GpuLane` in `src/gpu/layout.rs` and `Lane` in the shader.
+/// Keep in sync with `GpuLane` in `src/backend/gpu/layout.rs` and `Lane` in the shader.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lane {
     pub m1: f64,
@@ -209,41 +141,6 @@ pub fn motor_force(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
     2.0 * lane.f_crit * sigma * sk / (sigma * sigma + sk * sk)
 }
 
-/// Sliding friction coefficient μ = tan ρ at sliding speed `vs` >= 0.
-#[inline]
-pub fn mu_sliding(lane: &Lane, table: Option<&FrictionTable>, vs: f64) -> f64 {
-    match lane.friction {
-        FRICTION_PAPER => {
-            let rho =
-                (std::f64::consts::PI / 180.0) / (lane.fric_a * vs.powf(lane.fric_b) + lane.fric_c);
-            tan_small(rho)
-        }
-        FRICTION_COULOMB => lane.mu,
-        FRICTION_TABLE => table.map_or(f64::NAN, |t| t.mu_at(vs)),
-        // No such law: NaN makes the lane `nonfinite`, never a number.
-        _ => f64::NAN,
-    }
-}
-
-/// tan x, by its Taylor series up to x^15 where that is exact to the last
-/// bit (|x| <= 0.15 rad, 8.6°: friction angles of real worm gears), else
-/// by the library. About twice as fast as `f64::tan` on the hot path.
-#[inline]
-pub fn tan_small(x: f64) -> f64 {
-    if x.abs() > 0.15 {
-        return x.tan();
-    }
-    let x2 = x * x;
-    let p = 929569.0 / 638512875.0;
-    let p = p * x2 + 21844.0 / 6081075.0;
-    let p = p * x2 + 1382.0 / 155925.0;
-    let p = p * x2 + 62.0 / 2835.0;
-    let p = p * x2 + 17.0 / 315.0;
-    let p = p * x2 + 2.0 / 15.0;
-    let p = p * x2 + 1.0 / 3.0;
-    x + x * x2 * p
-}
-
 /// Switching function φ = F1/m1 − F2/(m2 tan γ): a-a when > 0, b-b when < 0.
 #[inline]
 pub fn phi(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
@@ -343,28 +240,6 @@ mod tests {
     }
 
     #[test]
-    fn paper_friction_law_matches_model_md() {
-        let l = paper();
-        let rho = |vs: f64| mu_sliding(&l, None, vs).atan().to_degrees();
-        assert!((rho(0.0) - 1.0 / 0.14).abs() < 1e-12); // 7.14 deg
-        assert!((rho(1.0) - 3.18).abs() < 0.005);
-        // MODEL.md: "ρ(3.4 m/s) ≈ 2°" (1.97° by the formula).
-        assert!((rho(3.4) - 2.0).abs() < 0.05);
-    }
-
-    #[test]
-    fn tan_small_is_exact_where_used() {
-        for i in 0..=3000 {
-            let x = -0.15 + 0.3 * i as f64 / 3000.0;
-            assert!(
-                (tan_small(x) - x.tan()).abs() <= 2.0 * f64::EPSILON * x.tan().abs(),
-                "{x}"
-            );
-        }
-        assert_eq!(tan_small(0.5), 0.5f64.tan());
-    }
-
-    #[test]
     fn kloss_is_zero_at_sync_and_peaks_at_crit() {
         let l = paper();
         assert_eq!(motor_force(&l, 3.35, true), 0.0);
@@ -402,15 +277,5 @@ mod tests {
         // Running backwards on the a-a side the wheel drives: inverse flow.
         let m = motion(&l, None, 1, -1, false, -v);
         assert!((efficiency(&l, &m, 1, -1, -v) - (g - rho).tan() / g.tan()).abs() < 1e-12);
-    }
-
-    #[test]
-    fn table_interpolates_and_clamps() {
-        let t = FrictionTable::new(&[0.0, 1.0, 3.0], &[0.1, 0.06, 0.04]).unwrap();
-        assert_eq!(t.mu_at(0.0), 0.1);
-        assert!((t.mu_at(0.5) - 0.08).abs() < 1e-15);
-        assert!((t.mu_at(2.0) - 0.05).abs() < 1e-15);
-        assert_eq!(t.mu_at(10.0), 0.04);
-        assert!(FrictionTable::new(&[1.0, 0.5], &[0.1, 0.1]).is_err());
     }
 }

@@ -1,0 +1,108 @@
+//! `[[grid]]` axes: each a numeric parameter with a list or a range of
+//! values, checked with the line of the key concerned.
+
+use toml::Spanned;
+
+use super::file::{At, AxisDef};
+use super::{Axis, AxisValues};
+use crate::error::{did_you_mean, Result};
+use crate::params::{Num, Param};
+
+pub(super) fn parse_axes(at: &At, grid: &[Spanned<AxisDef>]) -> Result<Vec<Axis>> {
+    let mut axes: Vec<Axis> = Vec::new();
+    for ax in grid {
+        let a = ax.get_ref();
+        // Errors point at the key concerned, else at the [[grid]] entry.
+        let bad = |(span, m): (Option<std::ops::Range<usize>>, String)| {
+            at.bad(span.unwrap_or(a.param.span()), a.param.get_ref(), m)
+        };
+        let param = numeric_param(a.param.get_ref()).map_err(|m| bad((None, m)))?;
+        let values = axis_values(a).map_err(bad)?;
+        if axes.iter().any(|x| x.param == param) {
+            return Err(bad((None, "appears on two grid axes".into())));
+        }
+        axes.push(Axis { param, values });
+    }
+    Ok(axes)
+}
+
+pub(super) fn numeric_param(name: &str) -> std::result::Result<Num, String> {
+    match Param::from_name(name) {
+        Some(Param::Num(n)) => Ok(n),
+        Some(_) => Err("is a law selector, not a number; only numeric parameters can vary".into()),
+        None => Err(format!(
+            "unknown parameter{}; allowed: {}",
+            did_you_mean(name, Param::COLUMNS.map(|p| p.name())),
+            Param::all_names()
+        )),
+    }
+}
+
+/// An axis's values; an error names the span of the key concerned.
+fn axis_values(
+    a: &AxisDef,
+) -> std::result::Result<AxisValues, (Option<std::ops::Range<usize>>, String)> {
+    let get = |x: &Option<Spanned<f64>>| x.as_ref().map(|v| *v.get_ref());
+    match (&a.values, &a.from, &a.to, &a.n) {
+        (Some(v), None, None, None) => {
+            if let Some(sc) = &a.scale {
+                return Err((
+                    Some(sc.span()),
+                    "scale applies to from/to/n, not to values".into(),
+                ));
+            }
+            let span = Some(v.span());
+            let v = v.get_ref();
+            if v.is_empty() {
+                return Err((span, "values is empty; give at least one value".into()));
+            }
+            if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+                return Err((span, format!("value {x} is not finite")));
+            }
+            Ok(AxisValues::List(v.clone()))
+        }
+        (None, Some(from), Some(to), Some(n)) => {
+            if *n.get_ref() < 1 {
+                return Err((
+                    Some(n.span()),
+                    format!("n must be >= 1, got {}", n.get_ref()),
+                ));
+            }
+            for x in [from, to] {
+                if !x.get_ref().is_finite() {
+                    return Err((Some(x.span()), "from and to must be finite".into()));
+                }
+            }
+            let log = match &a.scale {
+                None => false,
+                Some(sc) => match sc.get_ref().as_str() {
+                    "linear" => false,
+                    "log" => true,
+                    s => {
+                        return Err((
+                            Some(sc.span()),
+                            format!("scale `{s}` is unknown; allowed: linear, log"),
+                        ))
+                    }
+                },
+            };
+            let (from, to) = (get(&a.from).unwrap_or(0.0), get(&a.to).unwrap_or(0.0));
+            if log && !(from > 0.0 && to > 0.0) {
+                return Err((
+                    Some(a.scale.as_ref().map_or(0..0, |s| s.span())),
+                    "scale = \"log\" needs from > 0 and to > 0".into(),
+                ));
+            }
+            Ok(AxisValues::Range {
+                from,
+                to,
+                n: *n.get_ref() as u64,
+                log,
+            })
+        }
+        _ => Err((
+            None,
+            "give either values = [...] or from, to and n (with optional scale)".into(),
+        )),
+    }
+}

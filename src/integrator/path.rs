@@ -1,0 +1,74 @@
+//! Where a row came from: the f64 path, the f32 path trusted, or the f64
+//! path again (a GPU row not trusted, or a lane refined): the `path`
+//! column.
+
+/// Why a GPU row was not trusted and came from the f64 path instead.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Recheck {
+    /// An input f32 cannot represent (sent to the CPU from the start).
+    F32Range,
+    /// The lane did not reach t_end within the dispatch budget.
+    Unfinished,
+    /// The GPU ended the lane with a status other than `ok`.
+    GpuStatus,
+    /// A result is not finite, or beyond what f32 resolves.
+    NonFinite,
+    /// The lane's own energy balance does not close within what f32 allows.
+    EnergyBalance,
+    /// A Kloss motor so stiff near synchronous speed that f32 cannot resolve its force.
+    StiffMotor,
+    /// A work that cancels below what f32 resolves of the energy that flowed.
+    Cancellation,
+}
+
+impl Recheck {
+    /// Every reason, in order.
+    pub const ALL: [Recheck; 7] = [
+        Recheck::F32Range,
+        Recheck::Unfinished,
+        Recheck::GpuStatus,
+        Recheck::NonFinite,
+        Recheck::EnergyBalance,
+        Recheck::StiffMotor,
+        Recheck::Cancellation,
+    ];
+
+    /// The reason's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Recheck::F32Range => "f32_range",
+            Recheck::Unfinished => "unfinished",
+            Recheck::GpuStatus => "gpu_status",
+            Recheck::NonFinite => "nonfinite",
+            Recheck::EnergyBalance => "energy_balance",
+            Recheck::StiffMotor => "stiff_motor",
+            Recheck::Cancellation => "cancellation",
+        }
+    }
+}
+
+/// Which path a row came from: the `path` column of `lanes.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum RowPath {
+    /// The f64 CPU path (a CPU run).
+    Cpu,
+    /// The f32 GPU path, checked and trusted.
+    Gpu,
+    /// Computed on the GPU, not trusted, recomputed on the f64 path.
+    Recomputed(Recheck),
+    /// The f64 CPU path, run again at tighter settings because the lane's
+    /// error estimate was over the bound (`accuracy`).
+    Refined,
+}
+
+impl RowPath {
+    /// The cell: `cpu`, `gpu` or `cpu:REASON`.
+    pub fn name(self) -> String {
+        match self {
+            RowPath::Cpu => "cpu".into(),
+            RowPath::Gpu => "gpu".into(),
+            RowPath::Recomputed(r) => format!("cpu:{}", r.name()),
+            RowPath::Refined => "cpu:refined".into(),
+        }
+    }
+}

@@ -1,0 +1,213 @@
+//! One step attempt of a lane: its plan (mode, size, the time event it
+//! may land on), the trial step's acceptance or rejection, the earliest
+//! event inside it and the restart from there in the new mode; and
+//! [`advance`], which runs attempts until the lane is done or its budget
+//! is spent.
+
+use super::automaton::{check_mode, come_to_rest, horizon, reach_time_event, set_side, LaneState};
+use super::events::{earliest_event, EventFn};
+use super::flow::step_flow;
+use super::result::Status;
+use super::stepper::{rhs, try_step, Mode, Trial};
+use super::{Settings, H_INITIAL};
+use crate::model::{FrictionTable, Lane, FRICTION_PAPER};
+
+/// A step about to be tried: its mode, its size, and the time event it
+/// may land on.
+#[derive(Clone, Copy, Debug)]
+pub struct StepPlan {
+    pub(crate) mode: Mode,
+    pub(crate) h: f64,
+    t_stop: f64,
+    landing: bool,
+}
+
+impl StepPlan {
+    /// A plan for a slot with nothing to step (never tried).
+    pub(crate) const IDLE: StepPlan = StepPlan {
+        mode: Mode {
+            side: 1,
+            dir: 1,
+            motor_on: false,
+        },
+        h: 0.0,
+        t_stop: 0.0,
+        landing: false,
+    };
+}
+
+/// First half of one step attempt: a stick phase jumps to the next time
+/// event, the derivative at the step's start is made valid, and the step
+/// size is chosen. None when the attempt ends here (stuck, or finished).
+pub fn prepare(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) -> Option<StepPlan> {
+    // The next time event: motor cut-off, else the end of the run.
+    let end = horizon(lane, st);
+    let t_stop = if st.motor_on && lane.motor_off < end {
+        lane.motor_off
+    } else {
+        end
+    };
+    if st.stuck {
+        // While stuck every force is constant in time (F1 at ẋ1 = 0, F2),
+        // so the stick condition can only fail at a time event.
+        reach_time_event(lane, table, st, t_stop);
+        return None;
+    }
+    let mode = st.mode();
+    if !st.k1_valid {
+        let (k, d) = rhs(lane, table, mode, st.y[1]);
+        if !(d > 0.0) {
+            st.finish(Status::Inconsistent);
+            return None;
+        }
+        st.k1 = k;
+        st.k1_valid = true;
+    }
+    let mut h = st.h;
+    // Approaching rest under the paper law, ρ(Vs) has an unbounded
+    // derivative at the stop, as it has at a start, and the error estimate
+    // reads low there: grade the steps into the stop.
+    if lane.friction == FRICTION_PAPER && st.k1[1] * (st.dir as f64) < 0.0 {
+        let t_rest = -st.y[1] / st.k1[1];
+        h = h.min((0.5 * t_rest).max(H_INITIAL));
+    }
+    let remaining = t_stop - st.t;
+    let landing = h >= remaining;
+    if landing {
+        h = remaining;
+    }
+    Some(StepPlan {
+        mode,
+        h,
+        t_stop,
+        landing,
+    })
+}
+
+/// Step-size factor from a trial's error norm.
+fn step_factor(err: f64) -> f64 {
+    if err == 0.0 {
+        5.0
+    } else {
+        (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+    }
+}
+
+/// Second half of a step attempt: accept or reject the trial step, locate
+/// the earliest event inside it and restart from there in the new mode, or
+/// move to the step's end.
+pub fn finish_step(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+    st: &mut LaneState,
+    plan: &StepPlan,
+    trial: &Trial,
+) {
+    let h = plan.h;
+    let fac = step_factor(trial.err);
+    if trial.err > 1.0 {
+        st.h = h * fac.min(1.0);
+        if st.h < 1e-15 * st.t.max(1.0) {
+            st.finish(Status::StepUnderflow);
+        }
+        return;
+    }
+    let h_next = h * fac;
+    st.steps += 1;
+    if st.steps > set.max_steps {
+        st.finish(Status::MaxSteps);
+        return;
+    }
+    match earliest_event(lane, table, plan.mode, trial, h, st.running_on) {
+        Some((theta, which)) => step_to_event(lane, table, set, st, plan, theta, which, h_next),
+        None => {
+            add_flow(st, trial, h);
+            st.y = trial.y1;
+            st.k1 = trial.k7;
+            st.h = h_next;
+            if plan.landing {
+                reach_time_event(lane, table, st, plan.t_stop);
+            } else {
+                st.t += h;
+            }
+        }
+    }
+    if !st.y.iter().all(|v| v.is_finite()) {
+        st.finish(Status::NonFinite);
+    }
+}
+
+/// Adds an accepted step's energy flow (from `st`, before it moves).
+fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
+    let d = step_flow(&st.k1, trial, h);
+    st.budget.add_step(&st.k1, trial, &d);
+    for (f, d) in st.flow.iter_mut().zip(d) {
+        *f += d;
+    }
+}
+
+/// Steps again, exactly to an event at fraction θ of the step, for a
+/// full-order state there, and enters the new mode.
+#[allow(clippy::too_many_arguments)]
+fn step_to_event(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+    st: &mut LaneState,
+    plan: &StepPlan,
+    theta: f64,
+    which: EventFn,
+    h_next: f64,
+) {
+    let h_ev = theta * plan.h;
+    let ev = try_step(lane, table, plan.mode, &st.y, &st.k1, h_ev, set);
+    add_flow(st, &ev, h_ev);
+    st.t += h_ev;
+    st.y = ev.y1;
+    st.k1_valid = false;
+    st.events += 1;
+    st.h = h_next.max(h_ev);
+    match which {
+        EventFn::Rest => come_to_rest(lane, table, st),
+        EventFn::Switch => {
+            set_side(st, -st.side);
+            check_mode(lane, table, st);
+        }
+        EventFn::Speeding => st.speeding = true,
+    }
+    // Running on ends where the question is answered: at rest the lane
+    // holds, or it departs and runs away; or it began to speed up.
+    if st.running_on && (which != EventFn::Switch) {
+        st.done = true;
+    }
+    if st.events > set.max_events {
+        st.finish(Status::MaxEvents);
+    }
+}
+
+/// Moves a lane forward by at most `budget` step attempts (accepted or
+/// rejected); returns true when the lane is done.
+pub fn advance(
+    lane: &Lane,
+    table: Option<&FrictionTable>,
+    set: &Settings,
+    st: &mut LaneState,
+    budget: u32,
+) -> bool {
+    let mut left = budget;
+    while !st.done && left > 0 {
+        left -= 1;
+        attempt(lane, table, set, st);
+    }
+    st.done
+}
+
+/// One step attempt (accepted or rejected). The shader's entry point loops
+/// over it as [`advance`] does, taking a new lane when one finishes.
+pub fn attempt(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &mut LaneState) {
+    if let Some(plan) = prepare(lane, table, st) {
+        let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set);
+        finish_step(lane, table, set, st, &plan, &trial);
+    }
+}

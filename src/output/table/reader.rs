@@ -1,0 +1,198 @@
+//! Reading a results table back, either format, as text records: float
+//! cells spelled as `lanes.csv` spells them, so `merge` and `report` treat
+//! both alike; and typed cells for a reader that checks them.
+
+use std::borrow::Cow;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+use ::parquet::file::reader::FileReader;
+use ::parquet::file::serialized_reader::SerializedFileReader;
+use ::parquet::record::Field;
+
+use super::{Cell, Format, Kind};
+use crate::error::{Error, Result};
+use crate::output::csv_lines::push_f64;
+use crate::output::digest::{FileDigest, Hashing};
+
+/// Reads a results table, either format, as text records (the header
+/// first, through [`RowReader::header`]).
+pub struct RowReader {
+    path: PathBuf,
+    header: csv::ByteRecord,
+    inner: Inner,
+    rows: u64,
+}
+
+enum Inner {
+    Csv(csv::Reader<Hashing<File>>),
+    Parquet(parquet::record::reader::RowIter<'static>),
+}
+
+impl RowReader {
+    /// Opens the results table of `dir` (`lanes.csv` or `lanes.parquet`).
+    pub fn open_folder(dir: &Path) -> Result<RowReader> {
+        let f = Format::of_folder(dir)?;
+        RowReader::open(&dir.join(f.file_name()), f)
+    }
+
+    /// Opens `path` in `format`.
+    pub fn open(path: &Path, format: Format) -> Result<RowReader> {
+        let bad = |m: String| Error::input(path, None, None, m);
+        match format {
+            Format::Csv => {
+                let f = File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+                // Hashed as it is read: a merge checks a shard's table
+                // against its manifest without reading it twice.
+                let mut rd = csv::Reader::from_reader(Hashing::new(f));
+                let header = rd
+                    .byte_headers()
+                    .map_err(|e| bad(format!("not a tswm table: {e}")))?
+                    .clone();
+                Ok(RowReader {
+                    path: path.into(),
+                    header,
+                    inner: Inner::Csv(rd),
+                    rows: 0,
+                })
+            }
+            Format::Parquet => {
+                let f = File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+                let rd = SerializedFileReader::new(f)
+                    .map_err(|e| bad(format!("not a Parquet file: {e}")))?;
+                let mut header = csv::ByteRecord::new();
+                for field in rd.metadata().file_metadata().schema().get_fields() {
+                    header.push_field(field.name().as_bytes());
+                }
+                Ok(RowReader {
+                    path: path.into(),
+                    header,
+                    inner: Inner::Parquet(rd.into_iter()),
+                    rows: 0,
+                })
+            }
+        }
+    }
+
+    /// The size and SHA-256 of what was read so far of a CSV table (the
+    /// whole file once [`RowReader::read`] has returned false); None for
+    /// Parquet, which is not read as a stream of bytes.
+    pub fn digest(&self) -> Option<FileDigest> {
+        match &self.inner {
+            Inner::Csv(rd) => rd.get_ref().digest(),
+            Inner::Parquet(_) => None,
+        }
+    }
+
+    /// Reads the next row into `cells`, typed by `kinds` (the table's
+    /// columns): floats (empty: NaN), counts and words. Errors name the
+    /// row and the column of a cell that is not of its column's kind; a
+    /// row of another length is an error too. False at the end.
+    pub fn read_cells(
+        &mut self,
+        rec: &mut csv::ByteRecord,
+        kinds: &[(&'static str, Kind)],
+        cells: &mut Vec<Cell>,
+    ) -> Result<bool> {
+        if !self.read(rec)? {
+            return Ok(false);
+        }
+        let row = self.rows;
+        let bad = |col: &str, m: String| {
+            Error::input(&self.path, Some(format!("row {row}")), Some(col), m)
+        };
+        if rec.len() != kinds.len() {
+            return Err(bad(
+                "",
+                format!(
+                    "has {} cells, the table's header {}; not a tswm table",
+                    rec.len(),
+                    kinds.len()
+                ),
+            ));
+        }
+        cells.clear();
+        for (&(name, kind), f) in kinds.iter().zip(rec.iter()) {
+            let t =
+                std::str::from_utf8(f).map_err(|_| bad(name, "is not valid UTF-8 text".into()))?;
+            cells.push(match kind {
+                Kind::Float if t.is_empty() => Cell::F(f64::NAN),
+                Kind::Float => match t.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Cell::F(v),
+                    _ => {
+                        return Err(bad(
+                            name,
+                            format!("`{}` is not a finite number", crate::error::shown(t, 40)),
+                        ))
+                    }
+                },
+                Kind::Int => Cell::I(t.parse().map_err(|_| {
+                    bad(
+                        name,
+                        format!("`{}` is not a whole number", crate::error::shown(t, 40)),
+                    )
+                })?),
+                Kind::Text => Cell::S(Cow::Owned(t.to_string())),
+            });
+        }
+        Ok(true)
+    }
+
+    /// The column names.
+    pub fn header(&self) -> &csv::ByteRecord {
+        &self.header
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Reads the next row into `rec`; false at the end.
+    pub fn read(&mut self, rec: &mut csv::ByteRecord) -> Result<bool> {
+        let path = &self.path;
+        let more = match &mut self.inner {
+            Inner::Csv(rd) => rd.read_byte_record(rec).map_err(|e| {
+                let line = e.position().map(|p| format!("line {}", p.line()));
+                Error::input(path, line, None, format!("not a tswm table: {e}"))
+            })?,
+            Inner::Parquet(it) => match it.next() {
+                None => false,
+                Some(row) => {
+                    let row = row.map_err(|e| {
+                        Error::input(
+                            path,
+                            Some(format!("row {}", self.rows + 1)),
+                            None,
+                            format!("not a tswm table: {e}"),
+                        )
+                    })?;
+                    rec.clear();
+                    let mut s = String::new();
+                    for (_, f) in row.get_column_iter() {
+                        s.clear();
+                        match f {
+                            Field::Null => {}
+                            Field::Double(v) => push_f64(&mut s, *v),
+                            Field::Long(v) => {
+                                use std::fmt::Write as _;
+                                let _ = write!(s, "{v}");
+                            }
+                            Field::Str(t) => s.push_str(t),
+                            other => {
+                                use std::fmt::Write as _;
+                                let _ = write!(s, "{other}");
+                            }
+                        }
+                        rec.push_field(s.as_bytes());
+                    }
+                    true
+                }
+            },
+        };
+        if more {
+            self.rows += 1;
+        }
+        Ok(more)
+    }
+}

@@ -1,0 +1,265 @@
+//! The structure of `src/` as the maintainers' docs promise it: no file
+//! over 400 lines and no function over 80 without a written reason, no
+//! two modules that import each other (directly or through others), and
+//! each result column's and output file's name spelled once.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use crate::common::root;
+
+/// Every `.rs` file under `src/`, with its module path ("run::merge").
+fn sources() -> Vec<(PathBuf, String)> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    let src = root().join("src");
+    let mut files = Vec::new();
+    walk(&src, &mut files);
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let rel = p.strip_prefix(&src).unwrap().with_extension("");
+            let mut parts: Vec<String> = rel
+                .components()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .collect();
+            if parts
+                .last()
+                .is_some_and(|l| l == "mod" || l == "lib" || l == "main")
+            {
+                parts.pop();
+            }
+            (p, parts.join("::"))
+        })
+        .collect()
+}
+
+/// A file's code before its test module (tests may use anything).
+fn code(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    match text.find("#[cfg(test)]") {
+        Some(i) => text[..i].to_string(),
+        None => text,
+    }
+}
+
+#[test]
+fn no_file_over_400_lines_and_no_function_over_80_without_a_reason() {
+    let mut bad = Vec::new();
+    for (path, _) in sources() {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let name = path.strip_prefix(root()).unwrap().display().to_string();
+        if lines.len() > 400 && !text.contains("Why over 400 lines") {
+            bad.push(format!("{name}: {} lines", lines.len()));
+        }
+        let code = code(&path);
+        let lines: Vec<&str> = code.lines().collect();
+        let mut i = 0;
+        while i < lines.len() {
+            let l = lines[i].trim_start();
+            let is_fn = [
+                "fn ",
+                "pub fn ",
+                "pub(crate) fn ",
+                "pub(super) fn ",
+                "const fn ",
+            ]
+            .iter()
+            .any(|p| l.starts_with(p));
+            if !is_fn {
+                i += 1;
+                continue;
+            }
+            // The body: from the first `{` to its match.
+            let (mut depth, mut j, mut opened) = (0i32, i, false);
+            'scan: while j < lines.len() {
+                for ch in lines[j].chars() {
+                    match ch {
+                        '{' => {
+                            depth += 1;
+                            opened = true;
+                        }
+                        '}' => depth -= 1,
+                        ';' if !opened => break 'scan,
+                        _ => {}
+                    }
+                }
+                if opened && depth == 0 {
+                    break;
+                }
+                j += 1;
+            }
+            let len = j + 1 - i;
+            let reason = lines[..i]
+                .iter()
+                .rev()
+                .take_while(|l| {
+                    l.trim_start().starts_with("//") || l.trim_start().starts_with("#[")
+                })
+                .any(|l| l.contains("Why over 80 lines"));
+            if opened && len > 80 && !reason {
+                bad.push(format!("{name}:{}: a function of {len} lines", i + 1));
+            }
+            i = if opened { j + 1 } else { i + 1 };
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
+
+/// The modules a file's code names: `crate::a::b` paths and `super::`
+/// paths, resolved to the longest module path that exists.
+fn imports(module: &str, code: &str, modules: &BTreeSet<String>) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let here: Vec<&str> = if module.is_empty() {
+        Vec::new()
+    } else {
+        module.split("::").collect()
+    };
+    let ident = |c: char| c.is_alphanumeric() || c == '_' || c == ':';
+    for (start, prefix) in [("crate::", ""), ("super::", "super")] {
+        let mut from = 0;
+        while let Some(i) = code[from..].find(start) {
+            let at = from + i;
+            from = at + start.len();
+            if at > 0 && code[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_' || c == ':')
+            {
+                continue;
+            }
+            let path: String = code[from..].chars().take_while(|&c| ident(c)).collect();
+            let mut segs: Vec<String> = if prefix.is_empty() {
+                Vec::new()
+            } else {
+                // `super` from a file module is its parent; a folder's
+                // mod.rs is the folder itself.
+                let mut p: Vec<String> = here.iter().map(|s| s.to_string()).collect();
+                p.pop();
+                p
+            };
+            let mut rest = path.as_str();
+            while let Some(r) = rest.strip_prefix("super::") {
+                segs.pop();
+                rest = r;
+            }
+            segs.extend(
+                rest.split("::")
+                    .filter(|s| !s.is_empty())
+                    .map(str::to_string),
+            );
+            while !segs.is_empty() && !modules.contains(&segs.join("::")) {
+                segs.pop();
+            }
+            let target = segs.join("::");
+            if !target.is_empty() && target != module {
+                out.insert(target);
+            }
+        }
+    }
+    out
+}
+
+/// A cycle in `edges`, if there is one.
+fn cycle(edges: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        n: &str,
+        edges: &BTreeMap<String, BTreeSet<String>>,
+        state: &mut BTreeMap<String, u8>,
+        stack: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        state.insert(n.to_string(), 1);
+        stack.push(n.to_string());
+        for m in edges.get(n).into_iter().flatten() {
+            match state.get(m.as_str()) {
+                Some(1) => {
+                    let i = stack.iter().position(|s| s == m).unwrap();
+                    let mut c = stack[i..].to_vec();
+                    c.push(m.clone());
+                    return Some(c);
+                }
+                Some(_) => {}
+                None => {
+                    if let Some(c) = visit(m, edges, state, stack) {
+                        return Some(c);
+                    }
+                }
+            }
+        }
+        stack.pop();
+        state.insert(n.to_string(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for n in edges.keys() {
+        if !state.contains_key(n) {
+            if let Some(c) = visit(n, edges, &mut state, &mut Vec::new()) {
+                return Some(c);
+            }
+        }
+    }
+    None
+}
+
+/// No two modules import each other, directly or through others: between
+/// files (a folder's `mod.rs` holds its files, so its re-exports of them
+/// are no import), and between the folders of `src/` (the stages).
+#[test]
+fn no_two_modules_import_each_other() {
+    let files = sources();
+    let modules: BTreeSet<String> = files.iter().map(|f| f.1.clone()).collect();
+    let mut by_file: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut by_stage: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for (path, module) in &files {
+        if module.is_empty() {
+            continue; // lib.rs and main.rs: the roots
+        }
+        let is_folder = path.file_name().is_some_and(|n| n == "mod.rs");
+        let stage = module.split("::").next().unwrap().to_string();
+        for t in imports(module, &code(path), &modules) {
+            let inside = t.starts_with(&format!("{module}::"));
+            if !(is_folder && inside) {
+                by_file.entry(module.clone()).or_default().insert(t.clone());
+            }
+            let ts = t.split("::").next().unwrap().to_string();
+            if ts != stage {
+                by_stage.entry(stage.clone()).or_default().insert(ts);
+            }
+        }
+    }
+    assert_eq!(cycle(&by_file), None, "modules that import each other");
+    assert_eq!(cycle(&by_stage), None, "folders that import each other");
+    // The check sees imports at all: the run stage imports the output one.
+    assert!(by_stage["run"].contains("output"));
+}
+
+/// A result column's name is a string literal in `src/` once (its row of
+/// the table of result columns); an output file's name once (`names`).
+#[test]
+fn each_column_and_file_name_is_spelled_once() {
+    let code: Vec<(String, String)> = sources().into_iter().map(|(p, m)| (m, code(&p))).collect();
+    let mut names: Vec<&str> = tswm::columns::results().iter().map(|c| c.name).collect();
+    names.extend(tswm::output::names::RESULTS);
+    names.extend([tswm::output::names::LOCK, tswm::output::names::MARKER]);
+    let mut bad = Vec::new();
+    for n in names {
+        let lit = format!("\"{n}\"");
+        let places: Vec<&str> = code
+            .iter()
+            .filter(|(_, c)| c.contains(&lit))
+            .map(|(m, _)| m.as_str())
+            .collect();
+        let count: usize = code.iter().map(|(_, c)| c.matches(&lit).count()).sum();
+        if count != 1 {
+            bad.push(format!("{lit} {count} times: {places:?}"));
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
