@@ -1,6 +1,7 @@
 //! Bad input: a one-line error naming the file, the line
 //! or row, the parameter and what is allowed; exit code 2; nothing written.
 
+use crate::common::cpu;
 use std::path::Path;
 
 /// Runs `tswm run` on a sweep file (and optionally a lane table) with the
@@ -16,7 +17,7 @@ fn rejects(sweep: Option<&str>, lanes: Option<&str>, want: &[&str]) {
         std::fs::write(dir.path().join("l.csv"), t).unwrap();
         args.extend(["--lanes", "l.csv"]);
     }
-    args.extend(["--out", "out", "--backend", "cpu"]);
+    args.extend(cpu(&["--out", "out"]));
     check(&args, dir.path(), want);
 }
 
@@ -375,19 +376,13 @@ fn seeds_outside_what_round_trips_are_named() {
 fn the_largest_seed_round_trips_through_the_resolved_sweep() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.toml"), study("9223372036854775807")).unwrap();
-    let (_, _, a) = crate::common::run_ok(
-        &["run", "s.toml", "--out", "o", "--backend", "cpu"],
-        dir.path(),
-    );
+    let (_, _, a) = crate::common::run_ok(&cpu(&["run", "s.toml", "--out", "o"]), dir.path());
     std::fs::copy(
         dir.path().join("o/sweep.resolved.toml"),
         dir.path().join("r.toml"),
     )
     .unwrap();
-    let (_, _, b) = crate::common::run_ok(
-        &["run", "r.toml", "--out", "o", "--backend", "cpu"],
-        dir.path(),
-    );
+    let (_, _, b) = crate::common::run_ok(&cpu(&["run", "r.toml", "--out", "o"]), dir.path());
     assert_eq!(a, b, "the resolved sweep gives the same lanes");
     let text = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();
     assert!(text.contains("seed = 9223372036854775807"), "{text}");
@@ -425,16 +420,7 @@ fn lane_table_provenance_records_base_and_friction_table() {
     .unwrap();
     std::fs::write(dir.path().join("l.csv"), "gamma_deg\n10\n").unwrap();
     crate::common::run_ok(
-        &[
-            "run",
-            "s.toml",
-            "--lanes",
-            "l.csv",
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", "s.toml", "--lanes", "l.csv", "--out", "o"]),
         dir.path(),
     );
     let text = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();

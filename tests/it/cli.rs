@@ -13,14 +13,7 @@ fn paper_sweep_writes_lanes_csv_and_provenance() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/paper.toml");
     let (out, h, rows) = run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -104,16 +97,7 @@ fn lane_table_over_a_sweep_base_with_a_friction_table() {
     .unwrap();
     std::fs::write(dir.path().join("l.csv"), "gamma_deg,t_end\n10,1\n20,\n").unwrap();
     let (_, h, rows) = run_ok(
-        &[
-            "run",
-            "s.toml",
-            "--lanes",
-            "l.csv",
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", "s.toml", "--lanes", "l.csv", "--out", "o"]),
         dir.path(),
     );
     assert_eq!(col(&h, &rows[0], "friction"), "table");
@@ -136,16 +120,7 @@ fn tolerance_study_is_reproducible_across_thread_counts() {
     std::fs::write(dir.path().join("t.toml"), text).unwrap();
     for (threads, o) in [("1", "a"), ("2", "b"), ("2", "c")] {
         let out = tswm(
-            &[
-                "run",
-                "t.toml",
-                "--threads",
-                threads,
-                "--out",
-                o,
-                "--backend",
-                "cpu",
-            ],
+            &cpu(&["run", "t.toml", "--threads", threads, "--out", o]),
             dir.path(),
         );
         assert!(

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use crate::common::cpu;
 use crate::common::{root, tswm};
 
 /// Whether a command is on this machine.
@@ -28,7 +29,7 @@ fn skip_unless(ok: bool, why: &str) -> bool {
     if std::env::var_os("CI").is_some() {
         panic!("CI: {why} (.ci/run installs and runs it as root)");
     }
-    eprintln!("skipped: {why}");
+    crate::common::skipped("the cluster test", why);
     true
 }
 
@@ -40,15 +41,13 @@ fn sh(cmd: &str) -> String {
 /// The unsharded table of a sweep, for comparison.
 fn unsharded(sweep: &Path, dir: &Path) -> Vec<u8> {
     let out = tswm(
-        &[
+        &cpu(&[
             "run",
             &sweep.display().to_string(),
-            "--backend",
-            "cpu",
             "--no-report",
             "--out",
             "single",
-        ],
+        ]),
         dir,
     );
     assert!(

@@ -170,3 +170,27 @@ pub fn rejected(args: &[&str], cwd: &Path, want: &[&str]) -> String {
     }
     err
 }
+
+/// A command line run on the f64 CPU path: `args` with `--backend cpu`.
+pub fn cpu<'a>(args: &[&'a str]) -> Vec<&'a str> {
+    let mut v = args.to_vec();
+    v.extend(["--backend", "cpu"]);
+    v
+}
+
+/// Says that (part of) a test is skipped and why, straight to stderr so
+/// that a passing run shows it (libtest captures `eprintln!`).
+pub fn skipped(test: &str, why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped {test}: {why}");
+}
+
+/// Mesa's Vulkan drivers print an error line per device when
+/// XDG_RUNTIME_DIR is unset while they probe for a display that compute
+/// never needs; `tswm` sets it before opening a device, and so do the
+/// tests that open one in-process.
+pub fn quiet_mesa() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+}

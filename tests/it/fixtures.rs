@@ -26,9 +26,12 @@ fn model_md_reference_cases_on_cpu() {
 fn fixture_copies_match_shared() {
     let shared = root().join("../shared/fixtures");
     if !shared.exists() {
-        eprintln!(
-            "skipped: {} not found (the copies under tests/fixtures are used)",
-            shared.display()
+        skipped(
+            "fixture_copies_match_shared",
+            &format!(
+                "{} not found (the copies under tests/fixtures are used)",
+                shared.display()
+            ),
         );
         return;
     }

@@ -17,6 +17,7 @@ static GPU: OnceLock<Result<Mutex<GpuBackend>, String>> = OnceLock::new();
 /// The shared GPU backend, or None (after printing why) when there is none.
 fn gpu(test: &str) -> Option<MutexGuard<'static, GpuBackend>> {
     let g = GPU.get_or_init(|| {
+        quiet_mesa();
         Gpu::new(false)
             .map(|g| Mutex::new(GpuBackend::new(g, Settings::default())))
             .map_err(|e| e.to_string())
@@ -327,6 +328,7 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
 /// the CPU path, without opening a software device.
 #[test]
 fn auto_runs_small_sweeps_on_the_cpu_without_a_hardware_gpu() {
+    quiet_mesa();
     if let Some(hw) = tswm::backend::gpu::adapters()
         .iter()
         .find(|a| tswm::backend::gpu::is_hardware(&a.info))
@@ -374,6 +376,7 @@ fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
         .iter()
         .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
         .collect();
+    quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
     let globals = GpuGlobals::new(&Settings::default(), None);
     let mut runs = Vec::new();
@@ -404,6 +407,7 @@ fn parts_of_a_chunk_overlap_upload_compute_and_read_back() {
         .iter()
         .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
         .collect();
+    quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
     // Few slots, so that each part takes several rounds.
     dev.slots = 256;
@@ -498,6 +502,7 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     let mut want = Vec::new();
     shared.run_chunk(0, &params, None, &mut want).unwrap();
     drop(shared);
+    quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
     dev.slots = 64;
     let mut g = GpuBackend::new(dev, Settings::default());

@@ -40,28 +40,14 @@ fn a_second_run_into_a_held_folder_is_refused() {
     lock.lock().unwrap();
     let sweep = root().join("sweeps/paper.toml");
     rejected(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
         &["o: another tswm command is writing to this folder"],
     );
     assert_eq!(names(&out), [".tswm.lock"], "nothing written");
     drop(lock);
     run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
 }
@@ -70,19 +56,17 @@ fn a_second_run_into_a_held_folder_is_refused() {
 fn two_runs_into_one_folder_never_mix() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = big_sweep(dir.path(), 100_000);
-    let args = [
+    let args = cpu(&[
         "run",
         sweep.to_str().unwrap(),
         "--out",
         "o",
-        "--backend",
-        "cpu",
         "--threads",
         "1",
-    ];
+    ]);
     let spawn = || {
         Command::new(env!("CARGO_BIN_EXE_tswm"))
-            .args(args)
+            .args(&args)
             .current_dir(dir.path())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
@@ -113,14 +97,7 @@ fn partial_files_of_a_killed_run_are_removed_by_the_next() {
     std::fs::write(out.join(".lanes.csv.4242-0.partial"), "m1,m2\n586,").unwrap();
     let sweep = root().join("sweeps/paper.toml");
     run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     assert_eq!(names(&out), RUN_FILES);
@@ -134,27 +111,13 @@ fn sigint_and_sigterm_leave_no_partial_file() {
     let sweep = big_sweep(dir.path(), 400_000);
     let paper = root().join("sweeps/paper.toml");
     run_ok(
-        &[
-            "run",
-            paper.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", paper.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     let before = std::fs::read(dir.path().join("o/lanes.csv")).unwrap();
     for (sig, name) in [(2, "INT"), (15, "TERM")] {
         let child = Command::new(env!("CARGO_BIN_EXE_tswm"))
-            .args([
-                "run",
-                sweep.to_str().unwrap(),
-                "--out",
-                "o",
-                "--backend",
-                "cpu",
-            ])
+            .args(cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]))
             .current_dir(dir.path())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
@@ -219,14 +182,7 @@ fn a_full_disk_leaves_the_old_results_together() {
     let paper = root().join("sweeps/paper.toml");
     let run = |sweep: &Path| {
         tswm(
-            &[
-                "run",
-                sweep.to_str().unwrap(),
-                "--out",
-                "o",
-                "--backend",
-                "cpu",
-            ],
+            &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
             dir.path(),
         )
     };
@@ -266,16 +222,7 @@ fn threads_have_an_upper_bound() {
         &["--threads", "1 to 1024"],
     );
     assert!(!dir.path().join("o").exists());
-    let args = [
-        "run",
-        paper,
-        "--threads",
-        "1024",
-        "--out",
-        "o",
-        "--backend",
-        "cpu",
-    ];
+    let args = cpu(&["run", paper, "--threads", "1024", "--out", "o"]);
     run_ok(&args, dir.path());
 }
 
@@ -285,14 +232,7 @@ fn out_naming_a_file_is_bad_input() {
     std::fs::write(dir.path().join("o"), "not a folder").unwrap();
     let paper = root().join("sweeps/paper.toml");
     rejected(
-        &[
-            "run",
-            paper.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", paper.to_str().unwrap(), "--out", "o"]),
         dir.path(),
         &["o: --out: exists and is not a folder"],
     );

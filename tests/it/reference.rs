@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use crate::common::cpu;
 use crate::common::{col, read_csv, rel1, root, run_ok};
 
 /// A Python with scipy: `TSWM_PYTHON`, else Debian's (where
@@ -39,8 +40,9 @@ fn an_independent_integration_agrees_on_1000_random_lanes() {
         if std::env::var_os("CI").is_some() {
             panic!("CI: python3 with scipy is required (.ci/run installs python3-scipy)");
         }
-        eprintln!(
-            "skipped: no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)"
+        crate::common::skipped(
+            "the scipy reference",
+            "no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)",
         );
         return;
     };
@@ -58,16 +60,14 @@ fn an_independent_integration_agrees_on_1000_random_lanes() {
         ],
     );
     run_ok(
-        &[
+        &cpu(&[
             "run",
             "--lanes",
             lanes.to_str().unwrap(),
-            "--backend",
-            "cpu",
             "--out",
             "o",
             "--no-report",
-        ],
+        ]),
         d,
     );
     let ours = d.join("o/lanes.csv");
@@ -148,8 +148,9 @@ fn hold_and_t_stop_agree_with_an_independent_integration() {
         if std::env::var_os("CI").is_some() {
             panic!("CI: python3 with scipy is required (.ci/run installs python3-scipy)");
         }
-        eprintln!(
-            "skipped: no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)"
+        crate::common::skipped(
+            "the scipy reference",
+            "no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)",
         );
         return;
     };
@@ -186,16 +187,13 @@ fn hold_and_t_stop_agree_with_an_independent_integration() {
             ],
             d,
         );
+        crate::common::quiet_mesa();
         if backend == "gpu" && tswm::backend::gpu::adapters().is_empty() {
             assert!(
                 std::env::var("TSWM_REQUIRE_GPU").as_deref() != Ok("1"),
                 "TSWM_REQUIRE_GPU=1 but there is no GPU adapter"
             );
-            use std::io::Write;
-            let _ = writeln!(
-                std::io::stderr(),
-                "skipped the GPU half of hold_and_t_stop: no GPU adapter"
-            );
+            crate::common::skipped("the GPU half of hold_and_t_stop", "no GPU adapter");
             continue;
         }
         assert!(

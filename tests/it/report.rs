@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::common::cpu;
 use crate::common::{rejected, root, run_ok, tswm};
 
 const SHIPPED: [&str; 6] = [
@@ -19,17 +20,7 @@ const SHIPPED: [&str; 6] = [
 /// Runs a shipped sweep on the CPU into `dir/o` and returns the report.
 fn shipped_report(name: &str, dir: &Path) -> String {
     let sweep = root().join(format!("sweeps/{name}.toml"));
-    run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            "o",
-        ],
-        dir,
-    );
+    run_ok(&cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]), dir);
     std::fs::read_to_string(dir.join("o/report.html")).expect("report.html written")
 }
 
@@ -81,16 +72,14 @@ fn markup_in_the_input_cannot_reach_the_page() {
     )
     .unwrap();
     run_ok(
-        &[
+        &cpu(&[
             "run",
             "s.toml",
             "--lanes",
             table.to_str().unwrap(),
-            "--backend",
-            "cpu",
             "--out",
             "o",
-        ],
+        ]),
         dir.path(),
     );
     let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
@@ -124,15 +113,7 @@ fn no_report_writes_none_and_removes_an_old_one() {
     let dir = tempfile::tempdir().unwrap();
     shipped_report("paper", dir.path());
     let sweep = root().join("sweeps/paper.toml");
-    let args = [
-        "run",
-        sweep.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--out",
-        "o",
-        "--no-report",
-    ];
+    let args = cpu(&["run", sweep.to_str().unwrap(), "--out", "o", "--no-report"]);
     run_ok(&args, dir.path());
     assert!(
         !dir.path().join("o/report.html").exists(),
@@ -197,8 +178,9 @@ fn every_shipped_sweep_gets_a_self_contained_report_that_renders() {
         if std::env::var_os("CI").is_some() {
             panic!("CI: chromium-headless-shell is required (.ci/run installs it)");
         }
-        eprintln!(
-            "rendering skipped: no headless Chromium (apt-get install chromium-headless-shell)"
+        crate::common::skipped(
+            "rendering the reports",
+            "no headless Chromium (apt-get install chromium-headless-shell)",
         );
     }
     for name in SHIPPED {

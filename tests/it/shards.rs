@@ -7,7 +7,7 @@ use std::fs;
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
-use crate::common::{root, tswm};
+use crate::common::{cpu, root, tswm};
 
 fn sweep(name: &str) -> String {
     root().join("sweeps").join(name).display().to_string()
@@ -30,7 +30,7 @@ fn shards(sweep: &str, n: u64, dir: &Path, extra: &[&str]) -> Vec<PathBuf> {
         .map(|k| {
             let out = dir.join(format!("s{k}"));
             let spec = format!("{k}/{n}");
-            let mut args = vec!["run", sweep, "--backend", "cpu", "--shard", &spec];
+            let mut args = cpu(&["run", sweep, "--shard", &spec]);
             let o = out.display().to_string();
             args.extend(["--out", &o]);
             args.extend(extra);
@@ -60,10 +60,7 @@ fn bytes(p: &Path) -> Vec<u8> {
 fn merged_equals_unsharded(name: &str) {
     let t = tempfile::tempdir().unwrap();
     let dir = t.path();
-    ok(
-        &["run", &sweep(name), "--backend", "cpu", "--out", "full"],
-        dir,
-    );
+    ok(&cpu(&["run", &sweep(name), "--out", "full"]), dir);
     let parts = shards(&sweep(name), 4, dir, &[]);
     let out = ok(&merge_args(&names(&parts), "merged"), dir);
     assert!(out.contains("from 4 shards"), "{out}");
@@ -108,32 +105,8 @@ fn the_lanes_of_a_shard_do_not_depend_on_the_split() {
     let t = tempfile::tempdir().unwrap();
     let dir = t.path();
     let s = sweep("self_locking.toml");
-    ok(
-        &[
-            "run",
-            &s,
-            "--backend",
-            "cpu",
-            "--shard",
-            "1/3",
-            "--out",
-            "a",
-        ],
-        dir,
-    );
-    ok(
-        &[
-            "run",
-            &s,
-            "--backend",
-            "cpu",
-            "--shard",
-            "2/7",
-            "--out",
-            "b",
-        ],
-        dir,
-    );
+    ok(&cpu(&["run", &s, "--shard", "1/3", "--out", "a"]), dir);
+    ok(&cpu(&["run", &s, "--shard", "2/7", "--out", "b"]), dir);
     let read = |p: &str| crate::common::read_csv(&dir.join(p).join("lanes.csv"));
     let ((h, a), (_, b)) = (read("a"), read("b"));
     let lane = h.iter().position(|c| c == "lane").unwrap();
@@ -231,32 +204,21 @@ fn merge_refuses_a_foreign_shard() {
     )
     .unwrap();
     ok(
-        &[
-            "run",
-            "other.toml",
-            "--backend",
-            "cpu",
-            "--shard",
-            "2/4",
-            "--out",
-            "other",
-        ],
+        &cpu(&["run", "other.toml", "--shard", "2/4", "--out", "other"]),
         dir,
     );
     let given = [d[0].clone(), d[1].clone(), "other".into(), d[3].clone()];
     refused(&merge_args(&given, "out"), dir, "other", "foreign shard");
     // So is a shard of another split of the same sweep.
     ok(
-        &[
+        &cpu(&[
             "run",
             &sweep("tolerance.toml"),
-            "--backend",
-            "cpu",
             "--shard",
             "2/5",
             "--out",
             "split5",
-        ],
+        ]),
         dir,
     );
     let given = [d[0].clone(), d[1].clone(), "split5".into(), d[3].clone()];
@@ -268,16 +230,7 @@ fn a_complete_shard_is_not_run_again_an_incomplete_one_is_redone() {
     let t = tempfile::tempdir().unwrap();
     let dir = t.path();
     let s = sweep("tolerance.toml");
-    let args = [
-        "run",
-        s.as_str(),
-        "--backend",
-        "cpu",
-        "--shard",
-        "1/4",
-        "--out",
-        "s",
-    ];
+    let args = cpu(&["run", s.as_str(), "--shard", "1/4", "--out", "s"]);
     ok(&args, dir);
     let table = dir.join("s/lanes.csv");
     let before = fs::metadata(&table).unwrap();
@@ -310,16 +263,7 @@ fn a_complete_shard_is_not_run_again_an_incomplete_one_is_redone() {
     assert!(bytes(&table) == content && dir.join("s/shard.toml").exists());
     // Another split into the same folder is not "complete" either.
     let out = ok(
-        &[
-            "run",
-            s.as_str(),
-            "--backend",
-            "cpu",
-            "--shard",
-            "1/5",
-            "--out",
-            "s",
-        ],
+        &cpu(&["run", s.as_str(), "--shard", "1/5", "--out", "s"]),
         dir,
     );
     assert!(out.contains("lanes/s"), "{out}");
@@ -416,23 +360,8 @@ fn lanes_parquet_holds_the_values_of_lanes_csv() {
     // unswitched lanes leave t_first_switch empty.
     for name in ["tolerance.toml", "self_locking.toml"] {
         let s = sweep(name);
-        ok(
-            &["run", &s, "--backend", "cpu", "--no-report", "--out", "c"],
-            dir,
-        );
-        ok(
-            &[
-                "run",
-                &s,
-                "--backend",
-                "cpu",
-                "--format",
-                "parquet",
-                "--out",
-                "p",
-            ],
-            dir,
-        );
+        ok(&cpu(&["run", &s, "--no-report", "--out", "c"]), dir);
+        ok(&cpu(&["run", &s, "--format", "parquet", "--out", "p"]), dir);
         assert_same_values(&dir.join("p/lanes.parquet"), &dir.join("c/lanes.csv"));
         assert!(!dir.join("p/lanes.csv").exists());
         assert!(bytes(&dir.join("c/summary.csv")) == bytes(&dir.join("p/summary.csv")));
@@ -450,18 +379,7 @@ fn parquet_shards_merge_to_the_unsharded_csv() {
     let t = tempfile::tempdir().unwrap();
     let dir = t.path();
     let s = sweep("tolerance.toml");
-    ok(
-        &[
-            "run",
-            &s,
-            "--backend",
-            "cpu",
-            "--no-report",
-            "--out",
-            "full",
-        ],
-        dir,
-    );
+    ok(&cpu(&["run", &s, "--no-report", "--out", "full"]), dir);
     let parts = shards(&s, 3, dir, &["--format", "parquet"]);
     // The shards' files, read one after the other, are the table: a
     // dataset readers take as one table without a merge.

@@ -5,6 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use crate::common::cpu;
 use crate::common::{col, read_csv, run_ok};
 use tswm::stats::quantile::{Sketch, ALPHA, TINY};
 
@@ -42,14 +43,7 @@ fn exact_quantiles_agree_with_a_sort_of_the_column() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = crate::common::root().join("sweeps/tolerance.toml");
     run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            "o",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     let o = dir.path().join("o");
@@ -167,10 +161,7 @@ fn a_group_past_the_exact_limit_gets_estimates_within_the_bound() {
          [[tolerance]]\nparam = \"gamma_deg\"\ndist = \"normal\"\ntol = 1.0\n"
     );
     std::fs::write(dir.path().join("big.toml"), sweep).unwrap();
-    run_ok(
-        &["run", "big.toml", "--backend", "cpu", "--out", "o"],
-        dir.path(),
-    );
+    run_ok(&cpu(&["run", "big.toml", "--out", "o"]), dir.path());
     let o = dir.path().join("o");
     let cols = columns(&o);
     let (h, rows) = read_csv(&o.join("summary.csv"));

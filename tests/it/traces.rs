@@ -96,24 +96,13 @@ fn traces_csv_from_the_command_line() {
     let dir = tempfile::tempdir().unwrap();
     let paper = root().join("sweeps/paper.toml");
     let p = paper.to_str().unwrap();
-    run_ok(&["run", p, "--out", "o", "--backend", "cpu"], dir.path());
+    run_ok(&cpu(&["run", p, "--out", "o"]), dir.path());
     let (h, rows) = read_csv(&dir.path().join("o/traces.csv"));
     assert_eq!(h.join(","), tswm::output::traces::TRACE_COLUMNS);
     // Both lanes of the sweep's [trace]: 201 rows each, lane 0's switch twice.
     assert_eq!(rows.len(), 201 + 2 + 201);
     run_ok(
-        &[
-            "run",
-            p,
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-            "--trace",
-            "1",
-            "--trace-dt",
-            "0.5",
-        ],
+        &cpu(&["run", p, "--out", "o", "--trace", "1", "--trace-dt", "0.5"]),
         dir.path(),
     );
     let (_, rows) = read_csv(&dir.path().join("o/traces.csv"));
@@ -126,14 +115,7 @@ fn traces_csv_from_the_command_line() {
     assert!(!bad.is_empty());
     let map = root().join("sweeps/efficiency_map.toml");
     run_ok(
-        &[
-            "run",
-            map.to_str().unwrap(),
-            "--out",
-            "o",
-            "--backend",
-            "cpu",
-        ],
+        &cpu(&["run", map.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     assert!(

@@ -19,7 +19,7 @@ fn file(dir: &Path, name: &str, text: &str) -> PathBuf {
 /// Runs the sweep `text` on the CPU into `dir/o` and returns the report.
 fn report_of(dir: &Path, text: &str) -> String {
     file(dir, "s.toml", text);
-    run_ok(&["run", "s.toml", "--backend", "cpu", "--out", "o"], dir);
+    run_ok(&cpu(&["run", "s.toml", "--out", "o"]), dir);
     std::fs::read_to_string(dir.join("o/report.html")).unwrap()
 }
 
@@ -172,14 +172,7 @@ fn the_shipped_tolerance_study_decides_every_lane() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/tolerance.toml");
     let (out, h, rows) = run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            "o",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     assert_eq!(rows.len(), 5000);
@@ -208,10 +201,7 @@ fn coasting_lanes_are_said_to_be_undecided() {
         "s.toml",
         "[base]\nf2 = -4774.0\nmotor_off = 1.0\nt_end = 3.0\n[[grid]]\nparam = \"m1\"\nvalues = [500.0, 600.0]\n",
     );
-    let (out, h, rows) = run_ok(
-        &["run", "s.toml", "--backend", "cpu", "--out", "o"],
-        dir.path(),
-    );
+    let (out, h, rows) = run_ok(&cpu(&["run", "s.toml", "--out", "o"]), dir.path());
     assert!(rows.iter().all(|r| col(&h, r, "hold") == "coasting"));
     let line = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -231,14 +221,7 @@ fn the_self_locking_report_states_its_answer() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/self_locking.toml");
     let (_, h, rows) = run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            "o",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     // The answer, from the rows themselves: per lead angle, the one-sided
@@ -277,7 +260,7 @@ fn a_run_into_a_folder_during_a_merges_report_is_refused() {
     for k in 0..2 {
         let (s, o) = (format!("{k}/2"), format!("s{k}"));
         let out = tswm(
-            &["run", sweep, "--backend", "cpu", "--shard", &s, "--out", &o],
+            &cpu(&["run", sweep, "--shard", &s, "--out", &o]),
             dir.path(),
         );
         assert!(out.status.success());
@@ -298,7 +281,7 @@ fn a_run_into_a_folder_during_a_merges_report_is_refused() {
         std::thread::sleep(Duration::from_millis(10));
     }
     rejected(
-        &["run", sweep, "--backend", "cpu", "--out", "m"],
+        &cpu(&["run", sweep, "--out", "m"]),
         dir.path(),
         &["m: another tswm command is writing to this folder"],
     );
@@ -334,7 +317,7 @@ fn a_folder_of_ones_own_files_is_refused() {
     std::fs::write(out.join("report.html"), "my own report").unwrap();
     file(dir.path(), "s.toml", SMALL);
     rejected(
-        &["run", "s.toml", "--backend", "cpu", "--out", "o"],
+        &cpu(&["run", "s.toml", "--out", "o"]),
         dir.path(),
         &["o: --out: holds files tswm did not write (report.html)"],
     );
@@ -348,7 +331,7 @@ fn a_folder_of_ones_own_files_is_refused() {
 fn replacing_an_earlier_run_is_said() {
     let dir = tempfile::tempdir().unwrap();
     file(dir.path(), "s.toml", SMALL);
-    let args = ["run", "s.toml", "--backend", "cpu", "--out", "o"];
+    let args = cpu(&["run", "s.toml", "--out", "o"]);
     let (first, _, _) = run_ok(&args, dir.path());
     assert!(!String::from_utf8_lossy(&first.stdout).contains("replaced"));
     let (second, _, _) = run_ok(&args, dir.path());
@@ -361,7 +344,7 @@ fn a_dangling_symlink_out_is_one_error_line() {
     file(dir.path(), "s.toml", SMALL);
     std::os::unix::fs::symlink(dir.path().join("nowhere"), dir.path().join("o")).unwrap();
     rejected(
-        &["run", "s.toml", "--backend", "cpu", "--out", "o"],
+        &cpu(&["run", "s.toml", "--out", "o"]),
         dir.path(),
         &["o: --out: is a symbolic link to", "does not exist"],
     );
@@ -372,7 +355,7 @@ fn sigterm_in_the_report_phase_says_what_was_committed() {
     let dir = tempfile::tempdir().unwrap();
     file(dir.path(), "s.toml", SMALL);
     let child = Command::new(env!("CARGO_BIN_EXE_tswm"))
-        .args(["run", "s.toml", "--backend", "cpu", "--out", "o"])
+        .args(cpu(&["run", "s.toml", "--out", "o"]))
         .env("TSWM_TEST_PAUSE", "before-report:5000")
         .current_dir(dir.path())
         .stdout(Stdio::piped())
@@ -405,16 +388,14 @@ fn a_trace_dt_of_1e_12_is_refused_before_anything_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/paper.toml");
     let line = rejected(
-        &[
+        &cpu(&[
             "run",
             sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
             "--out",
             "o",
             "--trace-dt",
             "1e-12",
-        ],
+        ]),
         dir.path(),
         &["trace dt", "10000000 rows", "at least"],
     );
@@ -428,17 +409,15 @@ fn a_trace_dt_of_1e_12_is_refused_before_anything_is_written() {
         .next()
         .unwrap();
     run_ok(
-        &[
+        &cpu(&[
             "run",
             sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
             "--out",
             "o",
             "--trace-dt",
             dt,
             "--no-report",
-        ],
+        ]),
         dir.path(),
     );
 }
@@ -451,14 +430,7 @@ fn a_trace_with_20000_events_is_drawn_from_bounded_points() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/paper.toml");
     run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            "o",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     // Lane 0 over its 2 s: 20,000 events (two rows each, one time) between
@@ -495,10 +467,7 @@ fn a_newline_in_a_lane_table_name_cannot_write_toml() {
     let dir = tempfile::tempdir().unwrap();
     let name = "l\n[report]\ntitle = \"pwned\"\n.csv";
     std::fs::write(dir.path().join(name), "gamma_deg\n10\n").unwrap();
-    run_ok(
-        &["run", "--lanes", name, "--backend", "cpu", "--out", "o"],
-        dir.path(),
-    );
+    run_ok(&cpu(&["run", "--lanes", name, "--out", "o"]), dir.path());
     let text = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();
     assert!(!text.lines().any(|l| l.starts_with("[report]")), "{text}");
     let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
@@ -565,14 +534,7 @@ fn a_grid_of_two_loads_is_not_drawn_as_a_trend() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = root().join("sweeps/paper.toml");
     run_ok(
-        &[
-            "run",
-            sweep.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            "o",
-        ],
+        &cpu(&["run", sweep.to_str().unwrap(), "--out", "o"]),
         dir.path(),
     );
     let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
@@ -651,18 +613,9 @@ fn traced_shards(dir: &Path, format: &str) {
     for k in 0..2 {
         let (s, o) = (format!("{k}/2"), format!("s{k}"));
         let out = tswm(
-            &[
-                "run",
-                "s.toml",
-                "--backend",
-                "cpu",
-                "--shard",
-                &s,
-                "--out",
-                &o,
-                "--format",
-                format,
-            ],
+            &cpu(&[
+                "run", "s.toml", "--shard", &s, "--out", &o, "--format", format,
+            ]),
             dir,
         );
         assert!(
