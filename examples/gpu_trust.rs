@@ -1,4 +1,4 @@
-//! How the GPU's self-check thresholds were chosen (README, "GPU path"):
+//! How the GPU's self-check thresholds were chosen (docs/gpu.md):
 //! runs lane sets raw on the GPU (no self-check) and on the f64 path, and
 //! prints, for every lane whose GPU row is off by more than 100 times the
 //! GPU bounds (or whose status or final contact differs), the indicators

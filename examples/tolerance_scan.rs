@@ -1,6 +1,5 @@
-//! Reproduces the choice of the f64 path's tolerance (README, "Numerics
-//! and accuracy"): 3000 random user lanes (seed 11) at each given per-step
-//! tolerance against the same lanes at 1e-13, with the accuracy measure of the README
+//! Reproduces the choice of the f64 path's tolerance (docs/numerics.md): 3000 random user lanes (seed 11) at each given per-step
+//! tolerance against the same lanes at 1e-13, with the accuracy measure of docs/numerics.md
 //! (s for switch times; relative to max(1, |value|) otherwise).
 //!
 //!     cargo run --release --example tolerance_scan -- 1e-8 2e-8

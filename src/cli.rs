@@ -26,7 +26,7 @@ pub struct Cli {
 pub struct LanesArgs {
     /// Sweep file (TOML). With --lanes it may give only [base], [friction_table] and [report].
     pub sweep: Option<PathBuf>,
-    /// Explicit lane table (CSV, one lane a row, MODEL.md parameter names as columns).
+    /// Explicit lane table (CSV, one lane a row, the parameters' names as columns).
     #[arg(long, value_name = "FILE.csv")]
     pub lanes: Option<PathBuf>,
     /// CPU threads (default: all cores).

@@ -306,7 +306,7 @@ pub const RESULTS: &[Column] = &[
         name: "w1_in",
         unit: "J",
         quantity: "energy the worm side put into the mesh",
-        meaning: "the integral of max(S1 v1, 0)",
+        meaning: "energy the worm side put into the mesh, the integral of max(p1, 0) with p1 = S1 v1",
         cell: |_, r| ok(r, r.w1_in),
         ..INTEGRATED
     },
@@ -314,7 +314,7 @@ pub const RESULTS: &[Column] = &[
         name: "w1_out",
         unit: "J",
         quantity: "energy the mesh gave the worm side",
-        meaning: "the integral of max(-S1 v1, 0)",
+        meaning: "energy the mesh gave back to the worm side, the integral of max(-p1, 0)",
         cell: |_, r| ok(r, r.w1_out),
         ..INTEGRATED
     },
@@ -322,7 +322,7 @@ pub const RESULTS: &[Column] = &[
         name: "w2_in",
         unit: "J",
         quantity: "energy the wheel side put into the mesh",
-        meaning: "the integral of max(S2 v2, 0)",
+        meaning: "energy the wheel side put into the mesh, the integral of max(p2, 0) with p2 = S2 v2",
         cell: |_, r| ok(r, r.w2_in),
         ..INTEGRATED
     },
@@ -330,7 +330,7 @@ pub const RESULTS: &[Column] = &[
         name: "w2_out",
         unit: "J",
         quantity: "energy the mesh gave the wheel side",
-        meaning: "the integral of max(-S2 v2, 0)",
+        meaning: "energy the mesh gave the wheel side, the integral of max(-p2, 0)",
         cell: |_, r| ok(r, r.w2_out),
         ..INTEGRATED
     },
@@ -460,6 +460,22 @@ pub fn label(name: &str, quantity: &str, unit: &str) -> String {
     }
 }
 
+/// The result column table of `docs/outputs.md`, rendered from the rows
+/// (a test keeps the page equal to it).
+pub fn docs_table() -> String {
+    let mut s = String::from("| column | unit | meaning | empty when |\n|---|---|---|---|\n");
+    for c in results() {
+        s += &format!(
+            "| `{}` | {} | {} | {} |\n",
+            c.name,
+            c.unit,
+            c.meaning,
+            if c.empty.is_empty() { "never" } else { c.empty }
+        );
+    }
+    s
+}
+
 impl Column {
     /// The column's axis label.
     pub fn label(&self) -> String {
@@ -523,6 +539,17 @@ mod tests {
                 "w2_in",
                 "w2_out"
             ]
+        );
+    }
+
+    /// The outputs page's table is the table.
+    #[test]
+    fn the_outputs_pages_column_table_is_the_table() {
+        let page = include_str!("../docs/outputs.md");
+        let want = docs_table();
+        assert!(
+            page.contains(&want),
+            "docs/outputs.md's column table differs; it should read:\n{want}"
         );
     }
 }

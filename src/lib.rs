@@ -1,5 +1,5 @@
 //! `tswm`: batch simulation of the Two-Sided Wedge Mechanism, the dynamic
-//! model of a worm drive in `MODEL.md`, over thousands to millions of
+//! model of a worm drive in `docs/model.md`, over thousands to millions of
 //! parameter variants on a CPU (f64, rayon) or a GPU (f32, WGSL via wgpu).
 //!
 //! Modules: [`params`] (the parameter table, specs, validation), [`model`]

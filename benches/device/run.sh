@@ -7,7 +7,7 @@
 #
 # TSWM defaults to target/release/tswm (built elsewhere: `cargo build
 # --release`), OUTDIR to ./device-bench. Writes OUTDIR/results.md (a
-# table for the README) and OUTDIR/log.txt. MAX_LANES (default 10000000)
+# table for docs/performance.md) and OUTDIR/log.txt. MAX_LANES (default 10000000)
 # stops below 10^7; BACKENDS (default "gpu cpu") picks the backends.
 #
 # "integration" is `tswm bench`: lanes generated, integrated, the GPU rows

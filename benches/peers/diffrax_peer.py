@@ -10,7 +10,7 @@ warm-up solve first) and, with --check TSWM_LANES_CSV, the largest
 difference of x1_end, v1_end and w_friction from tswm's rows of the same
 lanes (a `tswm run` of the same grid).
 
-What it integrates (MODEL.md sections 2, 3 and 5): x1, v1 and the works;
+What it integrates (docs/model.md sections 2, 3 and 5): x1, v1 and the works;
 the Kloss motor, the paper's friction law, psi = -tan(gamma + c rho(Vs))
 with the contact side c = sign(phi) read inside the right-hand side. It is
 the peer a user would write first: the switch is not located as an event

@@ -1,5 +1,5 @@
 //! Where lanes come from: a sweep file, or an explicit lane table
-//! (`--lanes FILE.csv`, one lane a row, columns named as in MODEL.md
+//! (`--lanes FILE.csv`, one lane a row, columns named as in docs/model.md
 //! section 9, an empty cell meaning "not set"). Either way lanes are read
 //! in order, a chunk at a time, so a sweep of any size runs in bounded
 //! memory; a validation pass over every lane comes first, so bad input is

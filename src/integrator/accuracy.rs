@@ -1,5 +1,5 @@
 //! A lane's own estimate of the error in its results, and the tighter run
-//! it calls for when that estimate is over MODEL.md's bound (1e-6 of
+//! it calls for when that estimate is over docs/model.md's bound (1e-6 of
 //! max(1, |value|) for x1, ẋ1, the works and the section 10 energies).
 //!
 //! Why a lane needs one: the step tolerance bounds each step's error
@@ -39,7 +39,7 @@ use super::{LaneResult, Settings, NY};
 /// w1_out, w2_in, w2_out (lanes.csv's order).
 pub const RESULTS: usize = 9;
 
-/// MODEL.md's bound on those results, relative to max(1, |value|).
+/// docs/model.md's bound on those results, relative to max(1, |value|).
 pub const BOUND: f64 = 1e-6;
 
 /// A lane is run again when a result's estimate is over this many times

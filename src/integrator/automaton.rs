@@ -1,5 +1,5 @@
 //! The lane automaton: a lane's state between steps and the transitions of
-//! MODEL.md sections 3 and 4 (switches, rest, sticking, departure, motor
+//! docs/model.md sections 3 and 4 (switches, rest, sticking, departure, motor
 //! cut-off, running on past t_end); `step` takes it through one trial step
 //! of the stepper.
 //!
@@ -33,7 +33,7 @@ pub struct LaneState {
     pub motor_on: bool,
     pub done: bool,
     /// Running on past t_end towards t_max: the motor is cut and the lane
-    /// was still coasting at t_end (MODEL.md section 10).
+    /// was still coasting at t_end (docs/model.md section 10).
     pub running_on: bool,
     /// Running on ended because the lane began to speed up.
     pub speeding: bool,
@@ -213,7 +213,7 @@ pub(super) fn horizon(lane: &Lane, st: &LaneState) -> f64 {
 /// The lane has reached a time event (`t_stop`): the end of the run, or
 /// the motor's cut-off. At t_end a lane whose motor is cut and that is
 /// still coasting (sliding, slowing down) runs on towards t_max, when one
-/// is set, to find out whether it holds (MODEL.md section 10).
+/// is set, to find out whether it holds (docs/model.md section 10).
 pub(super) fn reach_time_event(
     lane: &Lane,
     table: Option<&FrictionTable>,

@@ -156,7 +156,7 @@ mod tests {
     use crate::integrator::RowPath;
     use crate::params::{Num, Spec};
 
-    /// A paper-law lane with the given parameters (others at MODEL.md's
+    /// A paper-law lane with the given parameters (others at docs/model.md's
     /// defaults).
     fn lane(set: &[(Num, f64)]) -> Lane {
         let mut s = Spec::default();
@@ -223,7 +223,7 @@ mod tests {
         assert!(rel(r.x1_end, 0.0004854995080163585) < 1e-6, "{}", r.x1_end);
     }
 
-    /// The paper's cases (MODEL.md section 7) are within the bound as
+    /// The paper's cases (docs/model.md section 7) are within the bound as
     /// they are: no second run.
     #[test]
     fn the_papers_cases_are_not_refined() {

@@ -1,4 +1,4 @@
-//! Events inside a step (MODEL.md section 8): the switching function's
+//! Events inside a step (docs/model.md section 8): the switching function's
 //! sign change (a switch), ẋ1 reaching 0 (rest) and, while a lane runs on
 //! past t_end with its motor cut, its acceleration turning from braking
 //! to driving (speeding up: it runs away), located by the Illinois method

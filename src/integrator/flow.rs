@@ -1,5 +1,5 @@
 //! Section 10's energy flow: the in and out parts of ∫p1 dt and ∫p2 dt
-//! (MODEL.md section 10).
+//! (docs/model.md section 10).
 //!
 //! Why not four more quadratures of max(±p, 0): their integrands have
 //! kinks where p crosses zero, which a step's error estimate does not see,

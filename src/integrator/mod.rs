@@ -26,7 +26,7 @@ pub use result::{Contact, EndState, Hold, LaneResult, Recheck, RowPath, Status};
 pub use step::{advance, attempt};
 
 /// Components of the integrated state: x1, ẋ1, w_motor, w_load,
-/// w_friction and w_p1 = ∫p1 dt (MODEL.md sections 6 and 10; ∫p2 dt is
+/// w_friction and w_p1 = ∫p1 dt (docs/model.md sections 6 and 10; ∫p2 dt is
 /// w_friction − w_p1). The in and out parts of section 10 are not
 /// components: see [`flow`].
 pub const NY: usize = 6;
@@ -56,7 +56,7 @@ impl Default for Settings {
     fn default() -> Self {
         // tol chosen by measurement: 1e-8 keeps 3000 random user lanes
         // within 4e-7 of a 1e-13 integration (bound 1e-6); 2e-8 does not
-        // keep that margin (see README, "Numerics and accuracy").
+        // keep that margin (see docs/numerics.md).
         Settings {
             tol: DEFAULT_TOL,
             traj_weight: 1.0,
@@ -94,7 +94,7 @@ mod tests {
 
     #[test]
     fn switch_time_is_located_inside_the_step() {
-        // Paper case 1: the switch is at 0.486653423342 s (MODEL.md 7).
+        // Paper case 1: the switch is at 0.486653423342 s (docs/model.md 7).
         let r = simulate(&paper(), None, &Settings::default());
         assert_eq!(r.switches, 1);
         assert!(

@@ -1,4 +1,4 @@
-//! What a lane reports: its status, final contact and results (MODEL.md
+//! What a lane reports: its status, final contact and results (docs/model.md
 //! section 6), and the one conversion from a lane's end state to them,
 //! used by both backends.
 
@@ -91,7 +91,7 @@ impl Contact {
 }
 
 /// What became of the load of a lane whose motor is cut before t_end
-/// (MODEL.md section 10, "Does it hold?"): the `hold` column.
+/// (docs/model.md section 10, "Does it hold?"): the `hold` column.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Hold {
     /// At rest and stuck: the drive holds the load with the motor off.
@@ -117,7 +117,7 @@ impl Hold {
     }
 }
 
-/// What a lane reports (MODEL.md section 6).
+/// What a lane reports (docs/model.md section 6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaneResult {
     pub status: Status,
@@ -137,7 +137,7 @@ pub struct LaneResult {
     /// Accepted integration steps.
     pub steps: u32,
     /// J: ∫max(p1, 0), ∫max(−p1, 0), ∫max(p2, 0), ∫max(−p2, 0) with
-    /// p1 = S1 ẋ1, p2 = S2 ẋ2 (MODEL.md section 10).
+    /// p1 = S1 ẋ1, p2 = S2 ẋ2 (docs/model.md section 10).
     pub w1_in: f64,
     pub w1_out: f64,
     pub w2_in: f64,

@@ -62,7 +62,7 @@ pub struct Mode {
 /// Right-hand side: derivative of (x1, ẋ1, w_motor, w_load, w_friction,
 /// w_p1), and D of the mode. Depends on ẋ1 only: x1 and the works are
 /// quadratures. p1 = S1 ẋ1 and p2 = S2 ẋ2 are the powers the bodies put
-/// into the mesh (MODEL.md section 10).
+/// into the mesh (docs/model.md section 10).
 #[inline]
 pub fn rhs(lane: &Lane, table: Option<&FrictionTable>, mode: Mode, v: f64) -> ([f64; NY], f64) {
     let m = motion(lane, table, mode.side, mode.dir, mode.motor_on, v);

@@ -1,4 +1,4 @@
-//! Traces (MODEL.md section 11): a lane's state and internal forces over
+//! Traces (docs/model.md section 11): a lane's state and internal forces over
 //! time, from the dense output of the same integration that gives its row
 //! of results (the same `prepare`, `try_step` and `finish_step`; only rows
 //! are taken on the way). Rows come every `dt` from 0 to where the lane

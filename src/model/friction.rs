@@ -1,5 +1,5 @@
 //! The friction laws: μ(Vs) of the paper's fit, a constant, or a table
-//! (MODEL.md section 5).
+//! (docs/model.md section 5).
 
 use super::{Lane, FRICTION_COULOMB, FRICTION_PAPER, FRICTION_TABLE};
 
@@ -125,7 +125,7 @@ mod tests {
         let rho = |vs: f64| mu_sliding(&l, None, vs).atan().to_degrees();
         assert!((rho(0.0) - 1.0 / 0.14).abs() < 1e-12); // 7.14 deg
         assert!((rho(1.0) - 3.18).abs() < 0.005);
-        // MODEL.md: "ρ(3.4 m/s) ≈ 2°" (1.97° by the formula).
+        // docs/model.md: "ρ(3.4 m/s) ≈ 2°" (1.97° by the formula).
         assert!((rho(3.4) - 2.0).abs() < 0.05);
     }
 

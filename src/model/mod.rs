@@ -1,4 +1,4 @@
-//! The TSWM physics of MODEL.md sections 2 to 5: forces, the force transfer
+//! The TSWM physics of docs/model.md sections 2 to 5: forces, the force transfer
 //! function ψ, the equation of motion, the switching function φ and the
 //! stick test. No integration here: the integrator calls these.
 //!
@@ -47,7 +47,7 @@ pub struct Lane {
     pub v1_0: f64,
     pub t_end: f64,
     /// Latest end of a lane still coasting at t_end with its motor cut
-    /// (MODEL.md section 10); t_end when unset (no running on).
+    /// (docs/model.md section 10); t_end when unset (no running on).
     pub t_max: f64,
 }
 
@@ -65,7 +65,7 @@ pub const FRICTION_TABLE: u32 = 2;
 
 impl Lane {
     /// Whether the motor is cut before t_end: only then does the lane
-    /// answer "does it hold?" (MODEL.md section 10).
+    /// answer "does it hold?" (docs/model.md section 10).
     #[inline]
     pub fn motor_cut(&self) -> bool {
         self.motor_off < self.t_end
@@ -204,7 +204,7 @@ pub fn motion(
     }
 }
 
-/// Stick test at rest (MODEL.md section 4): returns (sticks, T), where T is
+/// Stick test at rest (docs/model.md section 4): returns (sticks, T), where T is
 /// the tangential force needed at rest; sign(T) is the direction of
 /// departure when the lane does not stick.
 #[inline]

@@ -1,4 +1,4 @@
-//! `traces.csv`: traced lanes through time (MODEL.md section 11), a row
+//! `traces.csv`: traced lanes through time (docs/model.md section 11), a row
 //! at a time.
 
 use std::fmt::Write as _;
@@ -8,7 +8,7 @@ use super::atomic::AtomicFile;
 use super::csv_lines::{push_f64, CsvLines};
 use crate::error::Result;
 
-/// Streams rows of `traces.csv` (MODEL.md section 11).
+/// Streams rows of `traces.csv` (docs/model.md section 11).
 pub struct TracesCsv(CsvLines);
 
 /// The columns of `traces.csv`.

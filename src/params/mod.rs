@@ -1,11 +1,11 @@
-//! Lane parameters: the names of MODEL.md section 9, partial specifications
+//! Lane parameters: the names of docs/model.md section 9, partial specifications
 //! (what a sweep file, an axis or a lane-table row sets) and their resolution
 //! into a validated, complete [`Params`].
 //!
 //! Every fact about a parameter (its name, unit, default, which law owns
 //! it, the values it may take) is stated once, in the table of
 //! [`table`]; the `Num` enum, the defaults, ownership, validation, the
-//! README's table and the resolved provenance are all derived from it.
+//! guide's table (docs/guide.md) and the resolved provenance are all derived from it.
 
 mod resolve;
 pub mod table;

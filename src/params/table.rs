@@ -1,9 +1,9 @@
-//! The table of parameters: one row per parameter of MODEL.md section 9,
+//! The table of parameters: one row per parameter of docs/model.md section 9,
 //! in its column order. The enum [`Num`], [`Num::ALL`], [`Param::COLUMNS`]
 //! and [`NUMERIC`] are generated from the rows by `parameter_table!`.
 //!
 //! Why over 400 lines: the rows and what reads them (ranges in words, the
-//! README's table) belong together; split, the one place that states each
+//! guide's table) belong together; split, the one place that states each
 //! parameter's facts would become two.
 
 /// Which motor law drives body 1.
@@ -129,7 +129,7 @@ pub struct Def {
     pub name: &'static str,
     /// Unit ("" for none).
     pub unit: &'static str,
-    /// What it is, for the README.
+    /// What it is, for the guide.
     pub meaning: &'static str,
     /// Value when unset.
     pub default: Fallback,
@@ -164,7 +164,7 @@ pub enum Param {
 /// none of them can disagree with the table.
 macro_rules! parameter_table {
     (@rows [$($v:ident $def:tt)*] [$($col:expr,)*]) => {
-        /// The numeric parameters, in the order of MODEL.md section 9.
+        /// The numeric parameters, in the order of docs/model.md section 9.
         /// The discriminant indexes [`NUMERIC`], `Spec::num` and `Params::num`.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(usize)]
@@ -178,7 +178,7 @@ macro_rules! parameter_table {
         /// The rows of the numeric parameters, indexed by [`Num`].
         pub const NUMERIC: [Def; N_NUM] = [$(Def $def),*];
         impl Param {
-            /// Every parameter in the column order of MODEL.md section 9.
+            /// Every parameter in the column order of docs/model.md section 9.
             pub const COLUMNS: [Param; N_NUM + 2] = [$($col),*];
         }
     };
@@ -381,9 +381,9 @@ impl Def {
     }
 }
 
-/// The README's parameter table, rendered from the rows (a test keeps the
-/// README equal to it).
-pub fn readme_table() -> String {
+/// The parameter table of `docs/guide.md`, rendered from the rows (a test
+/// keeps the guide equal to it).
+pub fn guide_table() -> String {
     let mut s =
         String::from("| name | unit | meaning | default | allowed |\n|---|---|---|---|---|\n");
     for p in Param::COLUMNS {
@@ -453,14 +453,14 @@ mod tests {
         }
     }
 
-    /// The README's table is the table.
+    /// The guide's table is the table.
     #[test]
-    fn readme_parameter_table_is_the_table() {
-        let readme = include_str!("../../README.md");
-        let want = readme_table();
+    fn the_guides_parameter_table_is_the_table() {
+        let guide = include_str!("../../docs/guide.md");
+        let want = guide_table();
         assert!(
-            readme.contains(&want),
-            "README's parameter table differs; it should read:\n{want}"
+            guide.contains(&want),
+            "docs/guide.md's parameter table differs; it should read:\n{want}"
         );
     }
 

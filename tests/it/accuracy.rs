@@ -96,7 +96,7 @@ fn random_lanes_match_a_tight_reference() {
     assert!(count(&|r| r.sticks > 0) > N / 50);
 }
 
-/// MODEL.md section 6: w_motor + w_load − w_friction = ½ (m1 + m2 tan²γ) ẋ1²
+/// docs/model.md section 6: w_motor + w_load − w_friction = ½ (m1 + m2 tan²γ) ẋ1²
 /// (from rest), the three works being integrated separately.
 #[test]
 fn energy_balances_on_random_lanes() {

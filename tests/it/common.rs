@@ -8,7 +8,7 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The MODEL.md fixtures (a copy of `../shared/fixtures`, kept identical).
+/// The docs/model.md fixtures (a copy of `../shared/fixtures`, kept identical).
 pub fn fixture(name: &str) -> PathBuf {
     root().join("tests/fixtures").join(name)
 }
@@ -73,7 +73,7 @@ pub fn run_ok(args: &[&str], dir: &Path) -> (Output, Vec<String>, Vec<Vec<String
     (out, h, rows)
 }
 
-/// Runs the MODEL.md section 7 lane table on the CPU into `dir/o`; the
+/// Runs the docs/model.md section 7 lane table on the CPU into `dir/o`; the
 /// header and rows of its lanes.csv.
 pub fn run_fixture_lanes(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let lanes = fixture("paper_lanes.csv");
@@ -90,7 +90,7 @@ pub fn run_fixture_lanes(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     (h, rows)
 }
 
-/// Checks results of the five MODEL.md section 7 cases against the
+/// Checks results of the five docs/model.md section 7 cases against the
 /// fixture: identical discrete fields, first switch within `t_bound` s,
 /// x1, v1 and the works within `v_bound` of max(1, |value|). Returns the
 /// worst value deviation and the worst switch-time deviation.

@@ -1,4 +1,4 @@
-//! MODEL.md section 10: energies each body puts into the mesh and takes
+//! docs/model.md section 10: energies each body puts into the mesh and takes
 //! out of it, both efficiencies, and the static self-locking margin.
 
 use crate::common::*;
@@ -104,7 +104,7 @@ fn mesh_energies_add_up_to_the_heat() {
 }
 
 /// Steady direct flow: eta_direct tends to eta_direct_ss (case 2 of
-/// MODEL.md runs in a-a at nearly constant speed by its end).
+/// docs/model.md runs in a-a at nearly constant speed by its end).
 #[test]
 fn steady_direct_flow_approaches_the_steady_efficiency() {
     let mut s = tswm::params::Spec::default();

@@ -1,4 +1,4 @@
-//! MODEL.md section 7: the five reference cases, from the shared fixtures,
+//! docs/model.md section 7: the five reference cases, from the shared fixtures,
 //! through the lane-table path and the CPU backend.
 
 use crate::common::*;
@@ -18,7 +18,7 @@ fn model_md_reference_cases_on_cpu() {
         .map(|p| simulate(&Lane::new(p, None), None, &Settings::default()))
         .collect();
     let (worst, worst_t) = check_reference_cases(&res, 1e-6, 1e-6);
-    eprintln!("CPU, MODEL.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
+    eprintln!("CPU, docs/model.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
 /// The copies under tests/fixtures are the shared fixtures, unchanged.

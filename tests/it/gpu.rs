@@ -60,7 +60,7 @@ fn run_both(gpu: &mut GpuBackend, params: &[Params]) -> (Vec<LaneResult>, Vec<La
     (rc, rg)
 }
 
-/// the MODEL.md cases on the GPU: first switch within 2e-5 s of
+/// the docs/model.md cases on the GPU: first switch within 2e-5 s of
 /// the reference; x1, v1 and energies within 5e-5 of max(1, |value|);
 /// identical discrete fields.
 #[test]
@@ -75,7 +75,7 @@ fn model_md_reference_cases_on_gpu() {
     let mut res = Vec::new();
     g.run_chunk(0, &params, None, &mut res).unwrap();
     let (worst, worst_t) = check_reference_cases(&res, 2e-5, 5e-5);
-    eprintln!("GPU, MODEL.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
+    eprintln!("GPU, docs/model.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
 /// On 10,000 random user lanes, the raw f32 kernel (no self-check)
@@ -348,7 +348,7 @@ fn auto_runs_small_sweeps_on_the_cpu_without_a_hardware_gpu() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("cpu ("));
 }
 
-/// MODEL.md section 10 on the GPU path: the usual bounds (5e-5).
+/// docs/model.md section 10 on the GPU path: the usual bounds (5e-5).
 #[test]
 fn engineering_columns_on_gpu() {
     let Some(mut g) = gpu("engineering_columns_on_gpu") else {

@@ -6,6 +6,7 @@ mod bad_input;
 mod cli;
 mod cluster;
 mod common;
+mod docs;
 mod engineering;
 mod fixtures;
 mod fuzz;

@@ -1,4 +1,4 @@
-//! tswm against an independent integration written from MODEL.md alone
+//! tswm against an independent integration written from docs/model.md alone
 //! (`tests/reference/scipy_reference.py`: scipy's DOP853 at rtol = atol =
 //! 1e-12 with located events) on 1,000 random user lanes drawn in Python
 //! (`tests/reference/random_lanes.py`, seed 808).
@@ -134,7 +134,7 @@ fn an_independent_integration_agrees_on_1000_random_lanes() {
          (worst {worst:.2e}); {refined} refined; over: {over:?}",
         1000 - over.len()
     );
-    // MODEL.md's bound, on every lane: the lanes whose own error estimate
+    // docs/model.md's bound, on every lane: the lanes whose own error estimate
     // is over it are run again tighter (src/integrator/accuracy.rs).
     assert!(over.is_empty(), "{over:?}");
 }

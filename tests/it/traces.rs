@@ -1,4 +1,4 @@
-//! MODEL.md section 11: traces against `paper_trace.csv`, from the same
+//! docs/model.md section 11: traces against `paper_trace.csv`, from the same
 //! integration as the lane's row.
 
 use crate::common::*;

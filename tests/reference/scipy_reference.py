@@ -1,4 +1,4 @@
-"""An independent high-accuracy integration of the TSWM model (MODEL.md),
+"""An independent high-accuracy integration of the TSWM model (docs/model.md),
 written from the model's text and not from tswm's code: scipy's DOP853 at
 rtol = atol = 1e-12 with located events, for checking tswm's results.
 

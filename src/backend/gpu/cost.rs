@@ -61,7 +61,7 @@ fn raw(l: &Lane) -> [f64; N_RAW] {
 }
 
 /// True when a lane sticks at t = 0 and its motor stays on to t_end: it
-/// never moves, so it takes no steps at all (MODEL.md section 4: a stuck
+/// never moves, so it takes no steps at all (docs/model.md section 4: a stuck
 /// lane leaves rest only when a force changes, and with the motor on at
 /// rest none does).
 pub fn never_moves(l: &Lane) -> bool {
@@ -347,7 +347,7 @@ mod tests {
 
     #[test]
     fn lanes_that_never_move_have_the_lowest_key() {
-        // MODEL.md's stall case: F2 = −30 kN holds the drive at rest.
+        // docs/model.md's stall case: F2 = −30 kN holds the drive at rest.
         let lanes = vec![lane(5.710593, 4774.0, 2.0), lane(5.710593, -30000.0, 2.0)];
         assert!(never_moves(&lanes[1]) && !never_moves(&lanes[0]));
         let mut keys = Vec::new();

@@ -210,7 +210,7 @@ pub struct GpuControl {
 }
 
 /// Per-step tolerance of the f32 path: the tightest at which f32 rounding
-/// stays well below the error being controlled (see README, "GPU path").
+/// stays well below the error being controlled (see docs/gpu.md).
 pub const GPU_TOL_F64: f64 = 1e-6;
 /// [`GPU_TOL_F64`] as the shader gets it.
 pub const GPU_TOL: f32 = GPU_TOL_F64 as f32;

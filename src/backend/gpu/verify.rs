@@ -3,7 +3,7 @@
 //! recomputed on the f64 path and the row says so (`path` = `cpu:REASON`).
 //!
 //! Thresholds, by measurement (`cargo run --release --example gpu_trust --
-//! random|long|stiff`, README "GPU path"): on 10,000 random user lanes the
+//! random|long|stiff`, docs/gpu.md): on 10,000 random user lanes the
 //! energy residual's worst is 1.4e-6, so 1e-5 leaves a factor 7; every
 //! GPU row off by more than 5e-3 in the long-horizon and stiff-motor sets
 //! has a residual of at least 1.4e-3, or a critical slip of at most
@@ -81,7 +81,7 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     if lane.motor == MOTOR_KLOSS && lane.sigma_k < STIFF_SIGMA_K {
         return Some(Recheck::StiffMotor);
     }
-    // MODEL.md section 6: w_motor + w_load − w_friction = ΔKE.
+    // docs/model.md section 6: w_motor + w_load − w_friction = ΔKE.
     let m = lane.m1 + lane.m2 * lane.tan_g * lane.tan_g;
     let ke = 0.5 * m * (r.v1_end * r.v1_end - lane.v1_0 * lane.v1_0);
     let scale = [
@@ -95,7 +95,7 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     ]
     .into_iter()
     .fold(0.0, f64::max);
-    // MODEL.md section 10: w1_in − w1_out + w2_in − w2_out = w_friction.
+    // docs/model.md section 10: w1_in − w1_out + w2_in − w2_out = w_friction.
     let mesh = r.w1_in - r.w1_out + r.w2_in - r.w2_out - r.w_friction;
     if (r.w_motor + r.w_load - r.w_friction - ke).abs() > ENERGY_RESIDUAL * scale
         || mesh.abs() > ENERGY_RESIDUAL * scale

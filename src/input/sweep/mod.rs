@@ -111,7 +111,7 @@ pub struct Study {
 /// A parsed, validated sweep: a function from lane index to parameters.
 #[derive(Clone, Debug)]
 pub struct Sweep {
-    /// The base parameter set (unset values take MODEL.md defaults).
+    /// The base parameter set (unset values take docs/model.md defaults).
     pub base: Spec,
     /// Grid axes, slowest first.
     pub axes: Vec<Axis>,
@@ -171,7 +171,7 @@ impl ReportSpec {
     }
 }
 
-/// Which lanes to trace and how often (MODEL.md section 11).
+/// Which lanes to trace and how often (docs/model.md section 11).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TraceSpec {
     /// Lane indices, ascending, no repeats.

@@ -1,5 +1,5 @@
 //! The results table on disk, in either format: `lanes.csv` (text, the
-//! default) or `lanes.parquet` (typed columns, MODEL.md section 9 order,
+//! default) or `lanes.parquet` (typed columns, docs/model.md section 9 order,
 //! empty cells as nulls). One row is a list of [`Cell`]s, built once
 //! ([`row_cells`]) and written by either writer; either file reads back as
 //! the same text records ([`RowReader`]), the float cells spelled as
@@ -71,7 +71,7 @@ impl Format {
 }
 
 /// The columns of the results table, in order, with their kinds: the
-/// parameters (MODEL.md section 9 order), then the result columns of
+/// parameters (docs/model.md section 9 order), then the result columns of
 /// [`crate::columns::RESULTS`].
 pub fn columns() -> Vec<(&'static str, Kind)> {
     let mut c: Vec<(&'static str, Kind)> = Param::COLUMNS
