@@ -24,7 +24,7 @@ pub struct Cli {
 /// Where the lanes come from.
 #[derive(clap::Args, Debug, Clone)]
 pub struct LanesArgs {
-    /// Sweep file (TOML). With --lanes it may give only [base], [friction_table] and [report].
+    /// Sweep file (TOML). With --lanes it may give only `[base]`, `[friction_table]`, `[trace]` and `[report]`.
     pub sweep: Option<PathBuf>,
     /// Explicit lane table (CSV, one lane a row, the parameters' names as columns).
     #[arg(long, value_name = "FILE.csv")]
@@ -48,7 +48,7 @@ pub enum Command {
         /// Backend.
         #[arg(long, value_enum, default_value_t = Choice::Auto)]
         backend: Choice,
-        /// Lanes to trace into DIR/traces.csv (overrides the sweep's [trace]).
+        /// Lanes to trace into DIR/traces.csv (overrides the sweep's `[trace]`).
         #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
         trace: Vec<u64>,
         /// Interval between trace rows, s.

@@ -2,15 +2,15 @@
 //! model of a worm drive in `docs/model.md`, over thousands to millions of
 //! parameter variants on a CPU (f64, rayon) or a GPU (f32, WGSL via wgpu).
 //!
-//! Modules: [`params`] (the parameter table, specs, validation), [`model`]
-//! (physics), [`integrator`] (DP5 with located events, the lane
-//! automaton), [`sweep`], [`sampling`] and [`lanes`] (where lanes come
-//! from), [`backend`] (CPU path, choosing a backend) and [`gpu`] (the
-//! WGSL path), [`runner`] and [`output`] (chunked runs streamed to
-//! `lanes.csv`), [`lanes_file`] (the table as CSV or Parquet), [`stats`]
-//! (`summary.csv`), [`report`] (`report.html`), [`shard`] and [`merge`]
-//! (runs split across machines, joined again), [`check`] (CPU against
-//! GPU), [`cli`].
+//! The folders follow the path a lane takes (ARCHITECTURE.md): [`cli`]
+//! and [`commands`] (the command line), [`input`] (sweep files, lane
+//! tables, seeded draws) over [`params`] (the table of parameters),
+//! [`model`] (the physics), [`integrator`] (Dormand–Prince with located
+//! events and the lane automaton), [`backend`] (the f64 CPU path and the
+//! f32 GPU path), [`run`] (the chunk pipeline, shards, merge, CPU against
+//! GPU), [`output`] (the folder, its files and the results table, whose
+//! columns [`columns`] states), [`stats`] (`summary.csv`), [`report`]
+//! (`report.html`), [`error`].
 
 // `!(x > 0.0)` is used on purpose throughout: it also rejects NaN, which
 // `x <= 0.0` would let through.

@@ -3,7 +3,7 @@
 //! cut-off, running on past t_end); `step` takes it through one trial step
 //! of the stepper.
 //!
-//! A lane is a fixed-size [`LaneState`] that [`advance`] moves forward by
+//! A lane is a fixed-size [`LaneState`] that [`advance`](super::step::advance) moves forward by
 //! at most a given number of step attempts, so the same code runs a lane
 //! to its end in one call (CPU) or in slices (the shader keeps the state
 //! between dispatches). No allocation, no recursion.
@@ -18,7 +18,7 @@ use crate::model::{phi, side_of, stick_test, FrictionTable, Lane};
 /// derivative is unbounded at rest and the error estimate reads low there.
 pub const H_INITIAL: f64 = 1e-6;
 
-/// The complete state of one lane between calls to [`advance`].
+/// The complete state of one lane between calls to [`advance`](super::step::advance).
 #[derive(Clone, Copy, Debug)]
 pub struct LaneState {
     pub t: f64,

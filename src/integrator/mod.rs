@@ -1,13 +1,18 @@
 //! The hybrid integrator: Dormand–Prince 5(4) with its 4th-order dense
 //! output, events located by root finding inside the step, and the lane
-//! automaton (contact side, direction, rest and sticking, motor cut-off).
+//! automaton (contact side, direction, rest and sticking, motor cut-off,
+//! running on past t_end).
 //!
 //! One file per part, in the order the shader (`shaders/tswm.wgsl`) keeps
 //! them, each of its sections headed by the file it mirrors:
 //! [`result`] (status and results, and the one conversion from a lane's
 //! end state to its row), [`stepper`] (tableau, right-hand side, trial
-//! step), [`events`] (event functions and root location), [`automaton`]
-//! (a lane's state and its transitions), [`batch`] (running many lanes).
+//! step), [`events`] (event functions and root location), [`flow`] (the
+//! in and out parts of the mesh energies), [`automaton`] (a lane's state
+//! and its transitions), [`step`] (one step attempt), [`batch`] (running
+//! many lanes, and again tighter when [`accuracy`]'s estimate asks).
+//! [`trace`] takes a lane's rows through time from the same steps;
+//! [`path`] says where a row came from.
 
 pub mod accuracy;
 pub mod automaton;

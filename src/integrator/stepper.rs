@@ -3,7 +3,7 @@
 //!
 //! The per-stage arithmetic is written once, per lane, in the small
 //! `stage*_v`, `increment`, `error_term`, `error_scale` and `dense_coeffs`
-//! functions; [`try_steps`] runs them for N interleaved lanes and the
+//! functions; `try_steps` runs them for N interleaved lanes and the
 //! shader's `try_step` (section `src/integrator/stepper.rs` of
 //! `shaders/tswm.wgsl`) for one, line for line.
 

@@ -6,7 +6,7 @@
 //! `shaders/tswm.wgsl` (functions of the same names, same order); the
 //! friction laws are in [`friction`].
 
-mod friction;
+pub mod friction;
 
 use crate::params::{FrictionKind, MotorKind, Num, Params};
 pub use friction::{mu_sliding, tan_small, FrictionTable, MAX_TABLE_POINTS};

@@ -20,7 +20,7 @@ pub enum MotorKind {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FrictionKind {
-    /// The paper's fit ρ[deg] = 1/(a Vs^b + c).
+    /// The paper's fit: rho in degrees = 1/(a Vs^b + c).
     Paper,
     /// Constant μ, with an optional static `mu_static`.
     Coulomb,

@@ -114,7 +114,7 @@ impl Range {
 }
 
 /// Round tick values (1, 2 or 5 times a power of ten apart) inside
-/// [lo, hi]: at least two, at most [`MAX_TICKS`], computed from integer
+/// [lo, hi]: at least two, at most `MAX_TICKS`, computed from integer
 /// multiples so that no sum accumulates and no loop can run on.
 pub fn nice_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let width = hi - lo;

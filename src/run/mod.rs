@@ -1,5 +1,5 @@
 //! Running lanes: the chunk pipeline from a lane source through a backend
-//! to a sink ([`pipeline`]), a run written to its folder ([`write`]) and
+//! to a sink ([`pipeline`](mod@pipeline)), a run written to its folder ([`write`](mod@write)) and
 //! its summary line ([`summary`]), shards of a run and their manifests
 //! ([`shard`]), their merge ([`merge`], verified by [`verify`]), and the
 //! CPU against the GPU ([`compare`]).

@@ -42,7 +42,7 @@ pub const HW_LANES_PER_SLOT: u64 = 2;
 pub struct WorkSize {
     /// Slots a chunk runs on.
     pub slots: u32,
-    /// Lanes a chunk holds (a part, in [`Gpu::run_parts`]: the runner's
+    /// Lanes a chunk holds (a part, in [`Gpu::run_parts`](super::Gpu::run_parts): the runner's
     /// chunks hold `in_flight` of them).
     pub chunk_lanes: usize,
     /// Parts in flight at once ([`HW_IN_FLIGHT`], [`SW_IN_FLIGHT`]).
@@ -73,7 +73,7 @@ impl WorkSize {
 }
 
 /// Parts of a chunk in flight at once on a hardware GPU (see
-/// [`Gpu::run_parts`]): while the host waits for one part or copies out
+/// [`Gpu::run_parts`](super::Gpu::run_parts)): while the host waits for one part or copies out
 /// its states, the device runs the other's dispatches.
 pub const HW_IN_FLIGHT: usize = 2;
 /// The same on a software adapter: 1, because its "device" is the host's
