@@ -34,7 +34,7 @@ use tswm::params::Params;
 fn lanes(n: usize) -> Vec<Params> {
     paper_like(n, 1)
         .iter()
-        .map(|s| s.resolve(false).unwrap())
+        .map(|s| s.resolve(&[]).unwrap())
         .collect()
 }
 
@@ -76,7 +76,7 @@ fn cpu_threads(c: &mut Criterion) {
             .unwrap();
         let mut out = Vec::with_capacity(n);
         g.bench_function(name, |b| {
-            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), &lanes, None, &mut out))
+            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), &lanes, &[], &mut out))
         });
     }
     g.finish();
@@ -92,12 +92,12 @@ fn kernel(c: &mut Criterion) {
         g.throughput(Throughput::Elements(n as u64));
         let mut out = Vec::with_capacity(n);
         g.bench_with_input(BenchmarkId::new("cpu", n), &params, |b, p| {
-            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), p, None, &mut out))
+            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), p, &[], &mut out))
         });
         if let Some(dev) = &device {
             let l32: Vec<GpuLane> = params
                 .iter()
-                .map(|p| GpuLane::from(&Lane::new(p, None)))
+                .map(|p| GpuLane::from(&Lane::new(p, &[])))
                 .collect();
             let globals = GpuGlobals::new(&Settings::default(), None);
             let chunk = tswm::backend::gpu::WorkSize::of(&dev.info, &dev.limits).chunk_lanes;
@@ -140,7 +140,7 @@ fn table(c: &mut Criterion) {
     let params = lanes(n);
     let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let mut results = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
+    run_cpu_lanes(&pool, &Settings::default(), &params, &[], &mut results);
     let dir = tempfile::tempdir().unwrap();
     let mut g = c.benchmark_group("table");
     g.sample_size(10);
@@ -202,7 +202,7 @@ fn heterogeneous(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new(name, lanes.len()), |b| {
             b.iter(|| {
                 for (k, part) in lanes.chunks(chunk).enumerate() {
-                    be.run_chunk((k * chunk) as u64, part, None, &mut out)
+                    be.run_chunk((k * chunk) as u64, part, &[], &mut out)
                         .unwrap();
                 }
             })

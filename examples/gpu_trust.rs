@@ -20,11 +20,11 @@ fn main() {
         "long" => tswm::input::testmodels::long_stiff_lanes(300, 7),
         _ => tswm::input::testmodels::stiff_at_sync_lanes(40),
     };
-    let params: Vec<Params> = specs.iter().map(|s| s.resolve(false).unwrap()).collect();
-    let lanes: Vec<Lane> = params.iter().map(|p| Lane::new(p, None)).collect();
+    let params: Vec<Params> = specs.iter().map(|s| s.resolve(&[]).unwrap()).collect();
+    let lanes: Vec<Lane> = params.iter().map(|p| Lane::new(p, &[])).collect();
     let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let mut cpu = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut cpu);
+    run_cpu_lanes(&pool, &Settings::default(), &params, &[], &mut cpu);
     let gpu = Gpu::new(false).expect("a GPU adapter");
     let l32: Vec<GpuLane> = lanes.iter().map(GpuLane::from).collect();
     let mut states: Vec<GpuState> = Vec::new();
@@ -33,7 +33,7 @@ fn main() {
         gpu.run(
             k as u64,
             part,
-            GpuGlobals::new(&Settings::default(), None),
+            GpuGlobals::new(&Settings::default(), &[]),
             &mut states,
         )
         .unwrap();
@@ -46,7 +46,7 @@ fn main() {
     let mut flagged = [0usize; 4];
     println!("lane  worst    done  energy_res  sigma_k   steps  cancel  what");
     for (i, (c, st)) in cpu.iter().zip(&all).enumerate() {
-        let g = st.end_state(&lanes[i]).result(&lanes[i], None);
+        let g = st.end_state(&lanes[i]).result(&lanes[i], &[]);
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
         let worst = [
             rel(g.x1_end, c.x1_end),
@@ -123,7 +123,7 @@ fn main() {
     let rows: Vec<_> = all
         .iter()
         .zip(&lanes)
-        .map(|(st, l)| (st.end_state(l).result(l, None), st.flags & 4 != 0))
+        .map(|(st, l)| (st.end_state(l).result(l, &[]), st.flags & 4 != 0))
         .collect();
     let t = std::time::Instant::now();
     let mut flagged_again = 0usize;

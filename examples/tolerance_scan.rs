@@ -16,14 +16,14 @@ fn main() {
     let specs = tswm::input::testmodels::random_user_lanes(3000, 11);
     let lanes: Vec<Lane> = specs
         .iter()
-        .map(|s| Lane::new(&s.resolve(false).unwrap(), None))
+        .map(|s| Lane::new(&s.resolve(&[]).unwrap(), &[]))
         .collect();
     let reference: Vec<_> = lanes
         .par_iter()
         .map(|l| {
             simulate(
                 l,
-                None,
+                &[],
                 &Settings {
                     tol: 1e-13,
                     refine: false,
@@ -39,7 +39,7 @@ fn main() {
         };
         let (mut worst, mut worst_lane, mut over, mut differ, mut steps) = (0.0f64, 0, 0, 0, 0u64);
         for (i, (l, b)) in lanes.iter().zip(&reference).enumerate() {
-            let a = simulate(l, None, &set);
+            let a = simulate(l, &[], &set);
             steps += a.steps as u64;
             if (a.status, a.switches, a.reversals, a.sticks, a.contact_end)
                 != (b.status, b.switches, b.reversals, b.sticks, b.contact_end)

@@ -5,8 +5,8 @@
 //
 // The same algorithm as the f64 CPU path, in the same parts and order,
 // each section headed by the Rust file it mirrors:
-//   src/model/ (mod.rs, friction.rs)  motor_force, tan_small, mu_sliding, phi,
-//                                 side_of, motion, stick_test
+//   src/model/ (mod.rs, friction.rs)  motor_force, tan_small, agma_mu, agma_upper,
+//                                 mu_sliding, phi, side_of, Mode, motion, stick_test
 //   src/integrator/result.rs      status codes
 //   src/integrator/stepper.rs     tableau, rhs, stage*_v, increment, error_term,
 //                                 error_scale, dense_coeffs, dense_r5, try_step
@@ -37,7 +37,8 @@ struct Lane {
     v_sync: f32, sigma_k: f32, f_crit: f32, f1: f32,
     motor_off: f32, friction: u32, fric_a: f32, fric_b: f32,
     fric_c: f32, mu: f32, mu_s: f32, x1_0: f32,
-    v1_0: f32, t_end: f32, t_max: f32, pad1: f32,
+    v1_0: f32, t_end: f32, t_max: f32, table: u32,
+    inv_cos_an: f32, pad0: u32,
 }
 
 // Law codes: keep in sync with src/model/mod.rs.
@@ -46,6 +47,18 @@ const MOTOR_CONSTANT: u32 = 1u;
 const FRICTION_PAPER: u32 = 0u;
 const FRICTION_COULOMB: u32 = 1u;
 const FRICTION_TABLE: u32 = 2u;
+const FRICTION_AGMA: u32 = 3u;
+
+// The agma law: keep in sync with src/model/friction.rs.
+const FT_PER_MIN_PER_M_PER_S: f32 = 196.8503937007874;
+const AGMA_LOW_A: f32 = 0.124;
+const AGMA_LOW_B: f32 = 0.074;
+const AGMA_LOW_E: f32 = 0.645;
+const AGMA_HIGH_A: f32 = 0.103;
+const AGMA_HIGH_B: f32 = 0.110;
+const AGMA_HIGH_E: f32 = 0.450;
+const AGMA_HIGH_C: f32 = 0.012;
+const AGMA_JUMP_M_S: f32 = 0.0508;
 
 const PI: f32 = 3.14159265358979;
 
@@ -67,11 +80,27 @@ fn tan_small(x: f32) -> f32 {
     return x + x * x2 * p;
 }
 
-fn table_at(i: u32) -> vec2<f32> {
-    return vec2<f32>(g.table_vs[i / 4u][i % 4u], g.table_mu[i / 4u][i % 4u]);
+// Point i of table t (see `GpuGlobals`).
+fn table_at(t: u32, i: u32) -> vec2<f32> {
+    let k = t * TABLE_VEC4S + i / 4u;
+    return vec2<f32>(g.table_vs[k][i % 4u], g.table_mu[k][i % 4u]);
 }
 
-fn mu_sliding(l: Lane, vs: f32) -> f32 {
+fn agma_mu(vs: f32, upper: bool) -> f32 {
+    let v = max(vs, 0.0) * FT_PER_MIN_PER_M_PER_S;
+    // pow(0, e) is not defined in WGSL: Vs^e = 0 at rest.
+    let e = select(AGMA_LOW_E, AGMA_HIGH_E, upper);
+    var pw = 0.0;
+    if (v > 0.0) { pw = pow(v, e); }
+    if (upper) { return AGMA_HIGH_A * exp(-AGMA_HIGH_B * pw) + AGMA_HIGH_C; }
+    return AGMA_LOW_A * exp(-AGMA_LOW_B * pw);
+}
+
+fn agma_upper(vs: f32) -> bool {
+    return vs > AGMA_JUMP_M_S;
+}
+
+fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
     if (l.friction == FRICTION_PAPER) {
         var pw = 0.0;
         if (vs > 0.0) { pw = pow(vs, l.fric_b); }
@@ -79,22 +108,25 @@ fn mu_sliding(l: Lane, vs: f32) -> f32 {
         return tan_small(rho);
     }
     if (l.friction == FRICTION_COULOMB) { return l.mu; }
-    if (l.friction != FRICTION_TABLE) {
-        // No such law: NaN makes the lane `nonfinite`, never a number.
+    if (l.friction == FRICTION_AGMA) { return agma_mu(vs, upper) * l.inv_cos_an; }
+    if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
+        // No such law or table: NaN makes the lane `nonfinite`, never a number.
         return bitcast<f32>(0x7fc00000u);
     }
     // table: linear between points, flat past the ends
-    var prev = table_at(0u);
-    if (vs <= prev.x) { return prev.y; }
-    for (var i = 1u; i < g.table_n; i++) {
-        let cur = table_at(i);
+    let t = l.table;
+    let n = g.table_n[t / 4u][t % 4u];
+    var prev = table_at(t, 0u);
+    if (vs <= prev.x) { return prev.y * l.inv_cos_an; }
+    for (var i = 1u; i < n; i++) {
+        let cur = table_at(t, i);
         if (vs < cur.x) {
             let w = (vs - prev.x) / (cur.x - prev.x);
-            return prev.y + w * (cur.y - prev.y);
+            return (prev.y + w * (cur.y - prev.y)) * l.inv_cos_an;
         }
         prev = cur;
     }
-    return prev.y;
+    return prev.y * l.inv_cos_an;
 }
 
 fn phi(l: Lane, v1: f32, motor_on: bool) -> f32 {
@@ -106,12 +138,15 @@ fn side_of(p: f32) -> i32 {
     return -1;
 }
 
+// Keep in sync with `Mode` in src/model/mod.rs.
+struct Mode { side: i32, dir: i32, motor_on: bool, upper: bool }
+
 struct Motion { acc: f32, d: f32, f1: f32, s1: f32, s2: f32 }
 
-fn motion(l: Lane, side: i32, dir: i32, motor_on: bool, v1: f32) -> Motion {
-    let f1 = motor_force(l, v1, motor_on);
-    let vs = max(f32(dir) * v1, 0.0) * l.inv_cos_g;
-    let t = f32(side * dir) * mu_sliding(l, vs);
+fn motion(l: Lane, m: Mode, v1: f32) -> Motion {
+    let f1 = motor_force(l, v1, m.motor_on);
+    let vs = max(f32(m.dir) * v1, 0.0) * l.inv_cos_g;
+    let t = f32(m.side * m.dir) * mu_sliding(l, vs, m.upper);
     let p = l.tan_g + t;
     let q = 1.0 - l.tan_g * t;
     let dq = l.m1 * q + p * l.m2 * l.tan_g;
@@ -173,8 +208,6 @@ const D5: f32 = 701980252875.0 / 199316789632.0;
 const D6: f32 = -1453857185.0 / 822651844.0;
 const D7: f32 = 69997945.0 / 29380423.0;
 
-struct Mode { side: i32, dir: i32, motor_on: bool }
-
 // Components of the integrated state: keep in sync with `NY` in
 // src/integrator/mod.rs (x1, v1, w_motor, w_load, w_friction, w_p1).
 const NY: u32 = 6u;
@@ -182,7 +215,7 @@ const NY: u32 = 6u;
 struct Deriv { k: array<f32, NY>, d: f32 }
 
 fn rhs(l: Lane, m: Mode, v: f32) -> Deriv {
-    let mo = motion(l, m.side, m.dir, m.motor_on, v);
+    let mo = motion(l, m, v);
     let v2 = v * l.tan_g;
     let p1 = mo.s1 * v;
     let p2 = mo.s2 * v2;
@@ -303,11 +336,16 @@ fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
 const EV_SWITCH: u32 = 0u;
 const EV_REST: u32 = 1u;
 const EV_SPEEDING: u32 = 2u;
+const EV_BRANCH: u32 = 3u;
 
 fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
     if (which == EV_SWITCH) { return f32(m.side) * phi(l, v, m.motor_on); }
     if (which == EV_REST) { return f32(m.dir) * v; }
-    return -f32(m.dir) * motion(l, m.side, m.dir, m.motor_on, v).acc;
+    if (which == EV_BRANCH) {
+        let vs = max(f32(m.dir) * v, 0.0) * l.inv_cos_g;
+        return select(AGMA_JUMP_M_S - vs, vs - AGMA_JUMP_M_S, m.upper);
+    }
+    return -f32(m.dir) * motion(l, m, v).acc;
 }
 
 fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f32 {
@@ -350,6 +388,13 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<f32> {
     if (running_on && g_speeding < 0.0) {
         let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
         if (th < theta) { theta = th; which = EV_SPEEDING; }
+    }
+    if (l.friction == FRICTION_AGMA) {
+        let g_branch = event_value(l, m, EV_BRANCH, tr.y1[1]);
+        if (g_branch < 0.0) {
+            let th = locate_root(l, m, EV_BRANCH, tr.dense, g_branch);
+            if (th < theta) { theta = th; which = EV_BRANCH; }
+        }
     }
     return vec2<f32>(theta, f32(which));
 }
@@ -429,6 +474,7 @@ const F_K1_VALID: u32 = 8u;
 const F_STARTED: u32 = 16u;
 const F_RUNNING_ON: u32 = 32u;
 const F_SPEEDING: u32 = 64u;
+const F_UPPER: u32 = 128u;
 
 const NO_FIRST_SWITCH: f32 = -1.0;
 
@@ -452,7 +498,7 @@ fn time_set(st: ptr<function, State>, t: f32) {
 }
 
 fn mode_of(st: ptr<function, State>) -> Mode {
-    return Mode((*st).side, (*st).dir, has(st, F_MOTOR_ON));
+    return Mode((*st).side, (*st).dir, has(st, F_MOTOR_ON), has(st, F_UPPER));
 }
 
 fn finish(st: ptr<function, State>, status: u32) {
@@ -474,6 +520,7 @@ fn init(l: Lane, st: ptr<function, State>) {
     (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
     (*st).flags = F_STARTED;
     set_flag(st, F_MOTOR_ON, motor_on);
+    set_flag(st, F_UPPER, l.friction == FRICTION_AGMA && agma_upper(abs(v) * l.inv_cos_g));
     (*st).status = S_OK;
     (*st).switches = 0u;
     (*st).reversals = 0u;
@@ -503,6 +550,7 @@ fn check_mode(l: Lane, st: ptr<function, State>) {
 fn come_to_rest(l: Lane, st: ptr<function, State>) {
     (*st).y[1] = 0.0;
     (*st).yc[1] = 0.0;
+    set_flag(st, F_UPPER, false);
     let s = stick_test(l, has(st, F_MOTOR_ON));
     if (s.x > 0.5) {
         set_flag(st, F_STUCK, true);
@@ -574,7 +622,8 @@ fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
         set_flag(st, F_K1_VALID, true);
     }
     var h = (*st).h;
-    if (l.friction == FRICTION_PAPER && (*st).k1[1] * f32((*st).dir) < 0.0) {
+    let steep_at_rest = l.friction == FRICTION_PAPER || l.friction == FRICTION_AGMA;
+    if (steep_at_rest && (*st).k1[1] * f32((*st).dir) < 0.0) {
         let t_rest = -(*st).y[1] / (*st).k1[1];
         h = min(h, max(0.5 * t_rest, g.h_initial));
     }
@@ -648,10 +697,13 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, 
     } else if (which == EV_SWITCH) {
         set_side(st, -(*st).side);
         check_mode(l, st);
+    } else if (which == EV_BRANCH) {
+        set_flag(st, F_UPPER, !has(st, F_UPPER));
+        check_mode(l, st);
     } else {
         set_flag(st, F_SPEEDING, true);
     }
-    if (has(st, F_RUNNING_ON) && which != EV_SWITCH) { set_flag(st, F_DONE, true); }
+    if (has(st, F_RUNNING_ON) && (which == EV_REST || which == EV_SPEEDING)) { set_flag(st, F_DONE, true); }
     if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
 }
 
@@ -670,11 +722,16 @@ fn attempt(l: Lane, st: ptr<function, State>) {
 // Keep in sync with `GpuGlobals` in src/backend/gpu/layout.rs.
 struct Globals {
     n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
-    tol: f32, h_initial: f32, table_n: u32, row_lanes: u32,
+    tol: f32, h_initial: f32, n_tables: u32, row_lanes: u32,
     n_slots: u32, pad0: u32, pad1: u32, pad2: u32,
-    table_vs: array<vec4<f32>, 8>,
-    table_mu: array<vec4<f32>, 8>,
+    // Points per table; table t's point i is at [t * TABLE_VEC4S + i / 4][i % 4].
+    table_n: array<vec4<u32>, 2>,
+    table_vs: array<vec4<f32>, 64>,
+    table_mu: array<vec4<f32>, 64>,
 }
+
+// Vec4s per table: keep in sync with src/backend/gpu/layout.rs.
+const TABLE_VEC4S: u32 = 8u;
 
 // Keep in sync with `GpuControl` in src/backend/gpu/layout.rs.
 struct Control {

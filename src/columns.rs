@@ -411,6 +411,27 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
+        name: "n1_end",
+        unit: "rpm",
+        quantity: "final worm speed",
+        meaning: "worm shaft speed where the lane stopped, v1_end / R1 (a lane given in gear terms)",
+        empty: "the lane has no geometry in gear terms, or its status is not ok",
+        compare: Compare::Relative(VALUE_BOUND),
+        cell: |_, r| ok(r, r.n1_end),
+        ..ROW
+    },
+    Column {
+        name: "n2_end",
+        unit: "rpm",
+        quantity: "final wheel speed",
+        meaning: "wheel shaft speed where the lane stopped, v1_end tan(gamma) / R2 (a lane given in \
+                  gear terms)",
+        empty: "the lane has no geometry in gear terms, or its status is not ok",
+        compare: Compare::Relative(VALUE_BOUND),
+        cell: |_, r| ok(r, r.n2_end),
+        ..ROW
+    },
+    Column {
         name: "path",
         quantity: "row path",
         meaning: "where the row came from: cpu (f64 path), cpu:refined (run again at a tenth of the \

@@ -38,7 +38,7 @@ pub fn run_cpu_lanes(
     pool: &rayon::ThreadPool,
     settings: &Settings,
     lanes: &[Params],
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     out: &mut Vec<LaneResult>,
 ) {
     const BLOCK: usize = 64;
@@ -49,11 +49,11 @@ pub fn run_cpu_lanes(
             .par_chunks(BLOCK)
             .zip(out.par_chunks_mut(BLOCK))
             .for_each(|(p, o)| {
-                let mut l = [Lane::new(&p[0], table); BLOCK];
+                let mut l = [Lane::new(&p[0], tables); BLOCK];
                 for (d, s) in l.iter_mut().zip(p) {
-                    *d = Lane::new(s, table);
+                    *d = Lane::new(s, tables);
                 }
-                simulate_batch(&l[..p.len()], table, settings, o);
+                simulate_batch(&l[..p.len()], tables, settings, o);
             })
     });
 }
@@ -72,10 +72,10 @@ impl Backend for CpuBackend {
         &mut self,
         _first: u64,
         lanes: &[Params],
-        table: Option<&FrictionTable>,
+        tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
-        run_cpu_lanes(&self.pool, &self.settings, lanes, table, out);
+        run_cpu_lanes(&self.pool, &self.settings, lanes, tables, out);
         Ok(())
     }
 }

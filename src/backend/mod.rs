@@ -27,7 +27,7 @@ pub trait Backend {
         &mut self,
         first: u64,
         lanes: &[Params],
-        table: Option<&FrictionTable>,
+        tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()>;
 }
@@ -97,12 +97,12 @@ pub fn open(
 fn trial(mut cpu: Box<dyn Backend>, mut soft: Box<dyn Backend>) -> Result<Box<dyn Backend>> {
     let lanes: Vec<_> = paper_like(AUTO_TRIAL_LANES, 7)
         .iter()
-        .map(|s| s.resolve(false).expect("paper-like lanes are valid"))
+        .map(|s| s.resolve(&[]).expect("paper-like lanes are valid"))
         .collect();
     let mut out = Vec::new();
     let mut rate = |b: &mut dyn Backend| -> Result<f64> {
         let t = std::time::Instant::now();
-        b.run_chunk(0, &lanes, None, &mut out)?;
+        b.run_chunk(0, &lanes, &[], &mut out)?;
         Ok(lanes.len() as f64 / t.elapsed().as_secs_f64())
     };
     let rc = rate(cpu.as_mut())?;
@@ -142,9 +142,9 @@ impl Backend for Auto {
         &mut self,
         first: u64,
         lanes: &[Params],
-        table: Option<&FrictionTable>,
+        tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
-        self.inner.run_chunk(first, lanes, table, out)
+        self.inner.run_chunk(first, lanes, tables, out)
     }
 }

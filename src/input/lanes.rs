@@ -11,7 +11,7 @@ use super::reader::check_quotes;
 pub use super::reader::LaneReader;
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
-use crate::model::FrictionTable;
+use crate::model::FrictionTables;
 use crate::params::{Params, Spec};
 
 /// The lanes of a run.
@@ -30,8 +30,8 @@ pub enum Source {
         path: PathBuf,
         /// Defaults under the table's cells.
         base: Spec,
-        /// Friction table for `friction = table` rows.
-        table: Option<FrictionTable>,
+        /// Friction tables for `friction = table` rows.
+        tables: FrictionTables,
         /// What the report shows.
         report: crate::input::sweep::ReportSpec,
         /// Rows to trace (the sweep file's `[trace]`).
@@ -74,7 +74,7 @@ impl Source {
     /// Lanes of a lane table over an optional sweep file's base and table
     /// (rows not yet read: see [`Source::open`]).
     fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
-        let (base, table, report, trace) = match sweep_file {
+        let (base, tables, report, trace) = match sweep_file {
             Some(f) => {
                 let s = Sweep::from_file(f)?;
                 if !s.axes.is_empty() || s.study.is_some() {
@@ -86,14 +86,19 @@ impl Source {
                          and [report]; the lane table gives the lanes",
                     ));
                 }
-                (s.base, s.table, s.report, s.trace)
+                (s.base, s.tables, s.report, s.trace)
             }
-            None => (Spec::default(), None, Default::default(), None),
+            None => (
+                Spec::default(),
+                FrictionTables::default(),
+                Default::default(),
+                None,
+            ),
         };
         Ok(Source::Table {
             path: path.to_path_buf(),
             base,
-            table,
+            tables,
             report,
             trace,
             rows: 0,
@@ -109,16 +114,17 @@ impl Source {
             Source::Sweep { sweep, .. } => sweep.clone(),
             Source::Table {
                 base,
-                table,
+                tables,
                 report,
                 ..
             } => Sweep {
                 base: base.clone(),
                 axes: Vec::new(),
                 study: None,
-                table: *table,
+                tables: tables.clone(),
                 trace: None,
                 report: report.clone(),
+                key_lines: Vec::new(),
             },
         };
         sweep.trace = trace.cloned();
@@ -141,9 +147,9 @@ impl Source {
             Source::Sweep { sweep, file } => {
                 let mut u = sweep.uniforms();
                 for &i in idx {
-                    let p = sweep.lane_spec(i, &mut u).resolve(sweep.table.is_some());
+                    let p = sweep.lane_spec(i, &mut u).resolve(&sweep.tables.names);
                     out.push(p.map_err(|e| {
-                        Error::input(file, Some(format!("lane {i}")), Some(e.param), e.msg)
+                        Error::input(file, Some(sweep.lane_at(i, e.param)), Some(e.param), e.msg)
                     })?);
                 }
             }
@@ -173,11 +179,11 @@ impl Source {
         Ok(out)
     }
 
-    /// The friction table lanes may refer to.
-    pub fn friction_table(&self) -> Option<&FrictionTable> {
+    /// The friction tables lanes may refer to.
+    pub fn friction_tables(&self) -> &FrictionTables {
         match self {
-            Source::Sweep { sweep, .. } => sweep.table.as_ref(),
-            Source::Table { table, .. } => table.as_ref(),
+            Source::Sweep { sweep, .. } => &sweep.tables,
+            Source::Table { tables, .. } => tables,
         }
     }
 
@@ -236,8 +242,8 @@ impl Source {
                 u: sweep.uniforms(),
             }),
             Source::Table {
-                path, base, table, ..
-            } => LaneReader::table(path, base, table.is_some(), start, end),
+                path, base, tables, ..
+            } => LaneReader::table(path, base, &tables.names, start, end),
         }
     }
 }

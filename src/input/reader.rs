@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::input::sampling::Uniforms;
 use crate::input::sweep::Sweep;
-use crate::params::{Param, Params, Spec};
+use crate::params::{Param, Params, Spec, TableName};
 
 /// Reads lanes in order, validated.
 pub enum LaneReader<'a> {
@@ -31,8 +31,8 @@ pub enum LaneReader<'a> {
         path: &'a Path,
         /// Defaults under the cells.
         base: &'a Spec,
-        /// Whether a friction table exists.
-        has_table: bool,
+        /// The names of the run's friction tables.
+        tables: &'a [TableName],
         /// The column of each cell.
         cols: Vec<Param>,
         /// The CSV reader.
@@ -48,12 +48,12 @@ pub enum LaneReader<'a> {
 
 impl<'a> LaneReader<'a> {
     /// A reader of rows `start..end` of the lane table `path`, over `base`
-    /// (`has_table`: the sweep gives a friction table). Its header is
+    /// (`tables`: the names of the sweep's friction tables). Its header is
     /// checked: every column a parameter's name, each once.
     pub(super) fn table(
         path: &'a Path,
         base: &'a Spec,
-        has_table: bool,
+        tables: &'a [TableName],
         start: u64,
         end: u64,
     ) -> Result<LaneReader<'a>> {
@@ -105,7 +105,7 @@ impl<'a> LaneReader<'a> {
         Ok(LaneReader::Table {
             path,
             base,
-            has_table,
+            tables,
             cols,
             rd,
             rec,
@@ -124,11 +124,15 @@ impl<'a> LaneReader<'a> {
                 total,
                 u,
             } => {
-                let has_table = sweep.table.is_some();
                 while out.len() < max && *next < *total {
                     let spec = sweep.lane_spec(*next, u);
-                    let p = spec.resolve(has_table).map_err(|e| {
-                        Error::input(file, Some(format!("lane {}", *next)), Some(e.param), e.msg)
+                    let p = spec.resolve(&sweep.tables.names).map_err(|e| {
+                        Error::input(
+                            file,
+                            Some(sweep.lane_at(*next, e.param)),
+                            Some(e.param),
+                            e.msg,
+                        )
                     })?;
                     out.push(p);
                     *next += 1;
@@ -137,7 +141,7 @@ impl<'a> LaneReader<'a> {
             LaneReader::Table {
                 path,
                 base,
-                has_table,
+                tables,
                 cols,
                 rd,
                 rec,
@@ -160,7 +164,7 @@ impl<'a> LaneReader<'a> {
                             .map_err(|m| Error::input(path, at(), Some(p.name()), m))?;
                     }
                     let p = spec
-                        .resolve(*has_table)
+                        .resolve(tables)
                         .map_err(|e| Error::input(path, at(), Some(e.param), e.msg))?;
                     out.push(p);
                 }

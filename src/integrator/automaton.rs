@@ -1,6 +1,6 @@
 //! The lane automaton: a lane's state between steps and the transitions of
-//! docs/model.md sections 3 and 4 (switches, rest, sticking, departure, motor
-//! cut-off, running on past t_end); `step` takes it through one trial step
+//! docs/model.md sections 3 to 5 (switches, rest, sticking, departure, motor
+//! cut-off, running on past t_end, the `agma` law's change of branch); `step` takes it through one trial step
 //! of the stepper.
 //!
 //! A lane is a fixed-size [`LaneState`] that [`advance`](super::step::advance) moves forward by
@@ -12,7 +12,7 @@ use super::accuracy::ErrorBudget;
 use super::result::{speeding_up, EndState, Status};
 use super::stepper::{rhs, Mode};
 use super::NY;
-use crate::model::{phi, side_of, stick_test, FrictionTable, Lane};
+use crate::model::{agma_upper, phi, side_of, stick_test, FrictionTable, Lane, FRICTION_AGMA};
 
 /// First step after every start from rest, s: the friction law's
 /// derivative is unbounded at rest and the error estimate reads low there.
@@ -31,6 +31,9 @@ pub struct LaneState {
     pub dir: i32,
     pub stuck: bool,
     pub motor_on: bool,
+    /// On the `agma` law's upper branch (Vs above 10 ft/min); always
+    /// false for the other laws.
+    pub upper: bool,
     pub done: bool,
     /// Running on past t_end towards t_max: the motor is cut and the lane
     /// was still coasting at t_end (docs/model.md section 10).
@@ -61,6 +64,7 @@ impl LaneState {
             side: self.side,
             dir: self.dir,
             motor_on: self.motor_on,
+            upper: self.upper,
         }
     }
 
@@ -91,7 +95,7 @@ impl LaneState {
 }
 
 /// Starts a lane at t = 0.
-pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
+pub fn init(lane: &Lane, tables: &[FrictionTable]) -> LaneState {
     let motor_on = !(lane.motor_off <= 0.0);
     let v = lane.v1_0;
     let mut st = LaneState {
@@ -108,6 +112,7 @@ pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
         },
         stuck: false,
         motor_on,
+        upper: lane.friction == FRICTION_AGMA && agma_upper(v.abs() * lane.inv_cos_g),
         done: false,
         running_on: false,
         speeding: false,
@@ -124,9 +129,9 @@ pub fn init(lane: &Lane, table: Option<&FrictionTable>) -> LaneState {
         budget: ErrorBudget::default(),
     };
     if v == 0.0 {
-        come_to_rest(lane, table, &mut st);
+        come_to_rest(lane, tables, &mut st);
     } else {
-        check_mode(lane, table, &mut st);
+        check_mode(lane, tables, &mut st);
     }
     st
 }
@@ -143,11 +148,11 @@ pub(super) fn set_side(st: &mut LaneState, side: i32) {
 }
 
 /// Ends the lane as inconsistent when the current mode has D <= 0.
-pub(super) fn check_mode(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) {
+pub(super) fn check_mode(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     if st.stuck || st.done {
         return;
     }
-    let (k, d) = rhs(lane, table, st.mode(), st.y[1]);
+    let (k, d) = rhs(lane, tables, st.mode(), st.y[1]);
     if !(d > 0.0) {
         st.finish(Status::Inconsistent);
     }
@@ -157,8 +162,10 @@ pub(super) fn check_mode(lane: &Lane, table: Option<&FrictionTable>, st: &mut La
 
 /// ẋ1 is 0 (at start, or at a rest event): stick, or leave in the
 /// direction of the tangential force.
-pub(super) fn come_to_rest(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) {
+pub(super) fn come_to_rest(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     st.y[1] = 0.0;
+    // At rest the sliding speed is below 10 ft/min: the lower branch.
+    st.upper = false;
     let (stick, tf) = stick_test(lane, st.motor_on);
     if stick {
         st.stuck = true;
@@ -166,11 +173,11 @@ pub(super) fn come_to_rest(lane: &Lane, table: Option<&FrictionTable>, st: &mut 
         st.k1_valid = false;
         return;
     }
-    depart(lane, table, st, tf);
+    depart(lane, tables, st, tf);
 }
 
 /// Leaves rest in direction sign(T) on the side of φ.
-fn depart(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState, tf: f64) {
+fn depart(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState, tf: f64) {
     let dir = if tf > 0.0 { 1 } else { -1 };
     if st.dir != 0 && dir != st.dir {
         st.reversals += 1;
@@ -181,22 +188,22 @@ fn depart(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState, tf: f6
     // embedded error estimate reads low: start with a small step.
     st.h = H_INITIAL;
     set_side(st, side_of(phi(lane, 0.0, st.motor_on)));
-    check_mode(lane, table, st);
+    check_mode(lane, tables, st);
 }
 
 /// The motor is cut at the current time.
-fn cut_motor(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) {
+fn cut_motor(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     st.motor_on = false;
     st.events += 1;
     st.k1_valid = false;
     if st.stuck {
         let (stick, tf) = stick_test(lane, false);
         if !stick {
-            depart(lane, table, st, tf);
+            depart(lane, tables, st, tf);
         }
     } else {
         set_side(st, side_of(phi(lane, st.y[1], false)));
-        check_mode(lane, table, st);
+        check_mode(lane, tables, st);
     }
 }
 
@@ -216,13 +223,13 @@ pub(super) fn horizon(lane: &Lane, st: &LaneState) -> f64 {
 /// is set, to find out whether it holds (docs/model.md section 10).
 pub(super) fn reach_time_event(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     st: &mut LaneState,
     t_stop: f64,
 ) {
     st.t = t_stop;
     if t_stop < horizon(lane, st) {
-        cut_motor(lane, table, st);
+        cut_motor(lane, tables, st);
     } else if !st.running_on
         && lane.t_max > lane.t_end
         && lane.motor_cut()

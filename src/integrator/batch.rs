@@ -22,22 +22,22 @@ pub const INTERLEAVE: usize = 4;
 /// arithmetic is exactly [`simulate`]'s.
 pub fn simulate_batch(
     lanes: &[Lane],
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
     out: &mut [LaneResult],
 ) {
     assert_eq!(lanes.len(), out.len());
     let mut redo = Vec::new();
-    interleaved(lanes, 0..lanes.len(), table, set, |i, st| {
-        out[i] = st.end_state().result(&lanes[i], table);
+    interleaved(lanes, 0..lanes.len(), tables, set, |i, st| {
+        out[i] = st.end_state().result(&lanes[i], tables);
         if needs_refining(set, &out[i], &st.budget) {
             redo.push(i);
         }
     });
     if !redo.is_empty() {
         let tight = set.tighter();
-        interleaved(lanes, redo.into_iter(), table, &tight, |i, st| {
-            out[i] = st.end_state().result(&lanes[i], table);
+        interleaved(lanes, redo.into_iter(), tables, &tight, |i, st| {
+            out[i] = st.end_state().result(&lanes[i], tables);
             out[i].path = RowPath::Refined;
         });
     }
@@ -48,7 +48,7 @@ pub fn simulate_batch(
 fn interleaved(
     lanes: &[Lane],
     mut order: impl Iterator<Item = usize>,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
     mut done: impl FnMut(usize, &LaneState),
 ) {
@@ -57,7 +57,7 @@ fn interleaved(
         return;
     }
     let mut slot: [Option<usize>; N] = [None; N];
-    let mut st = [init(&lanes[0], table); N];
+    let mut st = [init(&lanes[0], tables); N];
     loop {
         // Refill finished slots.
         for j in 0..N {
@@ -69,7 +69,7 @@ fn interleaved(
                 slot[j] = None;
             }
             if let Some(next) = order.next() {
-                st[j] = init(&lanes[next], table);
+                st[j] = init(&lanes[next], tables);
                 slot[j] = Some(next);
             }
         }
@@ -81,7 +81,7 @@ fn interleaved(
         for j in 0..N {
             if let Some(i) = slot[j] {
                 if !st[j].done {
-                    if let Some(p) = prepare(&lanes[i], table, &mut st[j]) {
+                    if let Some(p) = prepare(&lanes[i], tables, &mut st[j]) {
                         plan[j] = p;
                         active[j] = true;
                     }
@@ -96,7 +96,7 @@ fn interleaved(
         let k1: [[f64; NY]; N] = std::array::from_fn(|j| st[j].k1);
         let trial = try_steps::<N>(
             lane,
-            table,
+            tables,
             std::array::from_fn(|j| plan[j].mode),
             &y,
             &k1,
@@ -105,17 +105,17 @@ fn interleaved(
             set,
         );
         for j in (0..N).filter(|&j| active[j]) {
-            finish_step(lane[j], table, set, &mut st[j], &plan[j], &trial[j]);
+            finish_step(lane[j], tables, set, &mut st[j], &plan[j], &trial[j]);
         }
     }
 }
 
 /// Runs one lane from t = 0 to its end, and again at the tighter
 /// settings when its error estimate asks for it (see `accuracy`).
-pub fn simulate(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> LaneResult {
-    let (r, budget) = run_lane(lane, table, set);
+pub fn simulate(lane: &Lane, tables: &[FrictionTable], set: &Settings) -> LaneResult {
+    let (r, budget) = run_lane(lane, tables, set);
     if needs_refining(set, &r, &budget) {
-        return refined(lane, table, set);
+        return refined(lane, tables, set);
     }
     r
 }
@@ -123,17 +123,17 @@ pub fn simulate(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> L
 /// One run of a lane under `set`: its result and its error estimate.
 pub(crate) fn run_lane(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
 ) -> (LaneResult, ErrorBudget) {
-    let mut st = init(lane, table);
-    advance(lane, table, set, &mut st, u32::MAX);
-    (st.end_state().result(lane, table), st.budget)
+    let mut st = init(lane, tables);
+    advance(lane, tables, set, &mut st, u32::MAX);
+    (st.end_state().result(lane, tables), st.budget)
 }
 
 /// The lane run again at [`Settings::tighter`]; its row says so.
-fn refined(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> LaneResult {
-    let (mut r, _) = run_lane(lane, table, &set.tighter());
+fn refined(lane: &Lane, tables: &[FrictionTable], set: &Settings) -> LaneResult {
+    let (mut r, _) = run_lane(lane, tables, &set.tighter());
     r.path = RowPath::Refined;
     r
 }
@@ -141,8 +141,8 @@ fn refined(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> LaneRe
 /// The settings a lane's row comes from: `set`, or the tighter ones when
 /// its run under `set` needs refining (for traces, which must come from
 /// the same integration as the row).
-pub fn settings_for(lane: &Lane, table: Option<&FrictionTable>, set: &Settings) -> Settings {
-    let (r, budget) = run_lane(lane, table, set);
+pub fn settings_for(lane: &Lane, tables: &[FrictionTable], set: &Settings) -> Settings {
+    let (r, budget) = run_lane(lane, tables, set);
     if needs_refining(set, &r, &budget) {
         set.tighter()
     } else {
@@ -163,7 +163,7 @@ mod tests {
         for &(n, v) in set {
             s.set(n, v);
         }
-        Lane::new(&s.resolve(false).unwrap(), None)
+        Lane::new(&s.resolve(&[]).unwrap(), &[])
     }
 
     fn rel(a: f64, b: f64) -> f64 {
@@ -185,11 +185,11 @@ mod tests {
             (Num::TEnd, 3.0489152427536252),
         ]);
         let set = Settings::default();
-        let (first, budget) = run_lane(&l, None, &set);
+        let (first, budget) = run_lane(&l, &[], &set);
         // Unrefined, w1_out is 1.3e-6 off: the estimate must see it.
         assert!(rel(first.w1_out, 1.094897114995884) > 1e-6);
         assert!(!budget.within(&first));
-        let r = simulate(&l, None, &set);
+        let r = simulate(&l, &[], &set);
         assert_eq!(r.path, RowPath::Refined);
         for (got, want) in [
             (r.w1_out, 1.094897114995884),
@@ -215,9 +215,9 @@ mod tests {
             (Num::MotorOff, 0.2669203756849327),
         ]);
         let set = Settings::default();
-        let (first, _) = run_lane(&l, None, &set);
+        let (first, _) = run_lane(&l, &[], &set);
         assert!(rel(first.w_load, -0.2639743164097439) > 1e-6);
-        let r = simulate(&l, None, &set);
+        let r = simulate(&l, &[], &set);
         assert_eq!(r.path, RowPath::Refined);
         assert!(rel(r.w_load, -0.2639743164097439) < 1e-6, "{}", r.w_load);
         assert!(rel(r.x1_end, 0.0004854995080163585) < 1e-6, "{}", r.x1_end);
@@ -228,7 +228,7 @@ mod tests {
     #[test]
     fn the_papers_cases_are_not_refined() {
         for f2 in [4774.0, -4774.0] {
-            let r = simulate(&lane(&[(Num::F2, f2)]), None, &Settings::default());
+            let r = simulate(&lane(&[(Num::F2, f2)]), &[], &Settings::default());
             assert_eq!(r.path, RowPath::Cpu, "f2 {f2}");
         }
     }

@@ -1,11 +1,12 @@
 //! Events inside a step (docs/model.md section 8): the switching function's
 //! sign change (a switch), ẋ1 reaching 0 (rest) and, while a lane runs on
 //! past t_end with its motor cut, its acceleration turning from braking
-//! to driving (speeding up: it runs away), located by the Illinois method
-//! on the step's dense output.
+//! to driving (speeding up: it runs away), and under the `agma` law the
+//! sliding speed crossing 10 ft/min (the law's change of branch), located
+//! by the Illinois method on the step's dense output.
 
 use super::stepper::{Mode, Trial};
-use crate::model::{motion, phi, FrictionTable, Lane};
+use crate::model::{motion, phi, FrictionTable, Lane, AGMA_JUMP_M_S, FRICTION_AGMA};
 
 /// Root-location tolerance for events, s.
 pub const T_ROOT_TOL: f64 = 1e-13;
@@ -29,6 +30,10 @@ pub enum EventFn {
     /// −s·ẍ1: leaves > 0 when a lane running on past t_end stops
     /// slowing down (only then is it looked for).
     Speeding = 2,
+    /// Under the `agma` law, the sliding speed's distance from 10 ft/min
+    /// on the side of the mode's branch: leaves > 0 when the speed
+    /// crosses to the other branch.
+    Branch = 3,
 }
 
 /// The event function's value at speed `v`; an event is where it turns
@@ -36,7 +41,7 @@ pub enum EventFn {
 #[inline]
 pub fn event_value(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     mode: Mode,
     which: EventFn,
     v: f64,
@@ -45,8 +50,16 @@ pub fn event_value(
         EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
         EventFn::Rest => mode.dir as f64 * v,
         EventFn::Speeding => {
-            let acc = motion(lane, table, mode.side, mode.dir, mode.motor_on, v).acc;
+            let acc = motion(lane, tables, mode, v).acc;
             -(mode.dir as f64) * acc
+        }
+        EventFn::Branch => {
+            let vs = (mode.dir as f64 * v).max(0.0) * lane.inv_cos_g;
+            if mode.upper {
+                vs - AGMA_JUMP_M_S
+            } else {
+                AGMA_JUMP_M_S - vs
+            }
         }
     }
 }
@@ -56,14 +69,14 @@ pub fn event_value(
 /// end, so the event lies at most `theta_tol` after it.
 pub fn locate_root(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     mode: Mode,
     which: EventFn,
     r: &[f64; 5],
     g_end: f64,
     theta_tol: f64,
 ) -> f64 {
-    let (mut a, mut fa) = (0.0, event_value(lane, table, mode, which, r[0]));
+    let (mut a, mut fa) = (0.0, event_value(lane, tables, mode, which, r[0]));
     let (mut b, mut fb) = (1.0, g_end);
     if fa <= 0.0 {
         return 0.0;
@@ -78,7 +91,7 @@ pub fn locate_root(
         if !(c > a && c < b) {
             c = 0.5 * (a + b);
         }
-        let fc = event_value(lane, table, mode, which, dense_v(r, c));
+        let fc = event_value(lane, tables, mode, which, dense_v(r, c));
         if fc >= 0.0 {
             a = c;
             fa = fc;
@@ -104,7 +117,7 @@ pub fn locate_root(
 /// runs on past t_end, so speeding up is an event too.
 pub fn earliest_event(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     mode: Mode,
     trial: &Trial,
     h: f64,
@@ -115,7 +128,7 @@ pub fn earliest_event(
     let mut which = EventFn::Rest;
     let mut check = |f: EventFn, g_end: f64| {
         if g_end < 0.0 {
-            let th = locate_root(lane, table, mode, f, &trial.dense_v, g_end, theta_tol);
+            let th = locate_root(lane, tables, mode, f, &trial.dense_v, g_end, theta_tol);
             if th < theta {
                 theta = th;
                 which = f;
@@ -124,15 +137,21 @@ pub fn earliest_event(
     };
     check(
         EventFn::Rest,
-        event_value(lane, table, mode, EventFn::Rest, trial.y1[1]),
+        event_value(lane, tables, mode, EventFn::Rest, trial.y1[1]),
     );
     check(
         EventFn::Switch,
-        event_value(lane, table, mode, EventFn::Switch, trial.y1[1]),
+        event_value(lane, tables, mode, EventFn::Switch, trial.y1[1]),
     );
     if running_on {
         // The step's end derivative holds the acceleration there.
         check(EventFn::Speeding, -(mode.dir as f64) * trial.k7[1]);
+    }
+    if lane.friction == FRICTION_AGMA {
+        check(
+            EventFn::Branch,
+            event_value(lane, tables, mode, EventFn::Branch, trial.y1[1]),
+        );
     }
     (theta <= 1.0).then_some((theta, which))
 }
@@ -153,17 +172,18 @@ mod tests {
     fn locate_root_finds_a_known_crossing() {
         // A constant-force lane: ẋ1 is linear in time, so the rest event of
         // a decelerating lane is known exactly.
-        let mut l = Lane::new(&Spec::default().resolve(false).unwrap(), None);
+        let mut l = Lane::new(&Spec::default().resolve(&[]).unwrap(), &[]);
         l.motor = crate::model::MOTOR_CONSTANT;
         l.f1 = 0.0;
         let mode = Mode {
             side: 1,
             dir: 1,
             motor_on: true,
+            upper: false,
         };
         // v(θ) = 1 − 4θ as dense coefficients: r2 = −4, r3 = h k1 − r2 = 0, ...
         let r = [1.0, -4.0, 0.0, 0.0, 0.0];
-        let th = locate_root(&l, None, mode, EventFn::Rest, &r, -3.0, 1e-14);
+        let th = locate_root(&l, &[], mode, EventFn::Rest, &r, -3.0, 1e-14);
         assert!((th - 0.25).abs() < 1e-13, "{th}");
     }
 }

@@ -94,13 +94,13 @@ mod tests {
     use crate::params::{FrictionKind, MotorKind, Num, Spec};
 
     fn paper() -> Lane {
-        Lane::new(&Spec::default().resolve(false).unwrap(), None)
+        Lane::new(&Spec::default().resolve(&[]).unwrap(), &[])
     }
 
     #[test]
     fn switch_time_is_located_inside_the_step() {
         // Paper case 1: the switch is at 0.486653423342 s (docs/model.md 7).
-        let r = simulate(&paper(), None, &Settings::default());
+        let r = simulate(&paper(), &[], &Settings::default());
         assert_eq!(r.switches, 1);
         assert!(
             (r.t_first_switch - 0.48665342334234873).abs() < 1e-8,
@@ -122,13 +122,19 @@ mod tests {
         s.set(Num::Mu, 0.2);
         s.set(Num::V10, 2.0);
         s.set(Num::TEnd, 3.0);
-        let l = Lane::new(&s.resolve(false).unwrap(), None);
-        let m = motion(&l, None, 1, 1, true, 1.0);
+        let l = Lane::new(&s.resolve(&[]).unwrap(), &[]);
+        let mode = crate::model::Mode {
+            side: 1,
+            dir: 1,
+            motor_on: true,
+            upper: false,
+        };
+        let m = motion(&l, &[], mode, 1.0);
         let t_rest = 2.0 / -m.acc;
-        let mut st = init(&l, None);
+        let mut st = init(&l, &[]);
         // Advance until the stop, then check its time.
         while !st.stuck && !st.done {
-            advance(&l, None, &Settings::default(), &mut st, 1);
+            advance(&l, &[], &Settings::default(), &mut st, 1);
         }
         assert!(st.stuck);
         assert!((st.t - t_rest).abs() < 1e-12, "{} vs {}", st.t, t_rest);

@@ -4,7 +4,8 @@
 
 pub use super::path::{Recheck, RowPath};
 use super::NY;
-use crate::model::{efficiency, motion, mu_sliding, FrictionTable, Lane};
+use crate::model::{agma_upper, efficiency, motion, mu_at, FrictionTable, Lane, Mode};
+use crate::params::gear::rpm;
 
 /// Why a lane ended; `Ok` unless it could not be finished.
 ///
@@ -158,6 +159,11 @@ pub struct LaneResult {
     /// Where the lane stopped, s: t_end, or up to t_max for a lane that
     /// ran on while coasting (every `_end` value and integral is taken here).
     pub t_stop: f64,
+    /// Worm and wheel shaft speeds where the lane stopped, rpm, for a
+    /// lane given in gear terms (docs/model.md section 12); NaN without.
+    pub n1_end: f64,
+    /// See [`LaneResult::n1_end`].
+    pub n2_end: f64,
     /// The path the row came from.
     pub path: RowPath,
 }
@@ -208,6 +214,8 @@ impl LaneResult {
         lock_margin_deg: f64::NAN,
         hold: None,
         t_stop: f64::NAN,
+        n1_end: f64::NAN,
+        n2_end: f64::NAN,
         path: RowPath::Cpu,
     };
 }
@@ -215,18 +223,13 @@ impl LaneResult {
 /// Section 10's efficiencies and margin from a lane's energies and final
 /// speed: (eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss,
 /// lock_margin_deg).
-pub fn engineering(
-    lane: &Lane,
-    table: Option<&FrictionTable>,
-    flow: &[f64; 4],
-    v_end: f64,
-) -> [f64; 5] {
+pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end: f64) -> [f64; 5] {
     let [w1_in, w1_out, w2_in, w2_out] = *flow;
     let fed = 1e-6 * (w1_in + w2_in);
     let ratio = |out: f64, inp: f64| if inp > fed { out / inp } else { f64::NAN };
     // Steady values at the final sliding speed (at rest: the start-up value).
     let g = lane.tan_g.atan();
-    let rho = mu_sliding(lane, table, v_end.abs() * lane.inv_cos_g).atan();
+    let rho = mu_at(lane, tables, v_end.abs() * lane.inv_cos_g).atan();
     [
         ratio(w2_out, w1_in),
         ratio(w1_out, w2_in),
@@ -268,10 +271,16 @@ pub struct EndState {
 impl EndState {
     /// The lane's row of results. The end efficiency is evaluated here, in
     /// f64, from the final mode and speed.
-    pub fn result(&self, lane: &Lane, table: Option<&FrictionTable>) -> LaneResult {
+    pub fn result(&self, lane: &Lane, tables: &[FrictionTable]) -> LaneResult {
         let v = self.y[1];
         let ok = self.status == Status::Ok;
-        let m = motion(lane, table, self.side, self.dir, self.motor_on, v);
+        let mode = Mode {
+            side: self.side,
+            dir: self.dir,
+            motor_on: self.motor_on,
+            upper: agma_upper(v.abs() * lane.inv_cos_g),
+        };
+        let m = motion(lane, tables, mode, v);
         let eta_end = if self.stuck || v == 0.0 || !ok {
             f64::NAN
         } else {
@@ -287,7 +296,7 @@ impl EndState {
             }
         });
         let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg] =
-            engineering(lane, table, &self.flow, v);
+            engineering(lane, tables, &self.flow, v);
         LaneResult {
             status: self.status,
             switches: self.switches,
@@ -319,6 +328,9 @@ impl EndState {
             lock_margin_deg,
             hold,
             t_stop: self.t,
+            // NaN radii (no geometry) give NaN speeds: empty cells.
+            n1_end: rpm(v, lane.r1),
+            n2_end: rpm(v * lane.tan_g, lane.r2),
             path: RowPath::Cpu,
         }
     }

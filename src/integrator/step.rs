@@ -10,7 +10,7 @@ use super::flow::step_flow;
 use super::result::Status;
 use super::stepper::{rhs, try_step, Mode, Trial};
 use super::{Settings, H_INITIAL};
-use crate::model::{FrictionTable, Lane, FRICTION_PAPER};
+use crate::model::{FrictionTable, Lane, FRICTION_AGMA, FRICTION_PAPER};
 
 /// A step about to be tried: its mode, its size, and the time event it
 /// may land on.
@@ -29,6 +29,7 @@ impl StepPlan {
             side: 1,
             dir: 1,
             motor_on: false,
+            upper: false,
         },
         h: 0.0,
         t_stop: 0.0,
@@ -39,7 +40,7 @@ impl StepPlan {
 /// First half of one step attempt: a stick phase jumps to the next time
 /// event, the derivative at the step's start is made valid, and the step
 /// size is chosen. None when the attempt ends here (stuck, or finished).
-pub fn prepare(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) -> Option<StepPlan> {
+pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Option<StepPlan> {
     // The next time event: motor cut-off, else the end of the run.
     let end = horizon(lane, st);
     let t_stop = if st.motor_on && lane.motor_off < end {
@@ -50,12 +51,12 @@ pub fn prepare(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) -
     if st.stuck {
         // While stuck every force is constant in time (F1 at ẋ1 = 0, F2),
         // so the stick condition can only fail at a time event.
-        reach_time_event(lane, table, st, t_stop);
+        reach_time_event(lane, tables, st, t_stop);
         return None;
     }
     let mode = st.mode();
     if !st.k1_valid {
-        let (k, d) = rhs(lane, table, mode, st.y[1]);
+        let (k, d) = rhs(lane, tables, mode, st.y[1]);
         if !(d > 0.0) {
             st.finish(Status::Inconsistent);
             return None;
@@ -64,10 +65,11 @@ pub fn prepare(lane: &Lane, table: Option<&FrictionTable>, st: &mut LaneState) -
         st.k1_valid = true;
     }
     let mut h = st.h;
-    // Approaching rest under the paper law, ρ(Vs) has an unbounded
-    // derivative at the stop, as it has at a start, and the error estimate
-    // reads low there: grade the steps into the stop.
-    if lane.friction == FRICTION_PAPER && st.k1[1] * (st.dir as f64) < 0.0 {
+    // Approaching rest under the paper and agma laws, ρ(Vs) has an
+    // unbounded derivative at the stop, as it has at a start, and the
+    // error estimate reads low there: grade the steps into the stop.
+    let steep_at_rest = lane.friction == FRICTION_PAPER || lane.friction == FRICTION_AGMA;
+    if steep_at_rest && st.k1[1] * (st.dir as f64) < 0.0 {
         let t_rest = -st.y[1] / st.k1[1];
         h = h.min((0.5 * t_rest).max(H_INITIAL));
     }
@@ -98,7 +100,7 @@ fn step_factor(err: f64) -> f64 {
 /// move to the step's end.
 pub fn finish_step(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
     st: &mut LaneState,
     plan: &StepPlan,
@@ -119,15 +121,15 @@ pub fn finish_step(
         st.finish(Status::MaxSteps);
         return;
     }
-    match earliest_event(lane, table, plan.mode, trial, h, st.running_on) {
-        Some((theta, which)) => step_to_event(lane, table, set, st, plan, theta, which, h_next),
+    match earliest_event(lane, tables, plan.mode, trial, h, st.running_on) {
+        Some((theta, which)) => step_to_event(lane, tables, set, st, plan, theta, which, h_next),
         None => {
             add_flow(st, trial, h);
             st.y = trial.y1;
             st.k1 = trial.k7;
             st.h = h_next;
             if plan.landing {
-                reach_time_event(lane, table, st, plan.t_stop);
+                reach_time_event(lane, tables, st, plan.t_stop);
             } else {
                 st.t += h;
             }
@@ -152,7 +154,7 @@ fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
 #[allow(clippy::too_many_arguments)]
 fn step_to_event(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
     st: &mut LaneState,
     plan: &StepPlan,
@@ -161,7 +163,7 @@ fn step_to_event(
     h_next: f64,
 ) {
     let h_ev = theta * plan.h;
-    let ev = try_step(lane, table, plan.mode, &st.y, &st.k1, h_ev, set);
+    let ev = try_step(lane, tables, plan.mode, &st.y, &st.k1, h_ev, set);
     add_flow(st, &ev, h_ev);
     st.t += h_ev;
     st.y = ev.y1;
@@ -169,16 +171,20 @@ fn step_to_event(
     st.events += 1;
     st.h = h_next.max(h_ev);
     match which {
-        EventFn::Rest => come_to_rest(lane, table, st),
+        EventFn::Rest => come_to_rest(lane, tables, st),
         EventFn::Switch => {
             set_side(st, -st.side);
-            check_mode(lane, table, st);
+            check_mode(lane, tables, st);
         }
         EventFn::Speeding => st.speeding = true,
+        EventFn::Branch => {
+            st.upper = !st.upper;
+            check_mode(lane, tables, st);
+        }
     }
     // Running on ends where the question is answered: at rest the lane
     // holds, or it departs and runs away; or it began to speed up.
-    if st.running_on && (which != EventFn::Switch) {
+    if st.running_on && matches!(which, EventFn::Rest | EventFn::Speeding) {
         st.done = true;
     }
     if st.events > set.max_events {
@@ -190,7 +196,7 @@ fn step_to_event(
 /// rejected); returns true when the lane is done.
 pub fn advance(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
     st: &mut LaneState,
     budget: u32,
@@ -198,16 +204,16 @@ pub fn advance(
     let mut left = budget;
     while !st.done && left > 0 {
         left -= 1;
-        attempt(lane, table, set, st);
+        attempt(lane, tables, set, st);
     }
     st.done
 }
 
 /// One step attempt (accepted or rejected). The shader's entry point loops
 /// over it as [`advance`] does, taking a new lane when one finishes.
-pub fn attempt(lane: &Lane, table: Option<&FrictionTable>, set: &Settings, st: &mut LaneState) {
-    if let Some(plan) = prepare(lane, table, st) {
-        let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set);
-        finish_step(lane, table, set, st, &plan, &trial);
+pub fn attempt(lane: &Lane, tables: &[FrictionTable], set: &Settings, st: &mut LaneState) {
+    if let Some(plan) = prepare(lane, tables, st) {
+        let trial = try_step(lane, tables, plan.mode, &st.y, &st.k1, plan.h, set);
+        finish_step(lane, tables, set, st, &plan, &trial);
     }
 }

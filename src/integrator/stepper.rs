@@ -48,24 +48,15 @@ pub const D5: f64 = 701980252875.0 / 199316789632.0;
 pub const D6: f64 = -1453857185.0 / 822651844.0;
 pub const D7: f64 = 69997945.0 / 29380423.0;
 
-/// The mode a step is taken in: frozen for the whole step.
-#[derive(Clone, Copy, Debug)]
-pub struct Mode {
-    /// Contact side c: +1 a-a, −1 b-b.
-    pub side: i32,
-    /// Direction of motion s.
-    pub dir: i32,
-    /// Motor force on.
-    pub motor_on: bool,
-}
+pub use crate::model::Mode;
 
 /// Right-hand side: derivative of (x1, ẋ1, w_motor, w_load, w_friction,
 /// w_p1), and D of the mode. Depends on ẋ1 only: x1 and the works are
 /// quadratures. p1 = S1 ẋ1 and p2 = S2 ẋ2 are the powers the bodies put
 /// into the mesh (docs/model.md section 10).
 #[inline]
-pub fn rhs(lane: &Lane, table: Option<&FrictionTable>, mode: Mode, v: f64) -> ([f64; NY], f64) {
-    let m = motion(lane, table, mode.side, mode.dir, mode.motor_on, v);
+pub fn rhs(lane: &Lane, tables: &[FrictionTable], mode: Mode, v: f64) -> ([f64; NY], f64) {
+    let m = motion(lane, tables, mode, v);
     let v2 = v * lane.tan_g;
     let (p1, p2) = (m.s1 * v, m.s2 * v2);
     ([v, m.acc, m.f1 * v, lane.f2 * v2, p1 + p2, p1], m.d)
@@ -163,14 +154,14 @@ pub struct Trial {
 #[inline]
 pub(crate) fn try_step(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     mode: Mode,
     y: &[f64; NY],
     k1: &[f64; NY],
     h: f64,
     set: &Settings,
 ) -> Trial {
-    try_steps::<1>([lane], table, [mode], &[*y], &[*k1], [h], [true], set)[0]
+    try_steps::<1>([lane], tables, [mode], &[*y], &[*k1], [h], [true], set)[0]
 }
 
 /// Trial steps of N lanes at once (lanes with `active[j]` false are
@@ -182,7 +173,7 @@ pub(crate) fn try_step(
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn try_steps<const N: usize>(
     lane: [&Lane; N],
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     mode: [Mode; N],
     y: &[[f64; NY]; N],
     k1: &[[f64; NY]; N],
@@ -201,7 +192,7 @@ pub(crate) fn try_steps<const N: usize>(
     let z = [[0.0; NY]; N];
     let (mut k2, mut k3, mut k4, mut k5, mut k6, mut k7) = (z, z, z, z, z, z);
     let mut tr = [Trial::default(); N];
-    let f = |j: usize, v: f64| rhs(lane[j], table, mode[j], v).0;
+    let f = |j: usize, v: f64| rhs(lane[j], tables, mode[j], v).0;
     let on = || (0..N).filter(|&j| active[j]);
     for j in on() {
         k2[j] = f(j, stage2_v(y[j][1], h[j], k1[j][1]));

@@ -32,14 +32,7 @@ pub struct TraceRow {
 
 /// The row of a lane at time `t` with position `x`, speed `v` and the
 /// mode of `st` (side, direction, motor, stuck).
-fn row(
-    lane: &Lane,
-    table: Option<&FrictionTable>,
-    st: &LaneState,
-    t: f64,
-    x: f64,
-    v: f64,
-) -> TraceRow {
+fn row(lane: &Lane, tables: &[FrictionTable], st: &LaneState, t: f64, x: f64, v: f64) -> TraceRow {
     if st.stuck {
         let f1 = motor_force(lane, 0.0, st.motor_on);
         return TraceRow {
@@ -55,9 +48,9 @@ fn row(
             contact: Contact::Stick,
         };
     }
-    let m = motion(lane, table, st.side, st.dir, st.motor_on, v);
+    let m = motion(lane, tables, st.mode(), v);
     let vs = (st.dir as f64 * v).max(0.0) * lane.inv_cos_g;
-    let t_cs = (st.side * st.dir) as f64 * mu_sliding(lane, table, vs);
+    let t_cs = (st.side * st.dir) as f64 * mu_sliding(lane, tables, vs, st.upper);
     TraceRow {
         t,
         x1: x,
@@ -91,12 +84,12 @@ fn dense_x(x0: f64, h: f64, r: &[f64; 5], th: f64) -> f64 {
 /// row at every multiple of `dt` up to t_end and two at every event.
 pub fn simulate_traced(
     lane: &Lane,
-    table: Option<&FrictionTable>,
+    tables: &[FrictionTable],
     set: &Settings,
     dt: f64,
     out: &mut dyn FnMut(&TraceRow),
 ) -> LaneResult {
-    let mut st = init(lane, table);
+    let mut st = init(lane, tables);
     // Rows up to t_end, or up to t_max for a lane that runs on (the run
     // ends where the lane stops, and so do its rows).
     let last = (lane.t_end.max(lane.t_max) / dt * (1.0 + 1e-12)).floor() as u64;
@@ -104,34 +97,34 @@ pub fn simulate_traced(
     let sample_t = |k: u64| k as f64 * dt;
     // The samples at t = 0 (only k = 0, unless dt is tiny).
     while k <= last && sample_t(k) <= st.t {
-        out(&row(lane, table, &st, sample_t(k), st.y[0], st.y[1]));
+        out(&row(lane, tables, &st, sample_t(k), st.y[0], st.y[1]));
         k += 1;
     }
     while !st.done {
         let before = st;
-        match prepare(lane, table, &mut st) {
+        match prepare(lane, tables, &mut st) {
             None => {
                 // A stick phase up to a time event: the state is constant.
                 while k <= last && sample_t(k) <= st.t {
-                    out(&row(lane, table, &before, sample_t(k), before.y[0], 0.0));
+                    out(&row(lane, tables, &before, sample_t(k), before.y[0], 0.0));
                     k += 1;
                 }
             }
             Some(plan) => {
-                let trial = try_step(lane, table, plan.mode, &st.y, &st.k1, plan.h, set);
+                let trial = try_step(lane, tables, plan.mode, &st.y, &st.k1, plan.h, set);
                 let from = st;
-                finish_step(lane, table, set, &mut st, &plan, &trial);
+                finish_step(lane, tables, set, &mut st, &plan, &trial);
                 if st.t > from.t {
                     while k <= last && sample_t(k) < st.t {
                         let th = (sample_t(k) - from.t) / plan.h;
                         let v = dense_v(&trial.dense_v, th);
                         let x = dense_x(from.y[0], plan.h, &trial.dense_v, th);
-                        out(&row(lane, table, &from, sample_t(k), x, v));
+                        out(&row(lane, tables, &from, sample_t(k), x, v));
                         k += 1;
                     }
                     // A sample at the step's end: the integrated state.
                     if k <= last && sample_t(k) <= st.t && st.events == before.events {
-                        out(&row(lane, table, &st, sample_t(k), st.y[0], st.y[1]));
+                        out(&row(lane, tables, &st, sample_t(k), st.y[0], st.y[1]));
                         k += 1;
                     }
                 }
@@ -144,13 +137,13 @@ pub fn simulate_traced(
             } else {
                 st.y[1]
             };
-            out(&row(lane, table, &before, st.t, st.y[0], v_old));
-            out(&row(lane, table, &st, st.t, st.y[0], st.y[1]));
+            out(&row(lane, tables, &before, st.t, st.y[0], v_old));
+            out(&row(lane, tables, &st, st.t, st.y[0], st.y[1]));
             while k <= last && sample_t(k) <= st.t {
-                out(&row(lane, table, &st, sample_t(k), st.y[0], st.y[1]));
+                out(&row(lane, tables, &st, sample_t(k), st.y[0], st.y[1]));
                 k += 1;
             }
         }
     }
-    st.end_state().result(lane, table)
+    st.end_state().result(lane, tables)
 }

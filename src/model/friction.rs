@@ -1,11 +1,85 @@
-//! The friction laws: μ(Vs) of the paper's fit, a constant, or a table
-//! (docs/model.md section 5).
+//! The friction laws of docs/model.md section 5: the paper's fit, a
+//! constant μ, a table μ(Vs), and AGMA's curve for a steel worm on a
+//! bronze wheel; each gives tan ρ, the wedge's friction, with the flank's
+//! pressure angle folded in for the laws that give a coefficient.
 
-use super::{Lane, FRICTION_COULOMB, FRICTION_PAPER, FRICTION_TABLE};
+use super::{Lane, FRICTION_AGMA, FRICTION_COULOMB, FRICTION_PAPER, FRICTION_TABLE};
+
+/// Most friction tables one run may hold (the GPU keeps them all in one
+/// fixed-size uniform).
+pub const MAX_TABLES: usize = 8;
+
+use crate::params::TableName;
+
+/// ft/min in one m/s: the `agma` law is stated in ft/min.
+pub const FT_PER_MIN_PER_M_PER_S: f64 = 196.850_393_700_787_4;
+/// The `agma` law's static coefficient μs.
+pub const AGMA_MU_STATIC: f64 = 0.150;
+/// Sliding speed, ft/min, where the `agma` curve changes branch (and jumps
+/// by 2 %).
+pub const AGMA_JUMP_FT_MIN: f64 = 10.0;
+/// Lower branch (0 < Vs <= 10 ft/min): μ = A exp(−B Vs^E).
+pub const AGMA_LOW_A: f64 = 0.124;
+/// See [`AGMA_LOW_A`].
+pub const AGMA_LOW_B: f64 = 0.074;
+/// See [`AGMA_LOW_A`].
+pub const AGMA_LOW_E: f64 = 0.645;
+/// Upper branch (Vs > 10 ft/min): μ = A exp(−B Vs^E) + C.
+pub const AGMA_HIGH_A: f64 = 0.103;
+/// See [`AGMA_HIGH_A`].
+pub const AGMA_HIGH_B: f64 = 0.110;
+/// See [`AGMA_HIGH_A`].
+pub const AGMA_HIGH_E: f64 = 0.450;
+/// See [`AGMA_HIGH_A`].
+pub const AGMA_HIGH_C: f64 = 0.012;
+/// [`AGMA_JUMP_FT_MIN`] in m/s (0.0508).
+pub const AGMA_JUMP_M_S: f64 = AGMA_JUMP_FT_MIN / FT_PER_MIN_PER_M_PER_S;
+
+/// The `agma` law's sliding μ at `vs` (m/s) on the branch `upper` (Vs
+/// above 10 ft/min) or the lower one. Inside a step the branch is frozen
+/// (the mode's), so the right-hand side stays smooth and the jump is
+/// located as an event; [`agma_upper`] says which branch a speed is on.
+#[inline]
+pub fn agma_mu(vs: f64, upper: bool) -> f64 {
+    let v = vs.max(0.0) * FT_PER_MIN_PER_M_PER_S;
+    if upper {
+        AGMA_HIGH_A * (-AGMA_HIGH_B * v.powf(AGMA_HIGH_E)).exp() + AGMA_HIGH_C
+    } else {
+        AGMA_LOW_A * (-AGMA_LOW_B * v.powf(AGMA_LOW_E)).exp()
+    }
+}
+
+/// Whether sliding speed `vs` (m/s) is on the `agma` law's upper branch.
+#[inline]
+pub fn agma_upper(vs: f64) -> bool {
+    vs > AGMA_JUMP_M_S
+}
 
 /// Most points a friction table may hold (fixed so the GPU can keep it in a
 /// fixed-size uniform).
 pub const MAX_TABLE_POINTS: usize = 32;
+
+/// The friction tables of a run, each with its name (one unnamed table
+/// for a sweep's plain `[friction_table]`); a lane picks one by index.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrictionTables {
+    /// The names, in the sweep file's order.
+    pub names: Vec<TableName>,
+    /// The tables, in the same order.
+    pub tables: Vec<FrictionTable>,
+}
+
+impl FrictionTables {
+    /// Whether the run has no table.
+    pub fn is_empty(&self) -> bool {
+        self.tables.is_empty()
+    }
+
+    /// Whether the run's one table is the unnamed `[friction_table]`.
+    pub fn unnamed(&self) -> bool {
+        self.names == [TableName::UNNAMED]
+    }
+}
 
 /// μ(Vs) as points, interpolated linearly and held constant past its ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,9 +149,12 @@ impl FrictionTable {
     }
 }
 
-/// Sliding friction coefficient μ = tan ρ at sliding speed `vs` >= 0.
+/// The wedge's sliding friction tan ρ at sliding speed `vs` >= 0. For the
+/// laws that give a coefficient μ (coulomb, table, agma) tan ρ = μ / cos αn
+/// (the flank's normal force is N / cos αn); `lane.mu` holds coulomb's
+/// already divided. `upper`: the `agma` branch the step is frozen on.
 #[inline]
-pub fn mu_sliding(lane: &Lane, table: Option<&FrictionTable>, vs: f64) -> f64 {
+pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, upper: bool) -> f64 {
     match lane.friction {
         FRICTION_PAPER => {
             let rho =
@@ -85,10 +162,23 @@ pub fn mu_sliding(lane: &Lane, table: Option<&FrictionTable>, vs: f64) -> f64 {
             tan_small(rho)
         }
         FRICTION_COULOMB => lane.mu,
-        FRICTION_TABLE => table.map_or(f64::NAN, |t| t.mu_at(vs)),
+        FRICTION_TABLE => {
+            tables
+                .get(lane.table as usize)
+                .map_or(f64::NAN, |t| t.mu_at(vs))
+                * lane.inv_cos_an
+        }
+        FRICTION_AGMA => agma_mu(vs, upper) * lane.inv_cos_an,
         // No such law: NaN makes the lane `nonfinite`, never a number.
         _ => f64::NAN,
     }
+}
+
+/// tan ρ at sliding speed `vs` on the branch that speed is on: the law as
+/// a function of speed alone, for results read at one speed.
+#[inline]
+pub fn mu_at(lane: &Lane, tables: &[FrictionTable], vs: f64) -> f64 {
+    mu_sliding(lane, tables, vs, agma_upper(vs))
 }
 
 /// tan x, by its Taylor series up to x^15 where that is exact to the last
@@ -116,13 +206,13 @@ mod tests {
     use crate::params::Spec;
 
     fn paper() -> Lane {
-        Lane::new(&Spec::default().resolve(false).unwrap(), None)
+        Lane::new(&Spec::default().resolve(&[]).unwrap(), &[])
     }
 
     #[test]
     fn paper_friction_law_matches_model_md() {
         let l = paper();
-        let rho = |vs: f64| mu_sliding(&l, None, vs).atan().to_degrees();
+        let rho = |vs: f64| mu_at(&l, &[], vs).atan().to_degrees();
         assert!((rho(0.0) - 1.0 / 0.14).abs() < 1e-12); // 7.14 deg
         assert!((rho(1.0) - 3.18).abs() < 0.005);
         // docs/model.md: "ρ(3.4 m/s) ≈ 2°" (1.97° by the formula).
@@ -149,5 +239,35 @@ mod tests {
         assert!((t.mu_at(2.0) - 0.05).abs() < 1e-15);
         assert_eq!(t.mu_at(10.0), 0.04);
         assert!(FrictionTable::new(&[1.0, 0.5], &[0.1, 0.1]).is_err());
+    }
+
+    /// The table of docs/model.md section 5, to 1e-5.
+    #[test]
+    fn agma_law_gives_the_model_table() {
+        let rows: [(f64, bool, f64); 10] = [
+            (0.01, false, 0.11058),
+            (0.0508, false, 0.08944),
+            (0.0508, true, 0.08754),
+            (0.1, true, 0.07964),
+            (0.5, true, 0.05526),
+            (1.0, true, 0.04349),
+            (2.0, true, 0.03241),
+            (5.0, true, 0.02093),
+            (10.0, true, 0.01565),
+            (20.0, true, 0.01307),
+        ];
+        for (vs, upper, want) in rows {
+            let mu = agma_mu(vs, upper);
+            assert!((mu - want).abs() < 1e-5, "{vs} m/s: {mu} (want {want})");
+            if vs != 0.0508 {
+                assert_eq!(agma_upper(vs), upper, "{vs} m/s");
+            }
+        }
+        // 10 ft/min is 0.0508 m/s, on the lower branch; just above, the upper.
+        assert!((AGMA_JUMP_M_S - 0.0508).abs() < 1e-12);
+        assert!(!agma_upper(AGMA_JUMP_M_S) && agma_upper(AGMA_JUMP_M_S * (1.0 + 1e-12)));
+        // The jump is 2 %.
+        let (lo, hi) = (agma_mu(AGMA_JUMP_M_S, false), agma_mu(AGMA_JUMP_M_S, true));
+        assert!(((lo - hi) / lo - 0.0213).abs() < 1e-3);
     }
 }

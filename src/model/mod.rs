@@ -9,7 +9,10 @@
 pub mod friction;
 
 use crate::params::{FrictionKind, MotorKind, Num, Params};
-pub use friction::{mu_sliding, tan_small, FrictionTable, MAX_TABLE_POINTS};
+pub use friction::{
+    agma_mu, agma_upper, mu_at, mu_sliding, tan_small, FrictionTable, FrictionTables,
+    AGMA_JUMP_M_S, MAX_TABLES, MAX_TABLE_POINTS,
+};
 
 /// A lane's constants in the form the integrator uses: fixed size, laws as
 /// codes, trigonometry done once.
@@ -34,14 +37,18 @@ pub struct Lane {
     pub f1: f64,
     /// time the motor is cut; +inf for never
     pub motor_off: f64,
-    /// 0 = paper, 1 = coulomb, 2 = table
+    /// 0 = paper, 1 = coulomb, 2 = table, 3 = agma
     pub friction: u32,
+    /// Which of the run's friction tables (`friction = table`).
+    pub table: u32,
+    /// 1 / cos αn: a coefficient law's μ becomes the wedge's tan ρ = μ / cos αn.
+    pub inv_cos_an: f64,
     pub fric_a: f64,
     pub fric_b: f64,
     pub fric_c: f64,
-    /// sliding μ for coulomb
+    /// coulomb's tan ρ = μ / cos αn
     pub mu: f64,
-    /// static μs = tan ρ(0) for every law
+    /// static tan ρs for every law (μs / cos αn, or tan ρ(0))
     pub mu_s: f64,
     pub x1_0: f64,
     pub v1_0: f64,
@@ -49,6 +56,11 @@ pub struct Lane {
     /// Latest end of a lane still coasting at t_end with its motor cut
     /// (docs/model.md section 10); t_end when unset (no running on).
     pub t_max: f64,
+    /// Pitch radii R1, R2 (m) of a lane given in gear terms (docs/model.md
+    /// section 12), for its shaft speeds; NaN without a geometry. The
+    /// integrator never reads them.
+    pub r1: f64,
+    pub r2: f64,
 }
 
 /// Motor law codes shared with the shader (a test reads the shader's
@@ -62,6 +74,8 @@ pub const FRICTION_PAPER: u32 = 0;
 pub const FRICTION_COULOMB: u32 = 1;
 /// Tabulated μ(Vs).
 pub const FRICTION_TABLE: u32 = 2;
+/// AGMA's curve for a steel worm on a bronze wheel.
+pub const FRICTION_AGMA: u32 = 3;
 
 impl Lane {
     /// Whether the motor is cut before t_end: only then does the lane
@@ -72,8 +86,12 @@ impl Lane {
     }
 
     /// Derives a lane's constants from validated parameters.
-    pub fn new(p: &Params, table: Option<&FrictionTable>) -> Lane {
+    pub fn new(p: &Params, tables: &[FrictionTable]) -> Lane {
         let g = p.get(Num::GammaDeg).to_radians();
+        let inv_cos_an = match p.get(Num::AlphaNDeg) {
+            a if a.is_nan() => 1.0,
+            a => 1.0 / a.to_radians().cos(),
+        };
         let nan_to = |v: f64, d: f64| if v.is_nan() { d } else { v };
         let (motor, v_sync, sigma_k, f_crit, f1) = match p.motor {
             MotorKind::Kloss => {
@@ -106,20 +124,26 @@ impl Lane {
                 FrictionKind::Paper => FRICTION_PAPER,
                 FrictionKind::Coulomb => FRICTION_COULOMB,
                 FrictionKind::Table => FRICTION_TABLE,
+                FrictionKind::Agma => FRICTION_AGMA,
             },
+            table: p.table as u32,
+            inv_cos_an,
             fric_a: nan_to(p.get(Num::FricA), 0.0),
             fric_b: nan_to(p.get(Num::FricB), 1.0),
             fric_c: nan_to(p.get(Num::FricC), 1.0),
-            mu: nan_to(p.get(Num::Mu), 0.0),
+            mu: nan_to(p.get(Num::Mu), 0.0) * inv_cos_an,
             mu_s: 0.0,
             x1_0: p.get(Num::X10),
             v1_0: p.get(Num::V10),
             t_end: p.get(Num::TEnd),
             t_max: nan_to(p.get(Num::TMax), p.get(Num::TEnd)),
+            r1: p.r1,
+            r2: p.r2,
         };
         lane.mu_s = match p.friction {
-            FrictionKind::Coulomb => p.get(Num::MuStatic),
-            _ => mu_sliding(&lane, table, 0.0),
+            FrictionKind::Coulomb => p.get(Num::MuStatic) * inv_cos_an,
+            FrictionKind::Agma => friction::AGMA_MU_STATIC * inv_cos_an,
+            _ => mu_sliding(&lane, tables, 0.0, false),
         };
         lane
     }
@@ -157,6 +181,22 @@ pub fn side_of(phi: f64) -> i32 {
     }
 }
 
+/// The mode a lane slides in between events, frozen for a whole step:
+/// contact side, direction, motor, and the `agma` law's branch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mode {
+    /// Contact side c: +1 a-a, −1 b-b.
+    pub side: i32,
+    /// Direction of motion s.
+    pub dir: i32,
+    /// Motor force on.
+    pub motor_on: bool,
+    /// The `agma` law's upper branch (Vs above 10 ft/min); false for the
+    /// other laws. Frozen so a step's right-hand side is smooth: the jump
+    /// between the branches is an event.
+    pub upper: bool,
+}
+
 /// What the equation of motion gives in one mode at one speed.
 #[derive(Clone, Copy, Debug)]
 pub struct Motion {
@@ -171,7 +211,7 @@ pub struct Motion {
     pub s2: f64,
 }
 
-/// Equation of motion in mode (`side` c, direction `dir` s) at speed `v1`.
+/// Equation of motion in mode `mode` (side c, direction s) at speed `v1`.
 ///
 /// ψ = −tan(γ + c s ρ) = −p/q by the tangent sum, with p = tan γ + c s μ and
 /// q = 1 − tan γ c s μ; multiplying through by q leaves one division on the
@@ -179,17 +219,10 @@ pub struct Motion {
 /// the mode is frozen, and past a rest event this keeps the right-hand side
 /// finite and continuous for root finding.
 #[inline]
-pub fn motion(
-    lane: &Lane,
-    table: Option<&FrictionTable>,
-    side: i32,
-    dir: i32,
-    motor_on: bool,
-    v1: f64,
-) -> Motion {
-    let f1 = motor_force(lane, v1, motor_on);
-    let vs = (dir as f64 * v1).max(0.0) * lane.inv_cos_g;
-    let t = (side * dir) as f64 * mu_sliding(lane, table, vs);
+pub fn motion(lane: &Lane, tables: &[FrictionTable], mode: Mode, v1: f64) -> Motion {
+    let f1 = motor_force(lane, v1, mode.motor_on);
+    let vs = (mode.dir as f64 * v1).max(0.0) * lane.inv_cos_g;
+    let t = (mode.side * mode.dir) as f64 * mu_sliding(lane, tables, vs, mode.upper);
     let p = lane.tan_g + t;
     let q = 1.0 - lane.tan_g * t;
     // D·q = m1 q + p m2 tan γ
@@ -236,7 +269,7 @@ mod tests {
     use crate::params::Spec;
 
     fn paper() -> Lane {
-        Lane::new(&Spec::default().resolve(false).unwrap(), None)
+        Lane::new(&Spec::default().resolve(&[]).unwrap(), &[])
     }
 
     #[test]
@@ -254,8 +287,18 @@ mod tests {
         let g = 0.1f64.atan();
         for (side, want_rho_sign) in [(1, 1.0), (-1, -1.0)] {
             let v = 1.0;
-            let m = motion(&l, None, side, 1, true, v);
-            let rho = mu_sliding(&l, None, v / l.cos_g).atan();
+            let m = motion(
+                &l,
+                &[],
+                Mode {
+                    side: side,
+                    dir: 1,
+                    motor_on: true,
+                    upper: false,
+                },
+                v,
+            );
+            let rho = mu_at(&l, &[], v / l.cos_g).atan();
             let psi = -(g + want_rho_sign * rho).tan();
             assert!((m.s1 - psi * m.s2).abs() < 1e-9 * m.s1.abs().max(1.0));
             // S2 = −m1 m2 tanγ φ / D
@@ -268,14 +311,44 @@ mod tests {
     fn steady_efficiency_is_tan_ratio() {
         let l = paper();
         let v = 2.0;
-        let m = motion(&l, None, 1, 1, true, v);
-        let rho = mu_sliding(&l, None, v / l.cos_g).atan();
+        let m = motion(
+            &l,
+            &[],
+            Mode {
+                side: 1,
+                dir: 1,
+                motor_on: true,
+                upper: false,
+            },
+            v,
+        );
+        let rho = mu_at(&l, &[], v / l.cos_g).atan();
         let g = l.tan_g.atan();
         assert!((efficiency(&l, &m, 1, 1, v) - g.tan() / (g + rho).tan()).abs() < 1e-12);
-        let m = motion(&l, None, -1, 1, true, v);
+        let m = motion(
+            &l,
+            &[],
+            Mode {
+                side: -1,
+                dir: 1,
+                motor_on: true,
+                upper: false,
+            },
+            v,
+        );
         assert!((efficiency(&l, &m, -1, 1, v) - (g - rho).tan() / g.tan()).abs() < 1e-12);
         // Running backwards on the a-a side the wheel drives: inverse flow.
-        let m = motion(&l, None, 1, -1, false, -v);
+        let m = motion(
+            &l,
+            &[],
+            Mode {
+                side: 1,
+                dir: -1,
+                motor_on: false,
+                upper: false,
+            },
+            -v,
+        );
         assert!((efficiency(&l, &m, 1, -1, -v) - (g - rho).tan() / g.tan()).abs() < 1e-12);
     }
 }

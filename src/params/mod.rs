@@ -7,8 +7,11 @@
 //! [`table`]; the `Num` enum, the defaults, ownership, validation, the
 //! guide's table (docs/guide.md) and the resolved provenance are all derived from it.
 
+pub mod gear;
 mod resolve;
 pub mod table;
+pub mod table_name;
 
 pub use resolve::{ParamError, Params, Spec};
 pub use table::{Bound, Def, Fallback, FrictionKind, MotorKind, Num, Owner, Param, N_NUM};
+pub use table_name::TableName;

@@ -1,12 +1,15 @@
 //! Partial parameter sets ([`Spec`]) and their resolution into a complete,
-//! validated [`Params`], driven by the table of `table.rs`.
+//! validated [`Params`], driven by the table of `table.rs` (gear terms
+//! converted by `gear.rs` first).
 
 use std::fmt;
 
+use super::gear;
 use super::table::{Bound, Fallback, FrictionKind, MotorKind, Num, Param, N_NUM};
+use super::table_name::TableName;
 
 /// A partial parameter set: `None` means "not set, the default applies".
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Spec {
     /// Numeric values, indexed by [`Num`].
     pub num: [Option<f64>; N_NUM],
@@ -14,6 +17,19 @@ pub struct Spec {
     pub motor: Option<MotorKind>,
     /// Friction law.
     pub friction: Option<FrictionKind>,
+    /// Which named friction table (`friction = table`).
+    pub friction_table: Option<TableName>,
+}
+
+impl Default for Spec {
+    fn default() -> Self {
+        Spec {
+            num: [None; N_NUM],
+            motor: None,
+            friction: None,
+            friction_table: None,
+        }
+    }
 }
 
 /// A parameter that fails validation: which one, and what is allowed.
@@ -41,6 +57,16 @@ pub struct Params {
     pub motor: MotorKind,
     /// Friction law.
     pub friction: FrictionKind,
+    /// The friction table a `friction = table` lane names, as given.
+    pub friction_table: Option<TableName>,
+    /// Index of the lane's friction table among the run's (0 unless
+    /// `friction = table`).
+    pub table: usize,
+    /// Pitch radii R1, R2 of a lane given in gear terms, m; NaN without
+    /// a geometry.
+    pub r1: f64,
+    /// See [`Params::r1`].
+    pub r2: f64,
 }
 
 impl Params {
@@ -84,9 +110,11 @@ impl Spec {
             }
             Param::Friction => {
                 self.friction = Some(parse_law(text).ok_or_else(|| {
-                    format!("`{quoted}` is not a friction law; allowed: paper, coulomb, table")
+                    let laws = FrictionKind::ALL.map(FrictionKind::name).join(", ");
+                    format!("`{quoted}` is not a friction law; allowed: {laws}")
                 })?)
             }
+            Param::FrictionTable => self.friction_table = Some(TableName::new(text)?),
             Param::Num(n) => {
                 let v: f64 = text
                     .parse()
@@ -102,32 +130,105 @@ impl Spec {
         Ok(())
     }
 
-    /// Resolves defaults and validates, row by row of the table. `has_table`
-    /// says whether the sweep carries a friction table (required by
-    /// `friction = "table"`).
-    pub fn resolve(&self, has_table: bool) -> Result<Params, ParamError> {
+    /// Resolves defaults and validates, row by row of the table, after
+    /// converting gear terms (docs/model.md section 12) into the wedge's.
+    /// `tables`: the names of the run's friction tables (one unnamed, or
+    /// the `[friction_table.NAME]`s), for `friction = "table"`.
+    pub fn resolve(&self, tables: &[TableName]) -> Result<Params, ParamError> {
         let motor = self.motor.unwrap_or(MotorKind::Kloss);
         let friction = self.friction.unwrap_or(FrictionKind::Paper);
+        if !gear::any(self) {
+            return self.resolve_wedge(motor, friction, tables);
+        }
+        let converted = gear::to_wedge(self, motor, friction)?;
+        let mut p = converted
+            .spec
+            .resolve_wedge(motor, friction, tables)
+            .map_err(|e| converted.explain(e))?;
+        p.r1 = converted.r1;
+        p.r2 = converted.r2;
+        Ok(p)
+    }
+
+    /// [`Spec::resolve`] once every value is in wedge terms.
+    fn resolve_wedge(
+        &self,
+        motor: MotorKind,
+        friction: FrictionKind,
+        tables: &[TableName],
+    ) -> Result<Params, ParamError> {
         let mut num = [f64::NAN; N_NUM];
         for p in Num::ALL {
             num[p as usize] = self.resolve_one(p, motor, friction, &num)?;
         }
-        if friction == FrictionKind::Table && !has_table {
-            return Err(ParamError {
-                param: "friction",
-                msg: "= table needs a [friction_table] in the sweep file".into(),
-            });
-        }
+        let table = self.table_index(friction, tables)?;
         Ok(Params {
             num,
             motor,
             friction,
+            friction_table: self.friction_table,
+            table,
+            r1: f64::NAN,
+            r2: f64::NAN,
         })
+    }
+
+    /// The lane's friction table among the run's: the one it names, or
+    /// the only one.
+    fn table_index(
+        &self,
+        friction: FrictionKind,
+        tables: &[TableName],
+    ) -> Result<usize, ParamError> {
+        let err = |param, msg: String| Err(ParamError { param, msg });
+        let list = || {
+            tables
+                .iter()
+                .map(|t| t.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if friction != FrictionKind::Table {
+            return match self.friction_table {
+                Some(_) => err(
+                    "friction_table",
+                    format!(
+                        "is set but not used by friction = {}; it belongs to friction = table",
+                        friction.name()
+                    ),
+                ),
+                None => Ok(0),
+            };
+        }
+        match (self.friction_table, tables) {
+            (_, []) => err(
+                "friction",
+                "= table needs a [friction_table] in the sweep file".into(),
+            ),
+            (None, [_]) => Ok(0),
+            (None, _) => err(
+                "friction_table",
+                format!("is required: the sweep has several friction tables; allowed: {}", list()),
+            ),
+            (Some(name), _) => match tables.iter().position(|t| *t == name) {
+                Some(i) => Ok(i),
+                None if tables == [TableName::UNNAMED] => err(
+                    "friction_table",
+                    format!(
+                        "names `{name}`, but the sweep's one [friction_table] has no name; name it                          [friction_table.{name}] or leave friction_table out"
+                    ),
+                ),
+                None => err(
+                    "friction_table",
+                    format!("`{name}` is not a friction table of the sweep; allowed: {}", list()),
+                ),
+            },
+        }
     }
 
     /// One parameter's value (NaN when its law does not use it), given the
     /// ones before it in table order.
-    fn resolve_one(
+    pub(super) fn resolve_one(
         &self,
         p: Num,
         motor: MotorKind,
@@ -160,7 +261,7 @@ impl Spec {
             (Some(v), _) => v,
             (None, Fallback::Value(d)) => d,
             (None, Fallback::SameAs(q)) => num[q as usize],
-            (None, Fallback::Never) => return Ok(f64::NAN),
+            (None, Fallback::Never | Fallback::NotSet) => return Ok(f64::NAN),
             (None, Fallback::Required) => {
                 return Err(err(format!("is required by {}", def.owner.law())))
             }
@@ -208,7 +309,7 @@ mod tests {
 
     #[test]
     fn defaults_are_the_paper_design() {
-        let p = Spec::default().resolve(false).unwrap();
+        let p = Spec::default().resolve(&[]).unwrap();
         assert_eq!(p.get(Num::M1), 586.0);
         assert!((p.get(Num::GammaDeg).to_radians().tan() - 0.1).abs() < 1e-15);
         assert!(p.get(Num::Mu).is_nan());
@@ -222,7 +323,7 @@ mod tests {
             ..Default::default()
         };
         s.set(Num::Mu, 0.05);
-        let p = s.resolve(false).unwrap();
+        let p = s.resolve(&[]).unwrap();
         assert_eq!(p.get(Num::MuStatic), 0.05);
         assert!(p.get(Num::FricA).is_nan());
     }
@@ -231,13 +332,13 @@ mod tests {
     fn errors_name_the_range() {
         let mut s = Spec::default();
         s.set(Num::VCrit, 3.4);
-        let e = s.resolve(false).unwrap_err();
+        let e = s.resolve(&[]).unwrap_err();
         assert_eq!(e.param, "v_crit");
         assert_eq!(e.msg, "must be >= 0 m/s and < v_sync = 3.35, got 3.4");
         let mut s = Spec::default();
         s.set(Num::GammaDeg, 1e-9);
         assert_eq!(
-            s.resolve(false).unwrap_err().msg,
+            s.resolve(&[]).unwrap_err().msg,
             "must be in [0.5, 85] deg (worm lead angles; towards 0 or 90 deg the \
              efficiencies lose meaning), got 0.000000001"
         );

@@ -1,5 +1,5 @@
 //! The table of parameters: one row per parameter of docs/model.md section 9,
-//! in its column order. The enum [`Num`], [`Num::ALL`], [`Param::COLUMNS`]
+//! in its column order, then the gear terms of section 12. The enum [`Num`], [`Num::ALL`], [`Param::COLUMNS`]
 //! and [`NUMERIC`] are generated from the rows by `parameter_table!`.
 //!
 //! Why over 400 lines: the rows and what reads them (ranges in words, the
@@ -24,8 +24,10 @@ pub enum FrictionKind {
     Paper,
     /// Constant μ, with an optional static `mu_static`.
     Coulomb,
-    /// μ(Vs) from the sweep's friction table, interpolated linearly.
+    /// μ(Vs) from one of the sweep's friction tables, interpolated linearly.
     Table,
+    /// AGMA's curve for a hardened steel worm on a bronze wheel.
+    Agma,
 }
 
 impl MotorKind {
@@ -42,10 +44,11 @@ impl MotorKind {
 
 impl FrictionKind {
     /// Every friction law.
-    pub const ALL: [FrictionKind; 3] = [
+    pub const ALL: [FrictionKind; 4] = [
         FrictionKind::Paper,
         FrictionKind::Coulomb,
         FrictionKind::Table,
+        FrictionKind::Agma,
     ];
     /// The spelling used in files.
     pub fn name(self) -> &'static str {
@@ -53,7 +56,15 @@ impl FrictionKind {
             FrictionKind::Paper => "paper",
             FrictionKind::Coulomb => "coulomb",
             FrictionKind::Table => "table",
+            FrictionKind::Agma => "agma",
         }
+    }
+
+    /// Whether the law gives a friction coefficient μ (so the flank's
+    /// pressure angle turns it into the wedge's tan ρ = μ / cos αn), not
+    /// the friction angle itself.
+    pub fn gives_coefficient(self) -> bool {
+        self != FrictionKind::Paper
     }
 }
 
@@ -72,6 +83,10 @@ pub enum Owner {
     PaperFriction,
     /// `friction = coulomb`
     Coulomb,
+    /// `friction = table`
+    TableFriction,
+    /// The laws that give a coefficient μ: coulomb, table, agma.
+    Coefficient,
 }
 
 impl Owner {
@@ -83,6 +98,8 @@ impl Owner {
             Owner::ConstantMotor => motor == MotorKind::Constant,
             Owner::PaperFriction => friction == FrictionKind::Paper,
             Owner::Coulomb => friction == FrictionKind::Coulomb,
+            Owner::TableFriction => friction == FrictionKind::Table,
+            Owner::Coefficient => friction.gives_coefficient(),
         }
     }
 
@@ -94,6 +111,8 @@ impl Owner {
             Owner::ConstantMotor => "motor = constant",
             Owner::PaperFriction => "friction = paper",
             Owner::Coulomb => "friction = coulomb",
+            Owner::TableFriction => "friction = table",
+            Owner::Coefficient => "friction = coulomb, table or agma",
         }
     }
 }
@@ -109,6 +128,9 @@ pub enum Fallback {
     Required,
     /// Nothing, meaning "never" (`motor_off`).
     Never,
+    /// Nothing: the quantity is given another way or not at all (a gear
+    /// term, whose wedge counterpart has the default).
+    NotSet,
 }
 
 /// One end of a parameter's allowed range.
@@ -145,6 +167,8 @@ pub struct Def {
     pub at_least: Option<Num>,
     /// A parameter it must stay strictly above (`t_max > t_end`).
     pub above: Option<Num>,
+    /// Only whole numbers (tooth counts).
+    pub integer: bool,
     /// Why the range is what it is, when that is not obvious.
     pub why: &'static str,
 }
@@ -158,6 +182,8 @@ pub enum Param {
     Motor,
     /// `friction`
     Friction,
+    /// `friction_table`: which of the sweep's named friction tables.
+    FrictionTable,
 }
 
 /// Builds the enum, the column order and [`NUMERIC`] from the rows, so
@@ -179,7 +205,7 @@ macro_rules! parameter_table {
         pub const NUMERIC: [Def; N_NUM] = [$(Def $def),*];
         impl Param {
             /// Every parameter in the column order of docs/model.md section 9.
-            pub const COLUMNS: [Param; N_NUM + 2] = [$($col),*];
+            pub const COLUMNS: [Param; N_NUM + 3] = [$($col),*];
         }
     };
     (@rows [$($n:tt)*] [$($c:tt)*] num $v:ident $def:tt $($rest:tt)*) => {
@@ -203,6 +229,7 @@ const ROW: Def = Def {
     below: None,
     at_least: None,
     above: None,
+    integer: false,
     why: "",
 };
 
@@ -233,6 +260,7 @@ parameter_table! {
     num MotorOff { name: "motor_off", unit: "s", meaning: "motor force 0 from this time",
         default: Fallback::Never, lo: Bound::Closed(0.0), why: "or unset for never", ..ROW }
     selector Friction
+    selector FrictionTable
     num FricA { name: "fric_a", unit: "", meaning: "paper law rho[deg] = 1/(a Vs^b + c)",
         default: Fallback::Value(0.174), owner: Owner::PaperFriction, lo: Bound::Closed(0.0),
         hi: Bound::Closed(100.0), ..ROW }
@@ -250,6 +278,11 @@ parameter_table! {
         hi: Bound::Closed(10.0),
         why: "static friction below sliding friction would stop a departing lane at once",
         ..ROW }
+    num AlphaNDeg { name: "alpha_n_deg", unit: "deg",
+        meaning: "normal pressure angle of the flank: a coefficient law's mu acts as mu / cos(alpha_n)",
+        default: Fallback::Value(0.0), owner: Owner::Coefficient, lo: Bound::Closed(0.0),
+        hi: Bound::Open(45.0),
+        why: "flank angles of worm threads; the paper law's fit already holds the flank", ..ROW }
     num X10 { name: "x1_0", unit: "m", meaning: "initial position of body 1",
         default: Fallback::Value(0.0), lo: Bound::Closed(-1e6), hi: Bound::Closed(1e6), ..ROW }
     num V10 { name: "v1_0", unit: "m/s", meaning: "initial speed of body 1",
@@ -261,6 +294,44 @@ parameter_table! {
         meaning: "a lane still coasting at t_end after its motor is cut runs on to this time at most",
         default: Fallback::Never, hi: Bound::Closed(1e6), above: Some(Num::TEnd),
         why: "or unset: the run ends at t_end", ..ROW }
+    num D1 { name: "d1", unit: "m", meaning: "gear terms: worm pitch diameter",
+        default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(10.0), ..ROW }
+    num Z1 { name: "z1", unit: "", meaning: "gear terms: worm starts (threads)",
+        default: Fallback::NotSet, lo: Bound::Closed(1.0), hi: Bound::Closed(20.0), integer: true,
+        ..ROW }
+    num Z2 { name: "z2", unit: "", meaning: "gear terms: wheel teeth",
+        default: Fallback::NotSet, lo: Bound::Closed(1.0), hi: Bound::Closed(2000.0),
+        integer: true, ..ROW }
+    num MX { name: "m_x", unit: "m", meaning: "gear terms: axial module (the wheel's transverse module)",
+        default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1.0), ..ROW }
+    num R1 { name: "r1", unit: "m", meaning: "gear terms: worm pitch radius (with r2 and gamma_deg)",
+        default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(10.0), ..ROW }
+    num R2 { name: "r2", unit: "m", meaning: "gear terms: wheel pitch radius (with r1 and gamma_deg)",
+        default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(10.0), ..ROW }
+    num J1 { name: "j1", unit: "kg m^2",
+        meaning: "gear terms: inertia turning with the worm (rotor, coupling, worm); m1 = j1 / R1^2",
+        default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1e9), ..ROW }
+    num J2 { name: "j2", unit: "kg m^2",
+        meaning: "gear terms: inertia turning with the wheel (wheel, output, load); m2 = j2 / R2^2",
+        default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1e9), ..ROW }
+    num T1 { name: "t1", unit: "N m", meaning: "gear terms: torque of a constant motor; f1 = t1 / R1",
+        default: Fallback::NotSet, owner: Owner::ConstantMotor, ..ROW }
+    num T2 { name: "t2", unit: "N m",
+        meaning: "gear terms: load torque on the wheel shaft (sign as f2); f2 = t2 / R2",
+        default: Fallback::NotSet, ..ROW }
+    num NSync { name: "n_sync", unit: "rpm",
+        meaning: "gear terms: Kloss motor's synchronous speed; v_sync = 2 pi n_sync / 60 R1",
+        default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Open(0.0),
+        hi: Bound::Closed(1e5), ..ROW }
+    num NCrit { name: "n_crit", unit: "rpm",
+        meaning: "gear terms: Kloss motor's speed at breakdown torque; v_crit = 2 pi n_crit / 60 R1",
+        default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Closed(0.0),
+        below: Some(Num::NSync), ..ROW }
+    num TCrit { name: "t_crit", unit: "N m",
+        meaning: "gear terms: Kloss motor's breakdown torque; f_crit = t_crit / R1",
+        default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
+    num N10 { name: "n1_0", unit: "rpm", meaning: "gear terms: initial worm speed; v1_0 = 2 pi n1_0 / 60 R1",
+        default: Fallback::NotSet, lo: Bound::Closed(-1e5), hi: Bound::Closed(1e5), ..ROW }
 }
 
 impl Num {
@@ -295,6 +366,7 @@ impl Param {
             Param::Num(n) => n.name(),
             Param::Motor => "motor",
             Param::Friction => "friction",
+            Param::FrictionTable => "friction_table",
         }
     }
 
@@ -339,14 +411,23 @@ fn num_text(b: f64) -> String {
 }
 
 impl Def {
-    /// Whether `v` lies in the row's own range.
+    /// Whether `v` lies in the row's own range (and is whole, for a count).
     pub fn in_range(&self, v: f64) -> bool {
-        self.lo.admits_above(v) && self.hi.admits_below(v)
+        self.lo.admits_above(v) && self.hi.admits_below(v) && (!self.integer || v.fract() == 0.0)
     }
 
-    /// The range in words: "> 0 kg", "in (0, 90) deg", ">= 0 s"; empty
-    /// when any number is allowed.
+    /// The range in words: "> 0 kg", "in (0, 90) deg", ">= 0 s", "a whole
+    /// number in [1, 20]"; empty when any number is allowed.
     pub fn range_text(&self) -> String {
+        let range = self.bounds_text();
+        if self.integer {
+            format!("a whole number {range}")
+        } else {
+            range
+        }
+    }
+
+    fn bounds_text(&self) -> String {
         let unit = if self.unit.is_empty() {
             String::new()
         } else {
@@ -388,11 +469,19 @@ pub fn guide_table() -> String {
         String::from("| name | unit | meaning | default | allowed |\n|---|---|---|---|---|\n");
     for p in Param::COLUMNS {
         let row = match p {
-            Param::Motor => "| `motor` | | motor law | `kloss` | `kloss`, `constant` |".to_string(),
-            Param::Friction => {
-                "| `friction` | | friction law | `paper` | `paper`, `coulomb`, `table` |"
-                    .to_string()
+            Param::Motor => {
+                let laws = MotorKind::ALL.map(|k| format!("`{}`", k.name())).join(", ");
+                format!("| `motor` | | motor law | `kloss` | {laws} |")
             }
+            Param::Friction => {
+                let laws = FrictionKind::ALL
+                    .map(|k| format!("`{}`", k.name()))
+                    .join(", ");
+                format!("| `friction` | | friction law | `paper` | {laws} |")
+            }
+            Param::FrictionTable => "| `friction_table` | | which named friction table \
+                 (friction = table) | the only table | a `[friction_table.NAME]` of the sweep |"
+                .to_string(),
             Param::Num(n) => {
                 let d = n.def();
                 let default = match d.default {
@@ -400,6 +489,7 @@ pub fn guide_table() -> String {
                     Fallback::SameAs(q) => format!("= `{}`", q.name()),
                     Fallback::Required => format!("required by {}", d.owner.law()),
                     Fallback::Never => "never".into(),
+                    Fallback::NotSet => "not set".into(),
                 };
                 let mut allowed = d.range_text();
                 if let Some(q) = d.below {
@@ -442,8 +532,9 @@ mod tests {
         let names: Vec<_> = Param::COLUMNS.iter().map(|p| p.name()).collect();
         assert_eq!(
             names.join(","),
-            "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,\
-             fric_a,fric_b,fric_c,mu,mu_static,x1_0,v1_0,t_end,t_max"
+            "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,friction_table,\
+             fric_a,fric_b,fric_c,mu,mu_static,alpha_n_deg,x1_0,v1_0,t_end,t_max,\
+             d1,z1,z2,m_x,r1,r2,j1,j2,t1,t2,n_sync,n_crit,t_crit,n1_0"
         );
         for p in Param::COLUMNS {
             assert_eq!(Param::from_name(p.name()), Some(p));

@@ -4,7 +4,7 @@
 //! of their own).
 
 use crate::input::sweep::{Axis, Sweep};
-use crate::params::Num;
+use crate::params::Param;
 
 /// Most points along a line (and values in a requirement's answer);
 /// longer axes are binned.
@@ -32,6 +32,16 @@ pub(super) fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
             })
         })
         .collect()
+}
+
+/// A grid value as a panel's name or a table cell: the word of an axis
+/// over laws or tables, else the number, short.
+pub(super) fn value_text(a: &Axis, i: u64) -> String {
+    if a.is_words() {
+        a.text(i)
+    } else {
+        super::plots::tick(a.value(i))
+    }
 }
 
 /// One map panel: sums and counts per result and cell.
@@ -104,7 +114,7 @@ pub(super) fn panel_label(sweep: &Sweep, skip: &[usize], p: u64) -> String {
         label.push(format!(
             "{} = {}",
             super::param_label(a.param),
-            super::plots::tick(a.value(rest % a.len()))
+            value_text(a, rest % a.len())
         ));
         rest /= a.len();
     }
@@ -136,10 +146,10 @@ pub(super) fn panel_of(lens: &[u64], idx: &[u64], skip: &[usize]) -> u64 {
     p
 }
 
-/// Maps over two grid axes.
+/// Maps over two numeric grid axes.
 pub struct MapData {
-    pub x: Num,
-    pub y: Num,
+    pub x: Param,
+    pub y: Param,
     pub xs: Vec<f64>,
     pub ys: Vec<f64>,
     pub binned: bool,
@@ -153,24 +163,23 @@ pub struct MapData {
 }
 
 impl MapData {
-    /// The maps of a sweep of two or more axes: x and y from `[report]
-    /// axes` (default the first two), a panel per value of the others (at
-    /// most `panels`), at most `cells` cells along an axis.
+    /// The maps of a sweep of two or more numeric axes: x and y from
+    /// `[report] axes`, else the first two numeric axes, a panel per value
+    /// of the others (words included; at most `panels`), at most `cells`
+    /// cells along an axis.
     pub fn new(sweep: &Sweep, panels: usize, cells: u64) -> MapData {
         let spec = &sweep.report;
-        let pick = |k: usize| {
-            spec.axes
-                .get(k)
-                .and_then(|n| sweep.axes.iter().position(|a| a.param == *n))
-                .unwrap_or(
-                    if spec.axes.first().is_some_and(|n| sweep.axes[0].param == *n) {
-                        1
-                    } else {
-                        k
-                    },
-                )
-        };
-        let (ix, iy) = (pick(0), pick(1));
+        let mut order: Vec<usize> = spec
+            .axes
+            .iter()
+            .filter_map(|n| sweep.axes.iter().position(|a| a.param == *n))
+            .collect();
+        for (i, a) in sweep.axes.iter().enumerate() {
+            if order.len() < 2 && !a.is_words() && !order.contains(&i) {
+                order.push(i);
+            }
+        }
+        let (ix, iy) = (order[0], order[1]);
         let lens: Vec<u64> = sweep.axes.iter().map(|a| a.len()).collect();
         let (ax, ay) = (&sweep.axes[ix], &sweep.axes[iy]);
         let others = lens
@@ -240,108 +249,6 @@ impl MapData {
 
 /// A band point: x, low, high.
 pub type Band = (f64, f64, f64);
-
-/// Results along a single grid axis.
-pub struct LineData {
-    pub axis: Num,
-    pub log: bool,
-    pub(super) xs: Vec<f64>,
-    pub(super) len: u64,
-    /// Per result, per point: sum, count, min, max.
-    pub(super) acc: Vec<Vec<(f64, u32, f64, f64)>>,
-    pub(super) contact: Vec<[u32; 3]>,
-}
-
-impl LineData {
-    /// The axis values, one per point (bin).
-    pub fn xs(&self) -> &[f64] {
-        &self.xs
-    }
-
-    /// Mean per point, and the (x, min, max) band.
-    pub fn curve(&self, r: usize) -> (Vec<(f64, f64)>, Vec<Band>) {
-        let mut pts = Vec::new();
-        let mut band = Vec::new();
-        for (x, &(s, n, lo, hi)) in self.xs.iter().zip(&self.acc[r]) {
-            if n > 0 {
-                pts.push((*x, s / n as f64));
-                band.push((*x, lo, hi));
-            }
-        }
-        (pts, band)
-    }
-
-    /// Adds a lane of grid point `point`: its plotted results and, for a
-    /// finished lane, its final contact.
-    pub fn add(&mut self, point: u64, vals: &[f64], contact: Option<usize>) {
-        let b = bin(point, self.len, LINE_POINTS).min(self.xs.len().saturating_sub(1));
-        for (r, &v) in vals.iter().enumerate() {
-            if v.is_finite() {
-                let a = &mut self.acc[r][b];
-                a.0 += v;
-                a.1 += 1;
-                a.2 = a.2.min(v);
-                a.3 = a.3.max(v);
-            }
-        }
-        if let Some(k) = contact {
-            self.contact[b][k] += 1;
-        }
-    }
-
-    /// Per point (in order): mean, min and max of result `r` (NaN where
-    /// none).
-    pub fn per_point(&self, r: usize) -> Vec<(f64, f64, f64)> {
-        self.acc[r]
-            .iter()
-            .map(|&(s, n, lo, hi)| {
-                if n > 0 {
-                    (s / n as f64, lo, hi)
-                } else {
-                    (f64::NAN, f64::NAN, f64::NAN)
-                }
-            })
-            .collect()
-    }
-
-    /// Per point: axis value, finished lanes, held share and its
-    /// interval, a-a and b-b shares.
-    pub fn contact_rows(&self) -> Vec<Vec<String>> {
-        let pct = super::percent;
-        self.xs
-            .iter()
-            .zip(&self.contact)
-            .map(|(x, c)| {
-                let n: u32 = c.iter().sum();
-                let share = |k: u32| pct(k as f64 / n as f64);
-                let (lo, hi) = crate::stats::wilson(c[0] as u64, n as u64);
-                vec![
-                    super::plots::tick(*x),
-                    n.to_string(),
-                    share(c[0]),
-                    format!("{} to {}", pct(lo), pct(hi)),
-                    share(c[1]),
-                    share(c[2]),
-                ]
-            })
-            .collect()
-    }
-
-    /// Share of finished lanes with final contact `i`, per point.
-    pub fn contact_share(&self, i: usize) -> Vec<(f64, f64, f64)> {
-        self.contact
-            .iter()
-            .map(|c| {
-                let n: u32 = c.iter().sum();
-                if n == 0 {
-                    return (f64::NAN, f64::NAN, f64::NAN);
-                }
-                let (lo, hi) = crate::stats::wilson(c[i] as u64, n as u64);
-                (c[i] as f64 / n as f64, lo, hi)
-            })
-            .collect()
-    }
-}
 
 /// A shown group of a study.
 pub struct GroupData {

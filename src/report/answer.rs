@@ -5,11 +5,12 @@ use plotters::chart::SeriesLabelPosition;
 
 use super::charts::{points_chart, Series, VERDICT_COLOURS};
 use super::html::Page;
+use super::line::XAxis;
+use super::percent;
 use super::plots::{self, Axis};
 use super::require::{RequireData, Verdict};
 use super::scan::{Folder, LINE_POINTS};
-use super::{param_label, percent};
-use crate::params::Num;
+use crate::params::Param;
 
 /// At the top: lanes whose question is not answered yet (still coasting
 /// when their run ended), with what to do.
@@ -44,8 +45,8 @@ pub(super) fn undecided(page: &mut Page, f: &Folder) {
 }
 
 /// "2 to 5.25 (12 values)" or "2, 3 and 5": the runs of consecutive
-/// points of `idx` (ascending) among `xs`.
-fn runs(xs: &[f64], idx: &[usize]) -> String {
+/// points of `idx` (ascending) along `x`.
+fn runs(x: &XAxis, idx: &[usize]) -> String {
     let mut parts: Vec<String> = Vec::new();
     let mut i = 0;
     while i < idx.len() {
@@ -53,7 +54,7 @@ fn runs(xs: &[f64], idx: &[usize]) -> String {
         while j + 1 < idx.len() && idx[j + 1] == idx[j] + 1 {
             j += 1;
         }
-        let (a, b) = (plots::tick(xs[idx[i]]), plots::tick(xs[idx[j]]));
+        let (a, b) = (x.text(idx[i]), x.text(idx[j]));
         parts.push(match j - i {
             0 => a,
             1 => format!("{a}, {b}"),
@@ -76,13 +77,22 @@ fn runs(xs: &[f64], idx: &[usize]) -> String {
 pub(super) fn requirement(page: &mut Page, r: &RequireData) {
     let req = &r.req;
     page.section("Requirement");
-    let want = format!(
-        "`{}` in at least {} of lanes, with 95 % confidence (one-sided Wilson bound; a lane that \
-         is not ok or has no value does not meet it)",
-        req.text(),
-        percent(req.at_least)
-    );
-    let Some(axis) = r.axis else {
+    let want = if r.exact {
+        format!(
+            "`{}` in at least {} of lanes (every lane of the grid counted, none sampled: the share \
+             is exact; a lane that is not ok or has no value does not meet it)",
+            req.text(),
+            percent(req.at_least)
+        )
+    } else {
+        format!(
+            "`{}` in at least {} of lanes, with 95 % confidence (one-sided Wilson bound; a lane \
+             that is not ok or has no value does not meet it)",
+            req.text(),
+            percent(req.at_least)
+        )
+    };
+    let Some(axis) = &r.x else {
         page.answer(&format!("Requirement {want}: {}", whole_run(r)));
         return;
     };
@@ -100,18 +110,22 @@ pub(super) fn requirement(page: &mut Page, r: &RequireData) {
         ));
         figs.push(marked_chart(r, axis, &at, &judged));
     }
-    if r.binned {
+    if axis.binned {
         page.note(&format!(
             "{} has more values than the answer lists: they are binned into {LINE_POINTS} \
              (each named by its first value).",
-            axis.name()
+            axis.param.name()
         ));
     }
-    page.note(
+    page.note(if r.exact {
+        "Points are the share of each value's lanes that meet the requirement. The sweep samples \
+         nothing (no tolerance study), so each share is exact: met where it is at least the \
+         required share, not met where it is below."
+    } else {
         "Points are the share of each value's lanes that meet the requirement; whiskers span its \
          one-sided 95 % bounds (a 90 % interval). Met: the lower bound is at least the required \
-         share; not met: the upper bound is below it; otherwise the lanes cannot decide it.",
-    );
+         share; not met: the upper bound is below it; otherwise the lanes cannot decide it."
+    });
     if (r.panel_labels.len() as u64) < r.panel_total {
         page.note(&format!(
             "Showing {} of {} combinations of the other axes ([report] panels sets the limit).",
@@ -136,17 +150,21 @@ fn whole_run(r: &RequireData) -> String {
         Some(Verdict::Undecided) => "not decided: more lanes are needed",
         None => "not decided: no lanes",
     };
-    format!(
-        "{verdict} ({k} of {n} lanes, {}; lower bound {}).",
-        percent(share),
-        percent(lo)
-    )
+    if r.exact {
+        format!("{verdict} ({k} of {n} lanes, {}).", percent(share))
+    } else {
+        format!(
+            "{verdict} ({k} of {n} lanes, {}; lower bound {}).",
+            percent(share),
+            percent(lo)
+        )
+    }
 }
 
-/// The answer along the first axis for panel `p`: the values that meet
-/// it (with the smallest and largest), those that cannot be decided, those
-/// that do not, and how many lanes a value would take when too few ran.
-fn along_axis(r: &RequireData, axis: Num, p: usize, judged: &[Judged]) -> String {
+/// The answer along the axis for panel `p`: the values that meet it (with
+/// the smallest and largest), those that cannot be decided, those that do
+/// not, and how many lanes a value would take when too few ran.
+fn along_axis(r: &RequireData, axis: &XAxis, p: usize, judged: &[Judged]) -> String {
     let of = |v: Verdict| -> Vec<usize> {
         (0..judged.len())
             .filter(|&i| judged[i].3 == Some(v))
@@ -157,13 +175,13 @@ fn along_axis(r: &RequireData, axis: Num, p: usize, judged: &[Judged]) -> String
         of(Verdict::Undecided),
         of(Verdict::NotMet),
     );
-    let unit = axis.def().unit;
-    let mut s = format!("met for {} = {}", axis.name(), runs(&r.xs, &met));
-    if let (Some(&a), Some(&b)) = (met.first(), met.last()) {
+    let mut s = format!("met for {} = {}", axis.param.name(), runs(axis, &met));
+    if let (Some(&a), Some(&b), Param::Num(n)) = (met.first(), met.last(), axis.param) {
+        let unit = n.def().unit;
         s.push_str(&format!(
             " (smallest {}, largest {}{})",
-            plots::tick(r.xs[a]),
-            plots::tick(r.xs[b]),
+            axis.text(a),
+            axis.text(b),
             if unit.is_empty() {
                 String::new()
             } else {
@@ -174,12 +192,12 @@ fn along_axis(r: &RequireData, axis: Num, p: usize, judged: &[Judged]) -> String
     if !open.is_empty() {
         s.push_str(&format!(
             "; not decided for {} (more lanes are needed there)",
-            runs(&r.xs, &open)
+            runs(axis, &open)
         ));
     }
-    s.push_str(&format!("; not met for {}.", runs(&r.xs, &not)));
+    s.push_str(&format!("; not met for {}.", runs(axis, &not)));
     let most = r.counts[p].iter().map(|c| c.1).max().unwrap_or(0);
-    if met.is_empty() && most < r.lanes_needed() {
+    if !r.exact && met.is_empty() && most < r.lanes_needed() {
         s.push_str(&format!(
             " With {most} lanes a value, no share can be confirmed at {}: that takes at least {} \
              lanes a value, all of them meeting it (more samples in [sampling]).",
@@ -192,8 +210,13 @@ fn along_axis(r: &RequireData, axis: Num, p: usize, judged: &[Judged]) -> String
 
 /// The share of each value that meets the requirement, marked by its
 /// verdict, with the required share as a line.
-fn marked_chart(r: &RequireData, axis: Num, at: &str, judged: &[Judged]) -> Result<String, String> {
-    let x = Axis::grid(&param_label(axis), &r.xs);
+fn marked_chart(
+    r: &RequireData,
+    axis: &XAxis,
+    at: &str,
+    judged: &[Judged],
+) -> Result<String, String> {
+    let x = axis.categories();
     let y = Axis::fixed(&format!("share of lanes with {}", r.req.text()), 0.0, 1.0);
     let series_of = |v: Verdict, name, colour| Series {
         name,

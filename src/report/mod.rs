@@ -11,6 +11,8 @@ pub mod axis;
 mod cells;
 pub mod charts;
 pub mod html;
+mod line;
+mod lines;
 pub mod plots;
 mod require;
 mod scan;
@@ -25,7 +27,7 @@ use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::output::names::{REPORT, RESOLVED, SUMMARY, TRACES};
 use crate::output::{AtomicFile, OutDir};
-use crate::params::Num;
+use crate::params::Param;
 use crate::stats::wilson;
 use html::Page;
 use scan::Folder;
@@ -47,8 +49,13 @@ pub fn write(dir: &mut OutDir) -> Result<()> {
 }
 
 /// "meaning, name (unit)": a parameter's axis label.
-pub(crate) fn param_label(n: Num) -> String {
-    crate::columns::label(n.name(), n.def().meaning, n.def().unit)
+pub(crate) fn param_label(p: Param) -> String {
+    match p {
+        Param::Num(n) => crate::columns::label(n.name(), n.def().meaning, n.def().unit),
+        Param::Motor => crate::columns::label(p.name(), "motor law", ""),
+        Param::Friction => crate::columns::label(p.name(), "friction law", ""),
+        Param::FrictionTable => crate::columns::label(p.name(), "friction table (material)", ""),
+    }
 }
 
 /// A share as a percentage: two decimals, or two significant digits
@@ -132,7 +139,7 @@ pub fn build(dir: &Path) -> Result<String> {
         sections::maps(&mut page, &folder);
     }
     if folder.line.is_some() {
-        sections::lines(&mut page, &folder);
+        lines::lines(&mut page, &folder);
     }
     if folder.study {
         sections::study(&mut page, &folder);

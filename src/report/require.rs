@@ -1,17 +1,19 @@
-//! The answer to a sweep's design requirement: per value of the first
-//! grid axis (and of the others), the lanes that pass it, and whether the
-//! share is met with 95 % confidence.
+//! The answer to a sweep's design requirement: per value of the line's
+//! axis (and of the others), the lanes that pass it, and whether the
+//! share is met: with 95 % confidence where lanes are samples of a
+//! tolerance study, exactly where every lane of the grid is counted.
 
-use super::aggregates::{axis_indices, bin, bin_values, panel_label, panel_of};
+use super::aggregates::{axis_indices, bin, panel_label, panel_of};
+use super::line::{line_axis, XAxis};
 use crate::input::sweep::require::Requirement;
 use crate::input::sweep::Sweep;
-use crate::params::Num;
 use crate::stats::{wilson_z, Z95_ONE_SIDED};
 
-/// Whether a share meets a requirement with 95 % confidence.
+/// Whether a share meets a requirement (with 95 % confidence, for samples).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
-    /// The one-sided 95 % lower bound is at least the required share.
+    /// The share (for samples, its one-sided 95 % lower bound) is at
+    /// least the required share.
     Met,
     /// Neither bound decides: more lanes are needed.
     Undecided,
@@ -20,21 +22,22 @@ pub enum Verdict {
 }
 
 /// The answer to a requirement: lanes that pass it and lanes counted,
-/// per value of the first grid axis (binned past a cap) and per value of
-/// the other axes (a panel each, at most the panel limit).
+/// per value of the line's axis (binned past a cap) and per value of the
+/// other axes (a panel each, at most the panel limit).
 pub struct RequireData {
     pub req: Requirement,
-    /// The first axis (None: the sweep has no grid).
-    pub axis: Option<Num>,
-    /// The first axis's values, one per point (bin).
-    pub xs: Vec<f64>,
-    pub binned: bool,
+    /// The axis the answer runs along (None: the sweep has no grid).
+    pub x: Option<XAxis>,
+    /// No tolerance study: every lane of a grid point is counted, not
+    /// sampled, so a share is exact and needs no confidence bound.
+    pub exact: bool,
     pub panel_labels: Vec<String>,
     pub panel_total: u64,
     /// Per panel, per point: (passing, counted).
     pub counts: Vec<Vec<(u64, u64)>>,
     lens: Vec<u64>,
     idx: Vec<u64>,
+    iaxis: usize,
     cap: u64,
 }
 
@@ -42,29 +45,34 @@ impl RequireData {
     /// The counts of `req` over a run of `sweep`.
     pub fn new(req: Requirement, sweep: &Sweep, panels: usize, cap: u64) -> RequireData {
         let lens: Vec<u64> = sweep.axes.iter().map(|a| a.len()).collect();
-        let (xs, binned, panel_total, labels) = match sweep.axes.first() {
-            None => (vec![f64::NAN], false, 1, vec!["all lanes".to_string()]),
-            Some(a) => {
-                let total = lens[1..].iter().fold(1u64, |p, &l| p.saturating_mul(l));
+        let iaxis = line_axis(sweep);
+        let (x, panel_total, labels) = match iaxis {
+            None => (None, 1, vec!["all lanes".to_string()]),
+            Some(i) => {
+                let total = lens
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| *k != i)
+                    .fold(1u64, |p, (_, &l)| p.saturating_mul(l));
                 let shown = total.min(panels as u64);
                 (
-                    bin_values(a, cap),
-                    a.len() > cap,
+                    Some(XAxis::of(&sweep.axes[i], cap)),
                     total,
-                    (0..shown).map(|p| panel_label(sweep, &[0], p)).collect(),
+                    (0..shown).map(|p| panel_label(sweep, &[i], p)).collect(),
                 )
             }
         };
+        let points = x.as_ref().map_or(1, |x| x.xs.len());
         RequireData {
             req,
-            axis: sweep.axes.first().map(|a| a.param),
-            counts: vec![vec![(0, 0); xs.len()]; labels.len()],
-            xs,
-            binned,
+            x,
+            exact: sweep.study.is_none(),
+            counts: vec![vec![(0, 0); points]; labels.len()],
             panel_labels: labels,
             panel_total,
             idx: vec![0; lens.len()],
             lens,
+            iaxis: iaxis.unwrap_or(0),
             cap,
         }
     }
@@ -75,9 +83,10 @@ impl RequireData {
             (0, 0)
         } else {
             axis_indices(&self.lens, point, &mut self.idx);
+            let i = self.iaxis;
             (
-                panel_of(&self.lens, &self.idx, &[0]),
-                bin(self.idx[0], self.lens[0], self.cap),
+                panel_of(&self.lens, &self.idx, &[i]),
+                bin(self.idx[i], self.lens[i], self.cap),
             )
         };
         if let Some(c) = self.counts.get_mut(p as usize).and_then(|v| v.get_mut(b)) {
@@ -87,10 +96,19 @@ impl RequireData {
     }
 
     /// The share of (passing, counted), its one-sided 95 % bounds (low,
-    /// high) and the verdict.
+    /// high; the share itself where it is exact) and the verdict.
     pub fn judge(&self, (k, n): (u64, u64)) -> (f64, f64, f64, Option<Verdict>) {
         if n == 0 {
             return (f64::NAN, f64::NAN, f64::NAN, None);
+        }
+        let share = k as f64 / n as f64;
+        if self.exact {
+            let v = if share >= self.req.at_least {
+                Verdict::Met
+            } else {
+                Verdict::NotMet
+            };
+            return (share, share, share, Some(v));
         }
         let (lo, hi) = wilson_z(k, n, Z95_ONE_SIDED);
         let v = if lo >= self.req.at_least {
@@ -100,7 +118,7 @@ impl RequireData {
         } else {
             Verdict::Undecided
         };
-        (k as f64 / n as f64, lo, hi, Some(v))
+        (share, lo, hi, Some(v))
     }
 
     /// The fewest lanes a grid point needs for a requirement of all its

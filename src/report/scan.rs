@@ -16,12 +16,12 @@ use crate::columns::{CONTACT_END, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::output::table::{columns, Cell, RowReader};
-use crate::params::Num;
+use crate::params::{Num, Param};
 
-use super::aggregates::bin_values;
 pub(super) use super::aggregates::LINE_POINTS;
-pub use super::aggregates::{GroupData, LineData, MapData};
+pub use super::aggregates::{GroupData, MapData};
 pub(super) use super::cells::{bad_row, column, num, open_csv, text};
+pub use super::line::LineData;
 pub use super::require::RequireData;
 pub use super::trace::TraceData;
 
@@ -58,7 +58,7 @@ pub struct Folder {
     pub unfinished: Vec<Vec<String>>,
     pub unfinished_total: u64,
     /// Parameters listed for unfinished lanes: the grid's and the sampled.
-    pub shown_params: Vec<Num>,
+    pub shown_params: Vec<Param>,
     pub results: Vec<&'static Column>,
     pub study: bool,
     pub map: Option<MapData>,
@@ -106,9 +106,9 @@ impl Folder {
         let panels = spec.panels();
         let study = sweep.study.is_some();
         let lens: Vec<u64> = sweep.axes.iter().map(|a| a.len()).collect();
-        let mut shown_params: Vec<Num> = sweep.axes.iter().map(|a| a.param).collect();
+        let mut shown_params: Vec<Param> = sweep.axes.iter().map(|a| a.param).collect();
         if let Some(st) = &sweep.study {
-            shown_params.extend(st.params.iter().map(|t| t.param));
+            shown_params.extend(st.params.iter().map(|t| Param::Num(t.param)));
         }
         let word_counts = |name: &str| -> Vec<(&'static str, u64)> {
             crate::columns::result(name)
@@ -139,23 +139,12 @@ impl Folder {
                 .as_ref()
                 .map(|r| RequireData::new(r.clone(), sweep, panels, LINE_POINTS)),
         };
-        if sweep.axes.len() >= 2 {
+        // Two numeric axes make maps (the others, words included, panels);
+        // fewer, a line along one axis with a panel per value of the others.
+        if sweep.axes.iter().filter(|a| !a.is_words()).count() >= 2 {
             f.map = Some(MapData::new(sweep, panels, MAP_CELLS));
-        } else if sweep.axes.len() == 1 {
-            let a = &sweep.axes[0];
-            let xs = bin_values(a, LINE_POINTS);
-            let n = xs.len();
-            f.line = Some(LineData {
-                axis: a.param,
-                log: matches!(
-                    a.values,
-                    crate::input::sweep::AxisValues::Range { log: true, .. }
-                ),
-                xs,
-                len: a.len(),
-                acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; f.results.len()],
-                contact: vec![[0; 3]; n],
-            });
+        } else {
+            f.line = LineData::new(sweep, panels, f.results.len());
         }
         if study {
             let groups_total = if sweep.axes.is_empty() {

@@ -1,14 +1,11 @@
-//! The report's sections after its answers: outcomes, maps, results along
-//! one axis, the tolerance study, and traces.
+//! The report's sections after its answers: outcomes, maps, the tolerance
+//! study, and traces (results along one axis are in `lines`).
 
-use plotters::chart::SeriesLabelPosition;
-
-use super::charts::{histogram, line_chart, points_chart, tornado, x_axis, Curve, Series};
+use super::charts::{histogram, line_chart, tornado, x_axis, Curve};
 use super::html::Page;
-use super::plots::{self, category_map, heat_map, Axis};
-use super::scan::LineData;
+use super::plots::{category_map, heat_map, Axis};
 use super::scan::{Folder, CONTACT_NAMES};
-use super::{param_label, share_cells, FEW};
+use super::{param_label, share_cells};
 use crate::columns::Column;
 use crate::columns::{HOLD, LANE, STATUS};
 use crate::output::names::{SUMMARY, TRACES};
@@ -77,7 +74,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
 }
 
 /// What an empty or zero efficiency means, under figures that show one.
-fn efficiency_note(page: &mut Page, results: &[&Column]) {
+pub(super) fn efficiency_note(page: &mut Page, results: &[&Column]) {
     if results.iter().any(|c| c.name.starts_with("eta_")) {
         page.note(
             "Reading the efficiencies: eta_direct has no value where the worm side put no energy \
@@ -146,144 +143,6 @@ pub(super) fn maps(page: &mut Page, f: &Folder) {
         ));
         page.figures(figs);
     }
-}
-
-pub(super) fn lines(page: &mut Page, f: &Folder) {
-    let l = f.line.as_ref().expect("checked");
-    page.section(&format!("Results against {}", l.axis.name()));
-    let few = l.xs().len() <= FEW;
-    if f.study {
-        page.note(if few {
-            "Points are the mean over each grid point's sampled lanes; whiskers span their min to max."
-        } else {
-            "Lines are the mean over each grid point's sampled lanes; bands span their min to max."
-        });
-    }
-    efficiency_note(page, &f.results);
-    let mut figs: Vec<_> = (0..f.results.len())
-        .map(|r| result_along(f, l, r, few))
-        .collect();
-    figs.push(contact_along(f, l, few));
-    page.figures(figs);
-    if f.study {
-        page.heading(&format!("Final contact against {}", l.axis.name()));
-        page.note(
-            "The probability of each final contact over each grid point's sampled lanes, with its \
-             95 % Wilson interval. Held (stick) means the drive holds its load at the end of the run.",
-        );
-        let rows = l.contact_rows();
-        let head = [
-            crate::columns::label(l.axis.name(), "", l.axis.def().unit),
-            "finished lanes".into(),
-            "held".into(),
-            "held, 95 % interval".into(),
-            "a-a".into(),
-            "b-b".into(),
-        ];
-        let head: Vec<&str> = head.iter().map(|s| s.as_str()).collect();
-        page.table(&head, &rows);
-    }
-}
-
-/// Result `r` along the one grid axis: points with whiskers for a few
-/// values (a study's min to max), else a line with a band.
-fn result_along(f: &Folder, l: &LineData, r: usize, few: bool) -> Result<String, String> {
-    let c = f.results[r];
-    let x_label = param_label(l.axis);
-    if few {
-        let vals = l.per_point(r);
-        let y = Axis::numeric(&c.label(), vals.iter().flat_map(|v| [v.0, v.1, v.2]));
-        let vals = if f.study {
-            vals
-        } else {
-            vals.into_iter()
-                .map(|v| (v.0, f64::NAN, f64::NAN))
-                .collect()
-        };
-        return points_chart(
-            c.quantity,
-            &Axis::grid(&x_label, l.xs()),
-            &y,
-            &[Series {
-                name: c.name,
-                values: vals,
-                colour: None,
-            }],
-            None,
-            SeriesLabelPosition::UpperRight,
-        );
-    }
-    let (points, band) = l.curve(r);
-    let band = if f.study { band } else { Vec::new() };
-    let curves = [Curve {
-        name: c.name,
-        points,
-        band,
-        colour: None,
-    }];
-    let x = x_axis(&x_label, &curves, &[], l.log);
-    line_chart(c.quantity, &x, l.log, &c.label(), &curves, &[])
-}
-
-/// The share of each final contact along the one grid axis.
-fn contact_along(f: &Folder, l: &LineData, few: bool) -> Result<String, String> {
-    let x_label = param_label(l.axis);
-    if few {
-        let series: Vec<Series> = CONTACT_NAMES
-            .iter()
-            .enumerate()
-            .map(|(i, c)| Series {
-                name: c.1,
-                // One lane a point without a study: its share is 0 or 1,
-                // and an interval would say nothing.
-                values: l
-                    .contact_share(i)
-                    .into_iter()
-                    .map(|v| {
-                        if f.study {
-                            v
-                        } else {
-                            (v.0, f64::NAN, f64::NAN)
-                        }
-                    })
-                    .collect(),
-                colour: Some(plots::CONTACT_COLOURS[i]),
-            })
-            .collect();
-        return points_chart(
-            "final contact",
-            &Axis::grid(&x_label, l.xs()),
-            &Axis::fixed("share of finished lanes", 0.0, 1.0),
-            &series,
-            None,
-            SeriesLabelPosition::UpperRight,
-        );
-    }
-    let curves: Vec<Curve> = CONTACT_NAMES
-        .iter()
-        .enumerate()
-        .map(|(i, c)| Curve {
-            name: c.1,
-            points: l
-                .xs()
-                .iter()
-                .zip(l.contact_share(i))
-                .filter(|(_, s)| s.0.is_finite())
-                .map(|(x, s)| (*x, s.0))
-                .collect(),
-            band: Vec::new(),
-            colour: Some(plots::CONTACT_COLOURS[i]),
-        })
-        .collect();
-    let x = x_axis(&x_label, &curves, &[], l.log);
-    line_chart(
-        "final contact",
-        &x,
-        l.log,
-        "share of finished lanes",
-        &curves,
-        &[],
-    )
 }
 
 pub(super) fn study(page: &mut Page, f: &Folder) {

@@ -60,12 +60,12 @@ impl Folder {
         if self.groups[g].label.is_empty() {
             let mut parts = Vec::new();
             for (a, &i) in sweep.axes.iter().zip(&cols.axes) {
-                let v = num(path, rec, i, a.param.name())?;
-                parts.push(format!(
-                    "{} = {}",
-                    super::param_label(a.param),
-                    super::plots::tick(v)
-                ));
+                let v = if a.is_words() {
+                    text(rec, i)
+                } else {
+                    super::plots::tick(num(path, rec, i, a.param.name())?)
+                };
+                parts.push(format!("{} = {v}", super::param_label(a.param)));
             }
             self.groups[g].label = if parts.is_empty() {
                 "all lanes".into()

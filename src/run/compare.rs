@@ -247,7 +247,7 @@ impl Report {
 /// returns is run again on the CPU path and compared.
 struct Comparison {
     cpu: CpuBackend,
-    table: Option<FrictionTable>,
+    tables: Vec<FrictionTable>,
     cpu_results: Vec<LaneResult>,
     report: Report,
 }
@@ -256,7 +256,7 @@ impl Sink for Comparison {
     type Output = Report;
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
         self.cpu
-            .run_chunk(first, params, self.table.as_ref(), &mut self.cpu_results)?;
+            .run_chunk(first, params, &self.tables, &mut self.cpu_results)?;
         self.report
             .add(first, &self.cpu_results, results)
             .map_err(|e| crate::error::Error::Internal(format!("writing the disagreements: {e}")))
@@ -282,7 +282,7 @@ pub fn compare(
 ) -> Result<Report> {
     let sink = Comparison {
         cpu,
-        table: source.friction_table().copied(),
+        tables: source.friction_tables().tables.clone(),
         cpu_results: Vec::new(),
         report,
     };

@@ -63,7 +63,7 @@ pub fn pipeline_range<S: Sink>(
     progress: bool,
     mut sink: S,
 ) -> Result<S::Output> {
-    let table = source.friction_table().copied();
+    let tables = source.friction_tables().tables.clone();
     let bar = progress_bar(progress, end - start);
     let chunk = backend.chunk_lanes().max(1);
     let mut reader = source.reader_range(start, end)?;
@@ -108,7 +108,7 @@ pub fn pipeline_range<S: Sink>(
                     break;
                 }
             };
-            if let Err(e) = backend.run_chunk(first, &params, table.as_ref(), &mut results) {
+            if let Err(e) = backend.run_chunk(first, &params, &tables, &mut results) {
                 failure = Some(e);
                 break;
             }

@@ -46,7 +46,7 @@ struct Tracer {
     settings: Settings,
     next: usize,
     out: TracesCsv,
-    table: Option<FrictionTable>,
+    tables: Vec<FrictionTable>,
 }
 
 impl Tracer {
@@ -56,12 +56,12 @@ impl Tracer {
             if lane >= end {
                 break;
             }
-            let l = Lane::new(&params[(lane - first) as usize], self.table.as_ref());
+            let l = Lane::new(&params[(lane - first) as usize], &self.tables);
             let mut failed = None;
-            let (out, table) = (&mut self.out, self.table.as_ref());
+            let (out, tables) = (&mut self.out, &self.tables);
             // The settings the lane's f64 row comes from, refined or not.
-            let set = settings_for(&l, table, &self.settings);
-            simulate_traced(&l, table, &set, self.spec.dt, &mut |row| {
+            let set = settings_for(&l, tables, &self.settings);
+            simulate_traced(&l, tables, &set, self.spec.dt, &mut |row| {
                 if failed.is_none() {
                     failed = out.write(lane, row).err();
                 }
@@ -163,7 +163,7 @@ pub fn run(
                     settings: target.settings,
                     next: 0,
                     out: TracesCsv::create(&dir.join(TRACES), target.range.is_some())?,
-                    table: source.friction_table().copied(),
+                    tables: source.friction_tables().tables.clone(),
                 })
             }
         }

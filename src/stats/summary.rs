@@ -66,14 +66,15 @@ impl Grouping {
 
 /// The grid values of grid point `point` (the last axis runs fastest, as
 /// in `Sweep::lane_spec`); the lanes' own values may differ, when a
-/// tolerance scatters an axis parameter.
-fn grid_values(axes: &[Axis], point: u64) -> Vec<f64> {
+/// tolerance scatters an axis parameter. As text: a number as lanes.csv
+/// writes it, or the word of an axis over laws or tables.
+fn grid_values(axes: &[Axis], point: u64) -> Vec<String> {
     let mut rest = point;
-    let mut v: Vec<f64> = axes
+    let mut v: Vec<String> = axes
         .iter()
         .rev()
         .map(|a| {
-            let x = a.value(rest % a.len());
+            let x = a.text(rest % a.len());
             rest /= a.len();
             x
         })
@@ -129,7 +130,7 @@ struct Shares {
 /// The group being accumulated.
 struct Group {
     id: u64,
-    axis_values: Vec<f64>,
+    axis_values: Vec<String>,
     lanes: u64,
     cols: Vec<Column>,
     shares: Vec<Shares>,
@@ -298,7 +299,7 @@ impl Stats {
         let names: Vec<&str> = number_columns().map(|c| c.name).collect();
         let mut key = g.id.to_string();
         for v in &g.axis_values {
-            let _ = write!(key, ",{v:?}");
+            let _ = write!(key, ",{v}");
         }
         for (i, c) in g.cols.iter().enumerate() {
             let mut cells = Cells::default();

@@ -36,10 +36,10 @@ fn random_lanes_match_a_tight_reference() {
     let pairs: Vec<(LaneResult, LaneResult)> = specs
         .par_iter()
         .map(|s| {
-            let l = Lane::new(&s.resolve(false).unwrap(), None);
+            let l = Lane::new(&s.resolve(&[]).unwrap(), &[]);
             (
-                simulate(&l, None, &Settings::default()),
-                simulate(&l, None, &reference),
+                simulate(&l, &[], &Settings::default()),
+                simulate(&l, &[], &reference),
             )
         })
         .collect();
@@ -104,9 +104,9 @@ fn energy_balances_on_random_lanes() {
     let worst = specs
         .par_iter()
         .map(|s| {
-            let p = s.resolve(false).unwrap();
-            let l = Lane::new(&p, None);
-            let r = simulate(&l, None, &Settings::default());
+            let p = s.resolve(&[]).unwrap();
+            let l = Lane::new(&p, &[]);
+            let r = simulate(&l, &[], &Settings::default());
             assert!(
                 r.w_friction >= -1e-6,
                 "friction work must not be negative: {}",
@@ -147,13 +147,18 @@ fn simulate_batch_equals_simulate() {
     }
     let lanes: Vec<Lane> = specs
         .iter()
-        .map(|s| Lane::new(&s.resolve(true).unwrap(), Some(&table)))
+        .map(|s| {
+            Lane::new(
+                &s.resolve(&[tswm::params::TableName::UNNAMED]).unwrap(),
+                std::slice::from_ref(&table),
+            )
+        })
         .collect();
     let set = Settings::default();
-    let mut out = vec![simulate(&lanes[0], Some(&table), &set); lanes.len()];
-    simulate_batch(&lanes, Some(&table), &set, &mut out);
+    let mut out = vec![simulate(&lanes[0], std::slice::from_ref(&table), &set); lanes.len()];
+    simulate_batch(&lanes, std::slice::from_ref(&table), &set, &mut out);
     for (l, got) in lanes.iter().zip(&out) {
-        let want = simulate(l, Some(&table), &set);
+        let want = simulate(l, std::slice::from_ref(&table), &set);
         assert_eq!(format!("{want:?}"), format!("{got:?}"));
     }
     // Some of them are run again (the batch's second, interleaved pass).

@@ -58,7 +58,7 @@ pub fn check_engineering(res: &[LaneResult], bound: f64) -> f64 {
 fn engineering_columns_reproduce_the_fixture_on_cpu() {
     let res: Vec<_> = fixture_lanes()
         .iter()
-        .map(|p| simulate(&Lane::new(p, None), None, &Settings::default()))
+        .map(|p| simulate(&Lane::new(p, &[]), &[], &Settings::default()))
         .collect();
     let worst = check_engineering(&res, 1e-6);
     eprintln!("CPU, section 10 fixture: worst deviation {worst:.2e} (bound 1e-6)");
@@ -89,8 +89,8 @@ fn mesh_energies_add_up_to_the_heat() {
         .par_iter()
         .map(|s| {
             let r = simulate(
-                &Lane::new(&s.resolve(false).unwrap(), None),
-                None,
+                &Lane::new(&s.resolve(&[]).unwrap(), &[]),
+                &[],
                 &Settings::default(),
             );
             let sum = r.w1_in - r.w1_out + r.w2_in - r.w2_out;
@@ -111,8 +111,8 @@ fn steady_direct_flow_approaches_the_steady_efficiency() {
     s.set(tswm::params::Num::F2, -4774.0);
     s.set(tswm::params::Num::TEnd, 60.0);
     let r = simulate(
-        &Lane::new(&s.resolve(false).unwrap(), None),
-        None,
+        &Lane::new(&s.resolve(&[]).unwrap(), &[]),
+        &[],
         &Settings::default(),
     );
     assert!(

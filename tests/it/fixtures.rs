@@ -15,7 +15,7 @@ fn model_md_reference_cases_on_cpu() {
     src.reader().unwrap().fill(100, &mut params).unwrap();
     let res: Vec<_> = params
         .iter()
-        .map(|p| simulate(&Lane::new(p, None), None, &Settings::default()))
+        .map(|p| simulate(&Lane::new(p, &[]), &[], &Settings::default()))
         .collect();
     let (worst, worst_t) = check_reference_cases(&res, 1e-6, 1e-6);
     eprintln!("CPU, docs/model.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");

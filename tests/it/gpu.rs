@@ -51,8 +51,8 @@ fn run_both(gpu: &mut GpuBackend, params: &[Params]) -> (Vec<LaneResult>, Vec<La
     let mut first = 0;
     for chunk in params.chunks(gpu.chunk_lanes()) {
         let (mut c, mut g) = (Vec::new(), Vec::new());
-        cpu.run_chunk(first, chunk, None, &mut c).unwrap();
-        gpu.run_chunk(first, chunk, None, &mut g).unwrap();
+        cpu.run_chunk(first, chunk, &[], &mut c).unwrap();
+        gpu.run_chunk(first, chunk, &[], &mut g).unwrap();
         rc.extend(c);
         rg.extend(g);
         first += chunk.len() as u64;
@@ -73,7 +73,7 @@ fn model_md_reference_cases_on_gpu() {
     let mut params = Vec::new();
     src.reader().unwrap().fill(100, &mut params).unwrap();
     let mut res = Vec::new();
-    g.run_chunk(0, &params, None, &mut res).unwrap();
+    g.run_chunk(0, &params, &[], &mut res).unwrap();
     let (worst, worst_t) = check_reference_cases(&res, 2e-5, 5e-5);
     eprintln!("GPU, docs/model.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
@@ -88,7 +88,7 @@ fn random_lanes_gpu_matches_cpu() {
     };
     let params: Vec<Params> = tswm::input::testmodels::random_user_lanes(10_000, 31)
         .iter()
-        .map(|s| s.resolve(false).unwrap())
+        .map(|s| s.resolve(&[]).unwrap())
         .collect();
     g.self_check = false;
     let (rc, rg) = run_both(&mut g, &params);
@@ -105,7 +105,7 @@ fn random_lanes_gpu_matches_cpu() {
 /// status or final contact.
 fn no_wrong_ok_row(g: &mut GpuBackend, what: &str, specs: &[tswm::params::Spec]) -> usize {
     use tswm::integrator::{RowPath, Status};
-    let params: Vec<Params> = specs.iter().map(|s| s.resolve(false).unwrap()).collect();
+    let params: Vec<Params> = specs.iter().map(|s| s.resolve(&[]).unwrap()).collect();
     let (rc, rg) = run_both(g, &params);
     let mut redone = 0;
     for (i, (c, r)) in rc.iter().zip(&rg).enumerate() {
@@ -199,7 +199,7 @@ fn unfinished_and_f32_range_lanes_come_from_the_f64_path() {
     };
     s.set(Num::F1, 1e308);
     specs.push(s);
-    let params: Vec<Params> = specs.iter().map(|s| s.resolve(false).unwrap()).collect();
+    let params: Vec<Params> = specs.iter().map(|s| s.resolve(&[]).unwrap()).collect();
     let (rc, rg) = run_both(&mut g, &params);
     for (i, (c, r)) in rc.iter().zip(&rg).enumerate() {
         assert!(
@@ -285,7 +285,7 @@ impl Backend for Failing {
         &mut self,
         first: u64,
         lanes: &[Params],
-        table: Option<&tswm::model::FrictionTable>,
+        table: &[tswm::model::FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> tswm::error::Result<()> {
         if first >= 2 {
@@ -358,7 +358,7 @@ fn engineering_columns_on_gpu() {
     let mut params = Vec::new();
     src.reader().unwrap().fill(100, &mut params).unwrap();
     let mut res = Vec::new();
-    g.run_chunk(0, &params, None, &mut res).unwrap();
+    g.run_chunk(0, &params, &[], &mut res).unwrap();
     let worst = crate::engineering::check_engineering(&res, 5e-5);
     eprintln!("GPU, section 10 fixture: worst deviation {worst:.2e} (bound 5e-5)");
 }
@@ -374,11 +374,11 @@ fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
     }
     let lanes: Vec<GpuLane> = heterogeneous(2000)
         .iter()
-        .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
+        .map(|p| GpuLane::from(&tswm::model::Lane::new(p, &[])))
         .collect();
     quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
-    let globals = GpuGlobals::new(&Settings::default(), None);
+    let globals = GpuGlobals::new(&Settings::default(), &[]);
     let mut runs = Vec::new();
     for slots in [u32::MAX, 64, 7] {
         dev.slots = slots;
@@ -405,13 +405,13 @@ fn parts_of_a_chunk_overlap_upload_compute_and_read_back() {
     }
     let lanes: Vec<GpuLane> = heterogeneous(3000)
         .iter()
-        .map(|p| GpuLane::from(&tswm::model::Lane::new(p, None)))
+        .map(|p| GpuLane::from(&tswm::model::Lane::new(p, &[])))
         .collect();
     quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
     // Few slots, so that each part takes several rounds.
     dev.slots = 256;
-    let globals = GpuGlobals::new(&Settings::default(), None);
+    let globals = GpuGlobals::new(&Settings::default(), &[]);
     let parts: Vec<&[GpuLane]> = lanes.chunks(1000).collect();
     let mut outs = vec![Vec::new(); parts.len()];
     let mut log: Vec<Span> = Vec::new();
@@ -479,11 +479,11 @@ fn a_chunk_in_parts_gives_the_same_rows() {
     let params = heterogeneous(3000);
     let (part, in_flight) = (g.part, g.in_flight);
     let mut whole = Vec::new();
-    g.run_chunk(0, &params, None, &mut whole).unwrap();
+    g.run_chunk(0, &params, &[], &mut whole).unwrap();
     g.part = 700;
     g.in_flight = 2;
     let mut parts = Vec::new();
-    let run = g.run_chunk(0, &params, None, &mut parts);
+    let run = g.run_chunk(0, &params, &[], &mut parts);
     (g.part, g.in_flight) = (part, in_flight);
     run.unwrap();
     assert_eq!(format!("{whole:?}"), format!("{parts:?}"));
@@ -500,7 +500,7 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     };
     let params = heterogeneous(3000);
     let mut want = Vec::new();
-    shared.run_chunk(0, &params, None, &mut want).unwrap();
+    shared.run_chunk(0, &params, &[], &mut want).unwrap();
     drop(shared);
     quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
@@ -508,7 +508,7 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     let mut g = GpuBackend::new(dev, Settings::default());
     assert!(!g.cost_model().trained());
     let mut got = Vec::new();
-    g.run_chunk(0, &params, None, &mut got).unwrap();
+    g.run_chunk(0, &params, &[], &mut got).unwrap();
     assert!(g.cost_model().trained(), "the pilot wave taught the model");
     assert_eq!(format!("{want:?}"), format!("{got:?}"));
 }

@@ -10,6 +10,7 @@ mod docs;
 mod engineering;
 mod fixtures;
 mod fuzz;
+mod gear;
 mod gpu;
 mod output;
 mod property;

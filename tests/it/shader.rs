@@ -49,13 +49,13 @@ macro_rules! rust_layout {
 fn host_structs_match_the_shader() {
     let m = module();
     let lane = rust_layout!(GpuLane; m1, m2, tan_g, sin_g, cos_g, inv_cos_g, f2, motor, v_sync, sigma_k, f_crit, f1,
-        motor_off, friction, fric_a, fric_b, fric_c, mu, mu_s, x1_0, v1_0, t_end, t_max, pad1);
+        motor_off, friction, fric_a, fric_b, fric_c, mu, mu_s, x1_0, v1_0, t_end, t_max, table, inv_cos_an, pad0);
     assert_eq!(wgsl_layout(&m, "Lane"), lane);
     let state = rust_layout!(GpuState; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, side, dir, flags,
         status, switches, reversals, sticks, steps, events, pad0, pad1, pad2, pad3, pad4);
     assert_eq!(wgsl_layout(&m, "State"), state);
-    let globals = rust_layout!(GpuGlobals; n_lanes, budget, max_steps, max_events, tol, h_initial, table_n, row_lanes,
-        n_slots, pad0, pad1, pad2, table_vs, table_mu);
+    let globals = rust_layout!(GpuGlobals; n_lanes, budget, max_steps, max_events, tol, h_initial, n_tables, row_lanes,
+        n_slots, pad0, pad1, pad2, table_n, table_vs, table_mu);
     assert_eq!(wgsl_layout(&m, "Globals"), globals);
     let control = rust_layout!(GpuControl; n_active, next_lane);
     assert_eq!(wgsl_layout(&m, "Control"), control);
@@ -99,6 +99,7 @@ fn shared_constants_match_the_shader() {
         ("FRICTION_PAPER", model::FRICTION_PAPER),
         ("FRICTION_COULOMB", model::FRICTION_COULOMB),
         ("FRICTION_TABLE", model::FRICTION_TABLE),
+        ("FRICTION_AGMA", model::FRICTION_AGMA),
         ("F_STUCK", flags::STUCK),
         ("F_MOTOR_ON", flags::MOTOR_ON),
         ("F_DONE", flags::DONE),
@@ -116,13 +117,16 @@ fn shared_constants_match_the_shader() {
         ("EV_SPEEDING", EventFn::Speeding as u32),
         ("F_RUNNING_ON", flags::RUNNING_ON),
         ("F_SPEEDING", flags::SPEEDING),
+        ("F_UPPER", flags::UPPER),
+        ("EV_BRANCH", EventFn::Branch as u32),
+        ("TABLE_VEC4S", (model::MAX_TABLE_POINTS / 4) as u32),
     ];
     for &(name, want) in codes {
         assert_eq!(u32_const(&m, name), want, "shader `const {name}`");
     }
     // Every status the host knows has its code in the shader, once.
-    let mut seen: Vec<u32> = codes[10..16].iter().map(|c| c.1).collect();
-    assert!(codes[10].0 == "S_OK" && codes[15].0 == "S_STEP_UNDERFLOW");
+    let mut seen: Vec<u32> = codes[11..17].iter().map(|c| c.1).collect();
+    assert!(codes[11].0 == "S_OK" && codes[16].0 == "S_STEP_UNDERFLOW");
     seen.sort();
     assert_eq!(seen, Status::ALL.map(|s| s.code()));
 
@@ -160,7 +164,20 @@ fn shared_constants_match_the_shader() {
         ("D6", dp::D6),
         ("D7", dp::D7),
     ];
-    for &(name, want) in tableau {
+    // The agma law's constants.
+    use tswm::model::friction as fr;
+    let agma: &[(&str, f64)] = &[
+        ("FT_PER_MIN_PER_M_PER_S", fr::FT_PER_MIN_PER_M_PER_S),
+        ("AGMA_LOW_A", fr::AGMA_LOW_A),
+        ("AGMA_LOW_B", fr::AGMA_LOW_B),
+        ("AGMA_LOW_E", fr::AGMA_LOW_E),
+        ("AGMA_HIGH_A", fr::AGMA_HIGH_A),
+        ("AGMA_HIGH_B", fr::AGMA_HIGH_B),
+        ("AGMA_HIGH_E", fr::AGMA_HIGH_E),
+        ("AGMA_HIGH_C", fr::AGMA_HIGH_C),
+        ("AGMA_JUMP_M_S", fr::AGMA_JUMP_M_S),
+    ];
+    for &(name, want) in tableau.iter().chain(agma) {
         match shader_const(&m, name) {
             naga::Literal::F32(v) => assert_eq!(v, want as f32, "shader `const {name}`"),
             l => panic!("`const {name}` is not an f32: {l:?}"),

@@ -11,9 +11,9 @@ fn traced(lane: usize, dt: f64) -> (Vec<TraceRow>, tswm::integrator::LaneResult,
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut params = Vec::new();
     src.reader().unwrap().fill(100, &mut params).unwrap();
-    let l = Lane::new(&params[lane], None);
+    let l = Lane::new(&params[lane], &[]);
     let mut rows = Vec::new();
-    let r = simulate_traced(&l, None, &Settings::default(), dt, &mut |row| {
+    let r = simulate_traced(&l, &[], &Settings::default(), dt, &mut |row| {
         rows.push(*row)
     });
     (rows, r, l)
@@ -82,7 +82,7 @@ fn the_switch_has_a_before_and_after_row() {
     );
     assert_eq!((a.contact.name(), b.contact.name()), ("aa", "bb"));
     assert!(a.psi != b.psi, "psi jumps at the switch");
-    let plain = simulate(&l, None, &Settings::default());
+    let plain = simulate(&l, &[], &Settings::default());
     assert_eq!(format!("{r:?}"), format!("{plain:?}"));
     // Rows every 0.1 s from 0 to 2 s, plus the pair.
     assert_eq!(rows.len(), 21 + 2);

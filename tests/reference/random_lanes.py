@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -19,6 +19,13 @@ lane (0.1 to 0.9 of t_end, 0.5 to 3 s), lead angle 2 to 12 deg, load -9
 to +9 kN, masses 0.5 to 1.5 times the paper's, Coulomb friction (mu 0.02
 to 0.12, static up to 50 % above) in half and the paper law in the rest,
 and t_max (t_end + 2 to 30 s) in 70 % of them.
+
+`agma` draws lanes under AGMA's steel-on-bronze curve with a flank angle:
+alpha_n 5 to 30 deg, lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5
+to 1.5 times the paper's, t_end 0.5 to 4 s, the motor cut in 50 % of
+lanes (with t_max, t_end + 2 to 20 s, in half of those), constant motors
+(500 to 6,500 N) in 20 %, initial speeds (-3 to 3 m/s) in 25 %: lanes
+that start, stop, reverse and cross 10 ft/min both ways.
 """
 import csv
 import random
@@ -74,6 +81,28 @@ if sys.argv[4:] == ["hold"]:
             if rng.random() < 0.5:
                 mu = 0.02 + 0.1 * rng.random()
                 row.update(friction="coulomb", mu=mu, mu_static=mu * (1 + 0.5 * rng.random()))
+            w.writerow([row[c] for c in cols])
+    sys.exit(0)
+if sys.argv[4:] == ["agma"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "alpha_n_deg",
+            "motor", "f1", "v1_0"]
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for _ in range(n):
+            t_end = 0.5 + 3.5 * rng.random()
+            row = {c: "" for c in cols}
+            row.update(gamma_deg=2 + 23 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                       t_end=t_end, friction="agma", alpha_n_deg=5 + 25 * rng.random())
+            if rng.random() < 0.5:
+                row["motor_off"] = t_end * rng.random()
+                if rng.random() < 0.5:
+                    row["t_max"] = t_end + 2 + 18 * rng.random()
+            if rng.random() < 0.2:
+                row.update(motor="constant", f1=500 + 6000 * rng.random())
+            if rng.random() < 0.25:
+                row["v1_0"] = -3 + 6 * rng.random()
             w.writerow([row[c] for c in cols])
     sys.exit(0)
 cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static"]

@@ -6,10 +6,16 @@ rtol = atol = 1e-12 with located events, for checking tswm's results.
 
 LANES.csv holds lanes.csv's parameter columns (tswm's own lanes.csv will
 do); OUT.csv gets lane, status, contact_end, x1_end, v1_end, the works and
-the four mesh energies, then hold and t_stop ("Does it hold?": a lane whose
+the four mesh energies, then hold, t_stop and branches (the agma law's
+changes of branch: crossings of 10 ft/min) ("Does it hold?": a lane whose
 motor is cut and that still slides, slowing down, at t_end runs on to
 t_max until it comes to rest (held, or it departs: runs away) or its
 acceleration turns to driving it (runs away)).
+
+Friction laws: the paper's fit, a constant mu, and AGMA's steel-on-bronze
+curve (docs/model.md section 5, in ft/min; its jump at 10 ft/min located
+as an event, each branch kept smooth up to it); the laws that give a
+coefficient take the flank's pressure angle: tan rho = mu / cos(alpha_n).
 """
 import csv
 import math
@@ -18,6 +24,16 @@ import sys
 from scipy.integrate import solve_ivp
 
 RTOL = ATOL = 1e-12
+FT_MIN = 60.0 / 0.3048  # ft/min in 1 m/s (1 ft = 0.3048 m exactly)
+AGMA_JUMP = 10.0 / FT_MIN  # m/s
+
+
+def agma(vs, upper):
+    """AGMA's mu at vs (m/s) on the given branch (Shigley's fit)."""
+    v = max(vs, 0.0) * FT_MIN
+    if upper:
+        return 0.103 * math.exp(-0.110 * v ** 0.450) + 0.012
+    return 0.124 * math.exp(-0.074 * v ** 0.645)
 
 
 def num(row, key, default=float("nan")):
@@ -41,15 +57,23 @@ class Lane:
         self.mu_static = num(row, "mu_static")
         self.x0, self.v0, self.t_end = num(row, "x1_0"), num(row, "v1_0"), num(row, "t_end")
         self.t_max = num(row, "t_max", self.t_end)
+        self.k = 1.0 / math.cos(math.radians(num(row, "alpha_n_deg", 0.0) or 0.0))
 
-    def mu(self, vs):
-        """Sliding friction coefficient at sliding speed vs >= 0."""
+    def mu(self, vs, upper=None):
+        """tan rho at sliding speed vs >= 0; for agma on branch `upper`
+        (None: the branch of vs)."""
         if self.friction == "paper":
             return math.tan(math.radians(1.0 / (self.a * vs ** self.b + self.c)))
-        return self.mu_c
+        if self.friction == "agma":
+            return agma(vs, vs > AGMA_JUMP if upper is None else upper) * self.k
+        return self.mu_c * self.k
 
     def mu_s(self):
-        return self.mu_static if self.friction == "coulomb" else self.mu(0.0)
+        if self.friction == "coulomb":
+            return self.mu_static * self.k
+        if self.friction == "agma":
+            return 0.150 * self.k
+        return self.mu(0.0)
 
     def f1(self, v, on):
         if not on:
@@ -63,14 +87,17 @@ class Lane:
     def phi(self, v, on):
         return self.f1(v, on) / self.m1 - self.f2 / (self.m2 * self.tg)
 
-    def forces(self, v, c, s, on):
+    def forces(self, v, c, s, on, upper=None):
         """Acceleration, D and the reactions S1, S2 in mode (c, s)."""
         f1 = self.f1(v, on)
-        rho = math.atan(self.mu(max(s * v, 0.0) / self.cg))
+        rho = math.atan(self.mu(max(s * v, 0.0) / self.cg, upper))
         psi = -math.tan(math.atan(self.tg) + c * s * rho)
         d = self.m1 - psi * self.m2 * self.tg
         acc = (f1 - psi * self.f2) / d
         return acc, d, f1 - self.m1 * acc, self.f2 - self.m2 * self.tg * acc, f1
+
+
+BRANCHES = [0]  # the agma law's changes of branch in the lane being run
 
 
 def simulate(L):
@@ -80,10 +107,12 @@ def simulate(L):
     end, running_on = L.t_end, False
     c = 1 if L.phi(L.v0, on) >= 0 else -1
     s, stuck = (1 if L.v0 > 0 else -1 if L.v0 < 0 else 0), False
+    upper = L.friction == "agma" and abs(L.v0) / L.cg > AGMA_JUMP
 
     def rest():
-        nonlocal s, c, stuck
+        nonlocal s, c, stuck, upper
         y[1] = 0.0
+        upper = False
         f1 = L.f1(0.0, on)
         n = abs(L.f2 * L.cg - f1 * L.sg)
         T = f1 * L.cg + L.f2 * L.sg
@@ -110,9 +139,9 @@ def simulate(L):
         if stuck:
             t = t_stop
         else:
-            def rhs(_, z, c=c, s=s, on=on):
+            def rhs(_, z, c=c, s=s, on=on, u=upper):
                 v = z[1]
-                acc, _, s1, s2, f1 = L.forces(v, c, s, on)
+                acc, _, s1, s2, f1 = L.forces(v, c, s, on, u)
                 p1, p2 = s1 * v, s2 * v * L.tg
                 return [v, acc, f1 * v, L.f2 * v * L.tg, p1 + p2,
                         max(p1, 0), max(-p1, 0), max(p2, 0), max(-p2, 0)]
@@ -123,7 +152,7 @@ def simulate(L):
             def ev_switch(_, z, c=c, on=on):
                 return c * L.phi(z[1], on)
 
-            kink0 = L.mu(max(s * y[1], 0.0) / L.cg) - L.tg if c * s == -1 else 0.0
+            kink0 = L.mu(max(s * y[1], 0.0) / L.cg, upper) - L.tg if c * s == -1 else 0.0
             if c * s == -1 and after_kink:
                 # At a located kink the state sits on the root; the gap's
                 # sign there is rounding. The crossing is behind us: the
@@ -131,18 +160,25 @@ def simulate(L):
                 kink0 = -last_kink
             last_kink, after_kink = kink0, False
 
-            def ev_kink(_, z, s=s, k=kink0):
-                return k * (L.mu(max(s * z[1], 0.0) / L.cg) - L.tg) if k else 1.0
+            def ev_kink(_, z, s=s, k=kink0, u=upper):
+                return k * (L.mu(max(s * z[1], 0.0) / L.cg, u) - L.tg) if k else 1.0
 
-            def ev_speeding(_, z, c=c, s=s, on=on):
-                return -s * L.forces(z[1], c, s, on)[0] if running_on else 1.0
+            def ev_speeding(_, z, c=c, s=s, on=on, u=upper):
+                return -s * L.forces(z[1], c, s, on, u)[0] if running_on else 1.0
 
-            for e in (ev_rest, ev_switch, ev_kink, ev_speeding):
+            def ev_branch(_, z, s=s, u=upper):
+                if L.friction != "agma":
+                    return 1.0
+                vs = max(s * z[1], 0.0) / L.cg
+                return vs - AGMA_JUMP if u else AGMA_JUMP - vs
+
+            events = (ev_rest, ev_switch, ev_kink, ev_speeding, ev_branch)
+            for e in events:
                 e.terminal, e.direction = True, -1
-            if L.forces(y[1], c, s, on)[1] <= 0:
+            if L.forces(y[1], c, s, on, upper)[1] <= 0:
                 return "inconsistent", y, c, stuck, "", t
             sol = solve_ivp(rhs, (t, t_stop), y, method="DOP853", rtol=RTOL, atol=ATOL,
-                            events=(ev_rest, ev_switch, ev_kink, ev_speeding), first_step=1e-8)
+                            events=events, first_step=1e-8)
             y, t = list(sol.y[:, -1]), sol.t[-1]
             hit = [len(te) > 0 and te[0] > sol.t[0] for te in sol.t_events]
             if sol.status == 1 and hit[0]:
@@ -158,6 +194,10 @@ def simulate(L):
                 continue
             if sol.status == 1 and hit[2]:
                 after_kink = True
+                continue
+            if sol.status == 1 and hit[4]:
+                upper = not upper
+                BRANCHES[0] += 1
                 continue
         if t >= end:
             coasting = not stuck and s * L.forces(y[1], c, s, on)[0] < 0
@@ -180,12 +220,14 @@ def main():
     with open(dst, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["lane", "status", "contact_end", "x1_end", "v1_end", "w_motor", "w_load",
-                    "w_friction", "w1_in", "w1_out", "w2_in", "w2_out", "hold", "t_stop"])
+                    "w_friction", "w1_in", "w1_out", "w2_in", "w2_out", "hold", "t_stop",
+                    "branches"])
         for i, row in enumerate(rows):
+            BRANCHES[0] = 0
             status, y, c, stuck, hold, t = simulate(Lane(row))
             contact = "stick" if stuck else ("aa" if c > 0 else "bb")
             w.writerow([row.get("lane", i), status, contact] + [repr(float(v)) for v in y]
-                       + [hold, repr(float(t))])
+                       + [hold, repr(float(t)), BRANCHES[0]])
 
 
 if __name__ == "__main__":

@@ -96,13 +96,13 @@ impl Backend for GpuBackend {
         &mut self,
         first: u64,
         lanes: &[Params],
-        table: Option<&FrictionTable>,
+        tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
         let chunk = first / self.chunk_lanes() as u64;
         self.lanes64.clear();
         self.lanes64
-            .extend(lanes.iter().map(|p| Lane::new(p, table)));
+            .extend(lanes.iter().map(|p| Lane::new(p, tables)));
         out.clear();
         out.resize(lanes.len(), LaneResult::EMPTY);
         self.redo.clear();
@@ -125,15 +125,15 @@ impl Backend for GpuBackend {
         if !self.cost.trained() {
             let pilot = (self.gpu.slots as usize).max(MIN_LEARNT);
             if self.on_gpu.len() >= 2 * pilot {
-                self.run_ordered(chunk, 0..pilot, table)?;
+                self.run_ordered(chunk, 0..pilot, tables)?;
                 done = pilot;
             }
         }
-        self.run_ordered(chunk, done..self.on_gpu.len(), table)?;
+        self.run_ordered(chunk, done..self.on_gpu.len(), tables)?;
         for (&i, st) in self.on_gpu.iter().zip(&self.states) {
             let mut r = st
                 .end_state(&self.lanes64[i])
-                .result(&self.lanes64[i], table);
+                .result(&self.lanes64[i], tables);
             r.path = RowPath::Gpu;
             let finished = st.flags & flags::DONE != 0;
             match verify::recheck(&self.lanes64[i], &r, finished) {
@@ -141,7 +141,7 @@ impl Backend for GpuBackend {
                 _ => out[i] = r,
             }
         }
-        self.recompute(first, lanes, table, out)
+        self.recompute(first, lanes, tables, out)
     }
 }
 
@@ -157,7 +157,7 @@ impl GpuBackend {
         &mut self,
         chunk: u64,
         range: std::ops::Range<usize>,
-        table: Option<&FrictionTable>,
+        tables: &[FrictionTable],
     ) -> Result<()> {
         let which = &mut self.on_gpu[range.clone()];
         self.cost.keys(&self.lanes64, which, &mut self.keys);
@@ -172,7 +172,7 @@ impl GpuBackend {
         let l64 = &self.lanes64;
         self.lanes32
             .extend(which.iter().map(|&i| GpuLane::from(&l64[i])));
-        let globals = GpuGlobals::new(&self.settings, table);
+        let globals = GpuGlobals::new(&self.settings, tables);
         // Parts of like cost (the lanes are sorted), in flight together.
         let n_parts = self.lanes32.len().div_ceil(self.part).max(1);
         let size = self.lanes32.len().div_ceil(n_parts).max(1);
@@ -198,7 +198,7 @@ impl GpuBackend {
         &mut self,
         first: u64,
         lanes: &[Params],
-        table: Option<&FrictionTable>,
+        tables: &[FrictionTable],
         out: &mut [LaneResult],
     ) -> Result<()> {
         if self.redo.is_empty() {
@@ -208,7 +208,7 @@ impl GpuBackend {
         self.redo_params
             .extend(self.redo.iter().map(|&(i, _)| lanes[i]));
         self.cpu
-            .run_chunk(first, &self.redo_params, table, &mut self.redo_out)?;
+            .run_chunk(first, &self.redo_params, tables, &mut self.redo_out)?;
         for (&(i, why), r) in self.redo.iter().zip(&self.redo_out) {
             out[i] = LaneResult {
                 path: RowPath::Recomputed(why),

@@ -278,7 +278,7 @@ pub fn heterogeneous_and_sorted(
         .build()
         .expect("a thread pool");
     let mut results = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params, None, &mut results);
+    run_cpu_lanes(&pool, &Settings::default(), &params, &[], &mut results);
     let mut order: Vec<usize> = (0..params.len()).collect();
     order.sort_by_key(|&i| results[i].steps);
     let sorted = order.iter().map(|&i| params[i]).collect();
@@ -295,7 +295,7 @@ mod tests {
         s.set(Num::GammaDeg, gamma_deg);
         s.set(Num::F2, f2);
         s.set(Num::TEnd, t_end);
-        Lane::new(&s.resolve(false).unwrap(), None)
+        Lane::new(&s.resolve(&[]).unwrap(), &[])
     }
 
     #[test]

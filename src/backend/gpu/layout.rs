@@ -5,7 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::integrator::{EndState, Settings, Status, NY};
-use crate::model::{FrictionTable, Lane, MAX_TABLE_POINTS};
+use crate::model::{FrictionTable, Lane, MAX_TABLES, MAX_TABLE_POINTS};
 
 /// "Never" for f32 times: WGSL may assume there are no infinities.
 pub const NEVER: f32 = 3.0e38;
@@ -38,7 +38,11 @@ pub struct GpuLane {
     pub t_end: f32,
     /// t_end when the lane does not run on (see `model::Lane::t_max`).
     pub t_max: f32,
-    pub pad1: f32,
+    /// Which of the run's friction tables.
+    pub table: u32,
+    /// 1 / cos αn (see `model::Lane::inv_cos_an`).
+    pub inv_cos_an: f32,
+    pub pad0: u32,
 }
 
 impl From<&Lane> for GpuLane {
@@ -71,7 +75,9 @@ impl From<&Lane> for GpuLane {
             v1_0: l.v1_0 as f32,
             t_end: l.t_end as f32,
             t_max: l.t_max as f32,
-            pad1: 0.0,
+            table: l.table,
+            inv_cos_an: l.inv_cos_an as f32,
+            pad0: 0,
         }
     }
 }
@@ -92,6 +98,8 @@ pub mod flags {
     pub const RUNNING_ON: u32 = 32;
     /// Running on ended because the lane began to speed up.
     pub const SPEEDING: u32 = 64;
+    /// On the `agma` law's upper branch.
+    pub const UPPER: u32 = 128;
 }
 
 /// A lane's integration state between dispatches. Keep in sync with
@@ -174,7 +182,10 @@ impl GpuState {
     }
 }
 
-/// Run-wide values and the friction table. Keep in sync with `Globals` in
+/// Vec4s per friction table in [`GpuGlobals`].
+const TABLE_VEC4S: usize = MAX_TABLE_POINTS / 4;
+
+/// Run-wide values and the friction tables. Keep in sync with `Globals` in
 /// shaders/tswm.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -186,7 +197,8 @@ pub struct GpuGlobals {
     pub max_events: u32,
     pub tol: f32,
     pub h_initial: f32,
-    pub table_n: u32,
+    /// Number of friction tables.
+    pub n_tables: u32,
     /// Invocations per row of a 2-D dispatch.
     pub row_lanes: u32,
     /// Slots (invocations) working through the chunk's lanes.
@@ -194,8 +206,11 @@ pub struct GpuGlobals {
     pub pad0: u32,
     pub pad1: u32,
     pub pad2: u32,
-    pub table_vs: [[f32; 4]; MAX_TABLE_POINTS / 4],
-    pub table_mu: [[f32; 4]; MAX_TABLE_POINTS / 4],
+    /// Points of each table (a vec4 array in the shader: 16-aligned).
+    pub table_n: [[u32; 4]; MAX_TABLES / 4],
+    /// Table t's point i is at `[t * TABLE_VEC4S + i / 4][i % 4]`.
+    pub table_vs: [[f32; 4]; MAX_TABLES * TABLE_VEC4S],
+    pub table_mu: [[f32; 4]; MAX_TABLES * TABLE_VEC4S],
 }
 
 /// The counters slots share. Keep in sync with `Control` in
@@ -217,8 +232,9 @@ pub const GPU_TOL: f32 = GPU_TOL_F64 as f32;
 
 impl GpuGlobals {
     /// Globals for a run with `settings` (its tolerance is the f64 path's
-    /// and is replaced by [`GPU_TOL`]) and an optional table.
-    pub fn new(settings: &Settings, table: Option<&FrictionTable>) -> GpuGlobals {
+    /// and is replaced by [`GPU_TOL`]) and its friction tables (at most
+    /// [`MAX_TABLES`]: the sweep reader refuses more).
+    pub fn new(settings: &Settings, tables: &[FrictionTable]) -> GpuGlobals {
         let mut g = GpuGlobals {
             n_lanes: 0,
             budget: 0,
@@ -226,20 +242,21 @@ impl GpuGlobals {
             max_events: settings.max_events,
             tol: GPU_TOL,
             h_initial: crate::integrator::H_INITIAL as f32,
-            table_n: 0,
+            n_tables: tables.len().min(MAX_TABLES) as u32,
             row_lanes: 0,
             n_slots: 0,
             pad0: 0,
             pad1: 0,
             pad2: 0,
-            table_vs: [[0.0; 4]; MAX_TABLE_POINTS / 4],
-            table_mu: [[0.0; 4]; MAX_TABLE_POINTS / 4],
+            table_n: [[0; 4]; MAX_TABLES / 4],
+            table_vs: [[0.0; 4]; MAX_TABLES * TABLE_VEC4S],
+            table_mu: [[0.0; 4]; MAX_TABLES * TABLE_VEC4S],
         };
-        if let Some(t) = table {
-            g.table_n = t.n as u32;
+        for (k, t) in tables.iter().take(MAX_TABLES).enumerate() {
+            g.table_n[k / 4][k % 4] = t.n as u32;
             for i in 0..t.n {
-                g.table_vs[i / 4][i % 4] = t.vs[i] as f32;
-                g.table_mu[i / 4][i % 4] = t.mu[i] as f32;
+                g.table_vs[k * TABLE_VEC4S + i / 4][i % 4] = t.vs[i] as f32;
+                g.table_mu[k * TABLE_VEC4S + i / 4][i % 4] = t.mu[i] as f32;
             }
         }
         g

@@ -1,12 +1,13 @@
 //! `[[grid]]` axes: each a numeric parameter with a list or a range of
-//! values, checked with the line of the key concerned.
+//! values, or a law selector or `friction_table` with a list of words,
+//! checked with the line of the key concerned.
 
 use toml::Spanned;
 
 use super::file::{At, AxisDef};
 use super::{Axis, AxisValues};
 use crate::error::{did_you_mean, Result};
-use crate::params::{Num, Param};
+use crate::params::{Num, Param, Spec};
 
 pub(super) fn parse_axes(at: &At, grid: &[Spanned<AxisDef>]) -> Result<Vec<Axis>> {
     let mut axes: Vec<Axis> = Vec::new();
@@ -16,14 +17,62 @@ pub(super) fn parse_axes(at: &At, grid: &[Spanned<AxisDef>]) -> Result<Vec<Axis>
         let bad = |(span, m): (Option<std::ops::Range<usize>>, String)| {
             at.bad(span.unwrap_or(a.param.span()), a.param.get_ref(), m)
         };
-        let param = numeric_param(a.param.get_ref()).map_err(|m| bad((None, m)))?;
-        let values = axis_values(a).map_err(bad)?;
+        let param = grid_param(a.param.get_ref()).map_err(|m| bad((None, m)))?;
+        let values = match param {
+            Param::Num(_) => axis_values(a).map_err(bad)?,
+            p => word_values(p, a).map_err(bad)?,
+        };
         if axes.iter().any(|x| x.param == param) {
             return Err(bad((None, "appears on two grid axes".into())));
         }
         axes.push(Axis { param, values });
     }
     Ok(axes)
+}
+
+/// A grid axis's parameter: any parameter (numbers or words).
+fn grid_param(name: &str) -> std::result::Result<Param, String> {
+    Param::from_name(name).ok_or_else(|| {
+        format!(
+            "unknown parameter{}; allowed: {}",
+            did_you_mean(name, Param::COLUMNS.map(|p| p.name())),
+            Param::all_names()
+        )
+    })
+}
+
+type Bad = (Option<std::ops::Range<usize>>, String);
+
+/// The words of an axis over a law or a friction table, each checked as
+/// a lane-table cell would be.
+fn word_values(p: Param, a: &AxisDef) -> std::result::Result<AxisValues, Bad> {
+    let Some(v) = &a.values else {
+        return Err((
+            None,
+            format!(
+                "give values = [\"...\", ...]: {} takes words, not a range",
+                p.name()
+            ),
+        ));
+    };
+    let span = Some(v.span());
+    if v.get_ref().is_empty() {
+        return Err((span, "values is empty; give at least one value".into()));
+    }
+    let mut words = Vec::new();
+    for x in v.get_ref() {
+        let Some(w) = x.as_str() else {
+            return Err((span, format!("{} takes words (\"...\"), got {x}", p.name())));
+        };
+        Spec::default()
+            .set_text(p, w)
+            .map_err(|m| (span.clone(), m))?;
+        if words.iter().any(|o: &String| o == w) {
+            return Err((span, format!("`{w}` is given twice")));
+        }
+        words.push(w.to_string());
+    }
+    Ok(AxisValues::Words(words))
 }
 
 pub(super) fn numeric_param(name: &str) -> std::result::Result<Num, String> {
@@ -52,14 +101,27 @@ fn axis_values(
                 ));
             }
             let span = Some(v.span());
-            let v = v.get_ref();
-            if v.is_empty() {
+            if v.get_ref().is_empty() {
                 return Err((span, "values is empty; give at least one value".into()));
             }
-            if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-                return Err((span, format!("value {x} is not finite")));
+            let mut nums = Vec::with_capacity(v.get_ref().len());
+            for x in v.get_ref() {
+                let n = match x {
+                    toml::Value::Float(f) => *f,
+                    toml::Value::Integer(i) => *i as f64,
+                    other => {
+                        return Err((
+                            span,
+                            format!("{} takes numbers, got {other}", a.param.get_ref()),
+                        ))
+                    }
+                };
+                if !n.is_finite() {
+                    return Err((span, format!("value {n} is not finite")));
+                }
+                nums.push(n);
             }
-            Ok(AxisValues::List(v.clone()))
+            Ok(AxisValues::List(nums))
         }
         (None, Some(from), Some(to), Some(n)) => {
             if *n.get_ref() < 1 {

@@ -21,7 +21,7 @@ pub(super) struct SweepFile {
     pub(super) sampling: Option<Spanned<SamplingDef>>,
     #[serde(default)]
     pub(super) tolerance: Vec<Spanned<TolDef>>,
-    pub(super) friction_table: Option<Spanned<TableDef>>,
+    pub(super) friction_table: Option<Spanned<toml::Table>>,
     pub(super) trace: Option<Spanned<TraceDef>>,
     pub(super) report: Option<Spanned<ReportDef>>,
 }
@@ -50,7 +50,7 @@ pub(super) struct TraceDef {
 #[serde(deny_unknown_fields)]
 pub(super) struct AxisDef {
     pub(super) param: Spanned<String>,
-    pub(super) values: Option<Spanned<Vec<f64>>>,
+    pub(super) values: Option<Spanned<Vec<toml::Value>>>,
     pub(super) from: Option<Spanned<f64>>,
     pub(super) to: Option<Spanned<f64>>,
     pub(super) n: Option<Spanned<i64>>,

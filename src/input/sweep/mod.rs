@@ -2,7 +2,8 @@
 //!
 //! A sweep is a `[base]` parameter set, optional grid axes (`[[grid]]`, a
 //! Cartesian product), an optional tolerance study (`[sampling]` with
-//! `[[tolerance]]` entries) and an optional `[friction_table]`.
+//! `[[tolerance]]` entries) and optional friction tables (one unnamed
+//! `[friction_table]`, or named ones, `[friction_table.bronze]`).
 //!
 //! Lane order: grid points in row-major order (the first `[[grid]]` axis
 //! varies slowest, the last fastest), and for each grid point the samples
@@ -18,16 +19,17 @@ mod resolved;
 mod study;
 
 use crate::input::sampling::{Dist, Permutation, Uniforms};
-use crate::model::FrictionTable;
-use crate::params::{Num, Spec};
+use crate::model::FrictionTables;
+use crate::params::{Num, Param, Spec};
 
 pub use file::{Method, MAX_SEED};
 
-/// One grid axis: a numeric parameter and its values.
+/// One grid axis: a parameter and its values (numbers, or the words of a
+/// law selector or a friction table's name).
 #[derive(Clone, Debug)]
 pub struct Axis {
     /// The parameter.
-    pub param: Num,
+    pub param: Param,
     /// Its values.
     pub values: AxisValues,
 }
@@ -49,6 +51,9 @@ pub enum AxisValues {
         /// Log-spaced.
         log: bool,
     },
+    /// `values = ["bronze", "cast_iron"]` for `motor`, `friction` or
+    /// `friction_table` (each checked when the sweep is read).
+    Words(Vec<String>),
 }
 
 impl Axis {
@@ -58,12 +63,29 @@ impl Axis {
         match &self.values {
             AxisValues::List(v) => v.len() as u64,
             AxisValues::Range { n, .. } => *n,
+            AxisValues::Words(w) => w.len() as u64,
         }
     }
 
-    /// Value `i` (< len).
+    /// Whether the axis runs over words (a law or a table name), not numbers.
+    pub fn is_words(&self) -> bool {
+        matches!(self.values, AxisValues::Words(_))
+    }
+
+    /// Value `i` (< len) as text: the word, or the number as `lanes.csv`
+    /// writes it.
+    pub fn text(&self, i: u64) -> String {
+        match &self.values {
+            AxisValues::Words(w) => w[i as usize].clone(),
+            // As lanes.csv writes a float: the shortest text that reads back.
+            _ => format!("{:?}", self.value(i)),
+        }
+    }
+
+    /// Value `i` (< len); NaN for a word axis.
     pub fn value(&self, i: u64) -> f64 {
         match &self.values {
+            AxisValues::Words(_) => f64::NAN,
             AxisValues::List(v) => v[i as usize],
             &AxisValues::Range { from, to, n, log } => {
                 let frac = if n == 1 {
@@ -117,12 +139,15 @@ pub struct Sweep {
     pub axes: Vec<Axis>,
     /// Optional tolerance study.
     pub study: Option<Study>,
-    /// Optional friction table (for `friction = "table"`).
-    pub table: Option<FrictionTable>,
+    /// The friction tables (for `friction = "table"`), possibly none.
+    pub tables: FrictionTables,
     /// Lanes to trace (`[trace]`), if any.
     pub trace: Option<TraceSpec>,
     /// What the report shows (`[report]`).
     pub report: ReportSpec,
+    /// The line of each parameter the file sets (`[base]` key, grid axis,
+    /// tolerance), so a lane's error can point at it.
+    pub key_lines: Vec<(&'static str, usize)>,
 }
 
 /// What `report.html` shows, from the sweep's `[report]` table.
@@ -131,8 +156,8 @@ pub struct ReportSpec {
     /// A title for the page (free text, shown escaped).
     pub title: Option<String>,
     /// The grid parameters of the heat maps (x, then y); empty: the first
-    /// two axes.
-    pub axes: Vec<Num>,
+    /// two numeric axes.
+    pub axes: Vec<Param>,
     /// Result columns to plot; empty: those the table of result columns
     /// marks `plotted`.
     pub results: Vec<String>,
@@ -226,7 +251,14 @@ impl Sweep {
         let (mut g, k) = (i / n, i % n);
         for a in self.axes.iter().rev() {
             let len = a.len();
-            spec.set(a.param, a.value(g % len));
+            match (a.param, &a.values) {
+                (Param::Num(p), _) => spec.set(p, a.value(g % len)),
+                (p, AxisValues::Words(w)) => {
+                    // Every word was checked by `set_text` when the sweep was read.
+                    let _ = spec.set_text(p, &w[(g % len) as usize]);
+                }
+                _ => {}
+            }
             g /= len;
         }
         if let Some(st) = &self.study {
@@ -250,6 +282,22 @@ impl Sweep {
             }
         }
         spec
+    }
+
+    /// Where lane `lane`'s error on `param` (one name, or several, comma
+    /// separated) lies: "lane N", with the line of the first of them the
+    /// file sets.
+    pub fn lane_at(&self, lane: u64, param: &str) -> String {
+        let line = param.split(", ").find_map(|p| {
+            self.key_lines
+                .iter()
+                .find(|(k, _)| *k == p)
+                .map(|(_, l)| *l)
+        });
+        match line {
+            Some(l) => format!("lane {lane} (line {l})"),
+            None => format!("lane {lane}"),
+        }
     }
 
     /// A stream of uniforms for this sweep's study.
@@ -280,7 +328,7 @@ mod tests {
             .map(|i| {
                 let sp = s.lane_spec(i, &mut u);
                 (
-                    sp.num[Num::F2 as usize].unwrap(),
+                    sp.num[crate::params::Num::F2 as usize].unwrap(),
                     sp.num[Num::GammaDeg as usize].unwrap(),
                 )
             })
@@ -316,8 +364,8 @@ mod tests {
             let (mut ua, mut ub) = (a.uniforms(), b.uniforms());
             let n = a.lane_count();
             for i in (0..n).step_by((n / 500).max(1) as usize) {
-                let pa = a.lane_spec(i, &mut ua).resolve(a.table.is_some()).unwrap();
-                let pb = b.lane_spec(i, &mut ub).resolve(b.table.is_some()).unwrap();
+                let pa = a.lane_spec(i, &mut ua).resolve(&a.tables.names).unwrap();
+                let pb = b.lane_spec(i, &mut ub).resolve(&b.tables.names).unwrap();
                 assert_eq!(format!("{pa:?}"), format!("{pb:?}"), "{f} lane {i}");
             }
         }

@@ -8,12 +8,12 @@ use std::path::Path;
 use toml::Spanned;
 
 use super::axes::parse_axes;
-use super::file::{line_of, At, ReportDef, SweepFile};
+use super::file::{line_of, At, ReportDef, SweepFile, TableDef};
 use super::study::parse_study;
-use super::{Axis, Sweep};
+use super::{Axis, AxisValues, Sweep};
 use crate::error::{did_you_mean, Error, Result};
-use crate::model::FrictionTable;
-use crate::params::{Param, Spec};
+use crate::model::{FrictionTable, FrictionTables, MAX_TABLES};
+use crate::params::{Param, Spec, TableName};
 
 /// The TOML reader's error on one line; a duplicate key is named.
 fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
@@ -73,21 +73,20 @@ impl Sweep {
         let at = At { path, text };
         let base = parse_base(&at, &file.base)?;
         let axes = parse_axes(&at, &file.grid)?;
-        let table = match &file.friction_table {
-            Some(t) => Some(
-                FrictionTable::new(&t.get_ref().vs, &t.get_ref().mu)
-                    .map_err(|m| at.bad(t.span(), "friction_table", m))?,
-            ),
-            None => None,
+        let tables = match &file.friction_table {
+            Some(t) => parse_tables(&at, t)?,
+            None => FrictionTables::default(),
         };
+        check_table_names(&at, &file, &base, &axes, &tables)?;
         let study = parse_study(&at, &file, &base, &axes)?;
         let mut sweep = Sweep {
             base,
             axes,
             study,
-            table,
+            tables,
             trace: None,
             report: Default::default(),
+            key_lines: key_lines(text, &file),
         };
         let total = sweep
             .lane_count_checked()
@@ -107,15 +106,163 @@ impl Sweep {
     }
 }
 
+/// The line of each parameter the file sets: `[base]` keys, grid axes,
+/// tolerances (a later entry of the same name does not replace an earlier).
+fn key_lines(text: &str, file: &SweepFile) -> Vec<(&'static str, usize)> {
+    let line = |pos: usize| text[..pos.min(text.len())].matches('\n').count() + 1;
+    let mut out: Vec<(&'static str, usize)> = Vec::new();
+    let spans = file
+        .base
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.span().start))
+        .chain(file.grid.iter().map(|a| {
+            let p = &a.get_ref().param;
+            (p.get_ref().as_str(), p.span().start)
+        }))
+        .chain(file.tolerance.iter().map(|t| {
+            let p = &t.get_ref().param;
+            (p.get_ref().as_str(), p.span().start)
+        }));
+    for (name, pos) in spans {
+        if let Some(p) = Param::from_name(name) {
+            if !out.iter().any(|(n, _)| *n == p.name()) {
+                out.push((p.name(), line(pos)));
+            }
+        }
+    }
+    out
+}
+
+/// The friction tables: one unnamed `[friction_table]` (keys `vs`, `mu`),
+/// or named ones, `[friction_table.NAME]` each, in name order.
+fn parse_tables(at: &At, t: &Spanned<toml::Table>) -> Result<FrictionTables> {
+    let bad = |key: &str, m: String| at.bad(t.span(), key, m);
+    let table = |key: &str, v: &toml::Value| -> Result<FrictionTable> {
+        let d: TableDef = v
+            .clone()
+            .try_into()
+            .map_err(|e: toml::de::Error| bad(key, suggest_in(e.message().trim())))?;
+        FrictionTable::new(&d.vs, &d.mu).map_err(|m| bad(key, m))
+    };
+    let mut out = FrictionTables::default();
+    let body = t.get_ref();
+    if body.contains_key("vs") || body.contains_key("mu") {
+        out.tables
+            .push(table("friction_table", &toml::Value::Table(body.clone()))?);
+        out.names.push(TableName::UNNAMED);
+        return Ok(out);
+    }
+    if body.is_empty() {
+        return Err(bad(
+            "friction_table",
+            "is empty; give vs and mu, or named tables [friction_table.NAME] with vs and mu each"
+                .into(),
+        ));
+    }
+    if body.len() > MAX_TABLES {
+        return Err(bad(
+            "friction_table",
+            format!(
+                "has {} tables; at most {MAX_TABLES} in one sweep",
+                body.len()
+            ),
+        ));
+    }
+    for (name, v) in body {
+        let key = format!("friction_table.{name}");
+        let name = TableName::new(name).map_err(|m| bad(&key, m))?;
+        if !v.is_table() {
+            return Err(bad(
+                &key,
+                "is not a table: give vs and mu under [friction_table], or name each table,                  [friction_table.NAME], with vs and mu"
+                    .into(),
+            ));
+        }
+        out.tables.push(table(&key, v)?);
+        out.names.push(name);
+    }
+    Ok(out)
+}
+
+/// Every friction table a sweep names (in `[base]` or on a grid axis) is
+/// one of its own; checked here so the error names its line.
+fn check_table_names(
+    at: &At,
+    file: &SweepFile,
+    base: &Spec,
+    axes: &[Axis],
+    tables: &FrictionTables,
+) -> Result<()> {
+    let known = |n: &str| tables.names.iter().any(|t| t.as_str() == n);
+    let allowed = || {
+        if tables.is_empty() || tables.unnamed() {
+            "none: name the tables, [friction_table.NAME]".to_string()
+        } else {
+            tables
+                .names
+                .iter()
+                .map(|t| t.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    };
+    if let Some(n) = base.friction_table.filter(|n| !known(n.as_str())) {
+        let span = file.base.get("friction_table").map_or(0..0, |v| v.span());
+        return Err(at.bad(
+            span,
+            "friction_table",
+            format!(
+                "`{n}` is not a friction table of the sweep; allowed: {}",
+                allowed()
+            ),
+        ));
+    }
+    for (a, def) in axes.iter().zip(&file.grid) {
+        if let (Param::FrictionTable, AxisValues::Words(w)) = (a.param, &a.values) {
+            if let Some(n) = w.iter().find(|n| !known(n)) {
+                return Err(at.bad(
+                    def.span(),
+                    "friction_table",
+                    format!(
+                        "`{n}` is not a friction table of the sweep; allowed: {}",
+                        allowed()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The `[report]` table, checked against the grid; an error names its key.
 fn parse_report(
     d: &ReportDef,
     axes: &[Axis],
 ) -> std::result::Result<super::ReportSpec, (&'static str, String)> {
-    let grid: Vec<&str> = axes.iter().map(|a| a.param.name()).collect();
+    // Only numeric axes can be a map's x or y; an axis of words (laws,
+    // tables) gets panels of its own.
+    let grid: Vec<&str> = axes
+        .iter()
+        .filter(|a| !a.is_words())
+        .map(|a| a.param.name())
+        .collect();
     let mut chosen = Vec::new();
     for name in &d.axes {
         match axes.iter().find(|a| a.param.name() == name) {
+            Some(a) if a.is_words() => {
+                return Err((
+                    "report.axes",
+                    format!(
+                        "`{name}` runs over words; it gets a panel for each of its values, not a \
+                         map axis; allowed: {}",
+                        if grid.is_empty() {
+                            "none".into()
+                        } else {
+                            grid.join(", ")
+                        }
+                    ),
+                ))
+            }
             Some(a) if !chosen.contains(&a.param) => chosen.push(a.param),
             Some(_) => return Err(("report.axes", format!("`{name}` is given twice"))),
             None => {

@@ -2,7 +2,7 @@
 //! out, so that the file alone gives the same lanes again.
 
 use super::{AxisValues, Sweep};
-use crate::params::{FrictionKind, MotorKind, Num};
+use crate::params::{FrictionKind, MotorKind, Num, Param};
 
 impl Sweep {
     /// The sweep as TOML with every lane's source spelled out: base with
@@ -29,13 +29,39 @@ impl Sweep {
         if self.report != super::ReportSpec::default() {
             t.insert("report".into(), report_toml(&self.report).into());
         }
-        if let Some(tb) = &self.table {
-            let mut x = toml::Table::new();
-            x.insert("vs".into(), floats(&tb.vs[..tb.n]));
-            x.insert("mu".into(), floats(&tb.mu[..tb.n]));
+        if !self.tables.is_empty() {
+            let one = |tb: &crate::model::FrictionTable| {
+                let mut x = toml::Table::new();
+                x.insert("vs".into(), floats(&tb.vs[..tb.n]));
+                x.insert("mu".into(), floats(&tb.mu[..tb.n]));
+                x
+            };
+            let x = if self.tables.unnamed() {
+                one(&self.tables.tables[0])
+            } else {
+                let mut x = toml::Table::new();
+                for (name, tb) in self.tables.names.iter().zip(&self.tables.tables) {
+                    x.insert(name.to_string(), one(tb).into());
+                }
+                x
+            };
             t.insert("friction_table".into(), x.into());
         }
         t
+    }
+
+    /// Whether any lane may be given in gear terms: the base, an axis or a
+    /// tolerance sets a gear term.
+    fn uses_gear_terms(&self) -> bool {
+        let gear = |p: Param| matches!(p, Param::Num(n) if crate::params::gear::GEAR.contains(&n));
+        crate::params::gear::GEAR
+            .iter()
+            .any(|&g| self.base.num[g as usize].is_some())
+            || self.axes.iter().any(|a| gear(a.param))
+            || self
+                .study
+                .as_ref()
+                .is_some_and(|s| s.params.iter().any(|t| gear(Param::Num(t.param))))
     }
 
     /// The base as set, plus the defaults of the laws it chooses; not
@@ -46,8 +72,15 @@ impl Sweep {
         let friction = self.base.friction.unwrap_or(FrictionKind::Paper);
         base.insert("motor".into(), motor.name().into());
         base.insert("friction".into(), friction.name().into());
+        if let Some(t) = self.base.friction_table {
+            base.insert("friction_table".into(), t.to_string().into());
+        }
+        // Where gear terms are used, a wedge default is not written: beside
+        // its gear form it would give one quantity twice.
+        let gear_terms = self.uses_gear_terms();
         for n in Num::ALL {
-            let law_default = n.def().owner.applies(motor, friction);
+            let law_default = n.def().owner.applies(motor, friction)
+                && !(gear_terms && crate::params::gear::has_gear_form(n));
             let v =
                 self.base.num[n as usize].or(if law_default { n.default_value() } else { None });
             if let Some(v) = v {
@@ -71,6 +104,10 @@ fn axis_toml(a: &super::Axis) -> toml::Value {
         }
         AxisValues::List(v) => {
             x.insert("values".into(), floats(v));
+        }
+        AxisValues::Words(w) => {
+            let v: Vec<toml::Value> = w.iter().map(|s| s.clone().into()).collect();
+            x.insert("values".into(), v.into());
         }
     }
     x.into()

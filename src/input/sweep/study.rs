@@ -9,7 +9,7 @@ use super::file::{SweepFile, TolDef, MAX_SEED};
 use super::{Axis, Study, Tolerance};
 use crate::error::Result;
 use crate::input::sampling::Permutation;
-use crate::params::Spec;
+use crate::params::{Param, Spec};
 
 pub(super) fn parse_study(
     at: &At,
@@ -90,7 +90,7 @@ fn parse_tolerance(at: &At, t: &Spanned<TolDef>, base: &Spec, axes: &[Axis]) -> 
     }
     if base.num[param as usize].is_none()
         && param.default_value().is_none()
-        && !axes.iter().any(|a| a.param == param)
+        && !axes.iter().any(|a| a.param == Param::Num(param))
     {
         return Err(bad(
             "has no nominal value: set it in [base] or on a grid axis".into(),

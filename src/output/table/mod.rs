@@ -92,6 +92,10 @@ pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
         out.push(match c {
             Param::Motor => Cell::S(Cow::Borrowed(p.motor.name())),
             Param::Friction => Cell::S(Cow::Borrowed(p.friction.name())),
+            Param::FrictionTable => Cell::S(
+                p.friction_table
+                    .map_or(Cow::Borrowed(""), |t| Cow::Owned(t.as_str().to_string())),
+            ),
             Param::Num(n) => Cell::F(p.get(n)),
         });
     }
