@@ -24,7 +24,7 @@ pub struct Cli {
 /// Where the lanes come from.
 #[derive(clap::Args, Debug, Clone)]
 pub struct LanesArgs {
-    /// Sweep file (TOML). With --lanes it may give only `[base]`, `[friction_table]`, `[trace]` and `[report]`.
+    /// Sweep file (TOML). With --lanes it may give only `[base]`, its friction tables, `[trace]` and `[report]`.
     pub sweep: Option<PathBuf>,
     /// Explicit lane table (CSV, one lane a row, the parameters' names as columns).
     #[arg(long, value_name = "FILE.csv")]

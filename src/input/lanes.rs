@@ -82,7 +82,7 @@ impl Source {
                         f,
                         None,
                         None,
-                        "with --lanes the sweep file may hold only [base], [friction_table], [trace] \
+                        "with --lanes the sweep file may hold only [base], friction tables, [trace] \
                          and [report]; the lane table gives the lanes",
                     ));
                 }

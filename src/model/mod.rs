@@ -291,7 +291,7 @@ mod tests {
                 &l,
                 &[],
                 Mode {
-                    side: side,
+                    side,
                     dir: 1,
                     motor_on: true,
                     upper: false,

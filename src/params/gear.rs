@@ -14,7 +14,7 @@
 //! gear term without a geometry, part of a catalogue geometry or of a
 //! Kloss motor in gear terms are refused, each with one line.
 
-use super::resolve::{ParamError, Spec};
+use super::check::{check, ParamError};
 use super::table::{FrictionKind, MotorKind, Num, N_NUM};
 
 /// The gear terms, in table order.
@@ -103,12 +103,12 @@ pub fn has_gear_form(p: Num) -> bool {
 /// rad/s in one rpm.
 pub const RAD_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
 
-/// A lane's spec with its gear terms converted: the wedge's values set
+/// A lane's values with its gear terms converted: the wedge's values set
 /// beside the gear terms it was given, the pitch radii, and where each
 /// converted value came from (for errors).
 pub(super) struct Converted {
-    /// The spec, gear terms kept, wedge values set.
-    pub spec: Spec,
+    /// The values, gear terms kept, wedge values set.
+    pub num: [Option<f64>; N_NUM],
     /// Pitch radius of the worm, m.
     pub r1: f64,
     /// Pitch radius of the wheel, m.
@@ -118,15 +118,11 @@ pub(super) struct Converted {
     from: [Option<(&'static str, &'static str)>; N_NUM],
 }
 
-/// Whether the spec gives any gear term (the common case, none, costs a
-/// few comparisons per lane).
+/// Whether any gear term is given (the common case, none, costs a few
+/// comparisons per lane).
 #[inline]
-pub(super) fn any(spec: &Spec) -> bool {
-    GEAR.iter().any(|&g| spec.num[g as usize].is_some())
-}
-
-fn set(spec: &Spec, p: Num) -> bool {
-    spec.num[p as usize].is_some()
+pub(super) fn any(given: &[Option<f64>; N_NUM]) -> bool {
+    GEAR.iter().any(|&g| given[g as usize].is_some())
 }
 
 fn bad(param: &'static str, msg: String) -> ParamError {
@@ -138,92 +134,32 @@ fn names(ps: &[Num]) -> String {
     ps.iter().map(|p| p.name()).collect::<Vec<_>>().join(", ")
 }
 
-/// Converts the spec's gear terms (each first validated by its own row)
+/// The values a lane was given, by [`Num`] index (None: not set).
+type Given = [Option<f64>; N_NUM];
+
+/// Converts the given gear terms (each first validated by its own row)
 /// into wedge terms, refusing a quantity given twice or given in part.
 pub(super) fn to_wedge(
-    spec: &Spec,
+    given: &Given,
     motor: MotorKind,
     friction: FrictionKind,
 ) -> Result<Converted, ParamError> {
-    // The Kloss motor in gear terms: all three or none.
-    let kloss: Vec<Num> = KLOSS.into_iter().filter(|&p| set(spec, p)).collect();
-    let partial = motor == MotorKind::Kloss && !kloss.is_empty();
-    if let Some(&missing) = KLOSS.iter().find(|&&p| !set(spec, p)).filter(|_| partial) {
-        return Err(bad(
-            missing.name(),
-            format!(
-                "is missing: a Kloss motor in gear terms needs n_sync, n_crit and t_crit together \
-                 (given: {})",
-                names(&kloss)
-            ),
-        ));
-    }
+    let set = |p: Num| given[p as usize].is_some();
+    kloss_complete(given, motor)?;
     // Each value by its own row (range, whole numbers, the law it
     // belongs to), before any conversion hides it.
     let mut num = [f64::NAN; N_NUM];
     for g in GEAR {
-        num[g as usize] = spec.resolve_one(g, motor, friction, &num)?;
+        num[g as usize] = check(g, given[g as usize], motor, friction, &num)?;
     }
-    let v = |p: Num| num[p as usize];
-    let mut out = spec.clone();
+    let mut out = *given;
     let mut from = [None; N_NUM];
-    // The geometry: the catalogue's four, or the two radii with gamma_deg.
-    let catalogue: Vec<Num> = CATALOGUE.into_iter().filter(|&p| set(spec, p)).collect();
-    let radii = set(spec, Num::R1) || set(spec, Num::R2);
-    let (r1, r2) = if !catalogue.is_empty() {
-        if let Some(&missing) = CATALOGUE.iter().find(|&&p| !set(spec, p)) {
-            return Err(bad(
-                missing.name(),
-                format!(
-                    "is missing: the geometry in catalogue terms needs all of d1, z1, z2 and m_x \
-                     (given: {})",
-                    names(&catalogue)
-                ),
-            ));
-        }
-        if radii {
-            let r = if set(spec, Num::R1) { "r1" } else { "r2" };
-            return Err(bad(
-                r,
-                "gives the geometry a second time: give d1, z1, z2 and m_x, or r1 and r2 with \
-                 gamma_deg, not both"
-                    .into(),
-            ));
-        }
-        if set(spec, Num::GammaDeg) {
-            return Err(bad(
-                "gamma_deg",
-                "is given twice: d1, z1 and m_x fix the lead angle (tan gamma = z1 m_x / d1); \
-                 leave gamma_deg out, or give r1 and r2 with gamma_deg instead"
-                    .into(),
-            ));
-        }
-        let tan_g = v(Num::Z1) * v(Num::MX) / v(Num::D1);
-        out.set(Num::GammaDeg, tan_g.atan().to_degrees());
-        from[Num::GammaDeg as usize] = Some(("d1, z1, m_x", "atan(z1 m_x / d1)"));
-        (v(Num::D1) / 2.0, v(Num::Z2) * v(Num::MX) / 2.0)
-    } else if radii {
-        for (p, q) in [(Num::R1, Num::R2), (Num::R2, Num::R1)] {
-            if !set(spec, p) {
-                return Err(bad(
-                    p.name(),
-                    format!(
-                        "is missing: {} gives one pitch radius; the geometry in radii needs r1 \
-                         and r2 (with gamma_deg)",
-                        q.name()
-                    ),
-                ));
-            }
-        }
-        (v(Num::R1), v(Num::R2))
-    } else {
-        (f64::NAN, f64::NAN)
-    };
+    let (r1, r2) = geometry(given, &num, &mut out, &mut from)?;
     for (gear, wedge, radius, rule, formula) in PAIRS {
-        let Some(value) = spec.num[gear as usize] else {
+        let Some(value) = given[gear as usize] else {
             continue;
         };
-        if set(spec, wedge) {
+        if set(wedge) {
             return Err(bad(
                 gear.name(),
                 format!(
@@ -246,20 +182,101 @@ pub(super) fn to_wedge(
             Radius::R1 => r1,
             Radius::R2 => r2,
         };
-        let w = match rule {
+        out[wedge as usize] = Some(match rule {
             Rule::Inertia => value / (r * r),
             Rule::Torque => value / r,
             Rule::Speed => value * RAD_S_PER_RPM * r,
-        };
-        out.set(wedge, w);
+        });
         from[wedge as usize] = Some((gear.name(), formula));
     }
     Ok(Converted {
-        spec: out,
+        num: out,
         r1,
         r2,
         from,
     })
+}
+
+/// A Kloss motor in gear terms is given whole: n_sync, n_crit and t_crit.
+fn kloss_complete(given: &Given, motor: MotorKind) -> Result<(), ParamError> {
+    let kloss: Vec<Num> = KLOSS
+        .into_iter()
+        .filter(|&p| given[p as usize].is_some())
+        .collect();
+    let partial = motor == MotorKind::Kloss && !kloss.is_empty();
+    match KLOSS.iter().find(|&&p| given[p as usize].is_none()) {
+        Some(&missing) if partial => Err(bad(
+            missing.name(),
+            format!(
+                "is missing: a Kloss motor in gear terms needs n_sync, n_crit and t_crit together \
+                 (given: {})",
+                names(&kloss)
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The pitch radii (NaN without a geometry): the catalogue's four terms,
+/// which also fix γ (set in `out`), or the two radii beside gamma_deg.
+fn geometry(
+    given: &Given,
+    num: &[f64; N_NUM],
+    out: &mut Given,
+    from: &mut [Option<(&'static str, &'static str)>; N_NUM],
+) -> Result<(f64, f64), ParamError> {
+    let set = |p: Num| given[p as usize].is_some();
+    let v = |p: Num| num[p as usize];
+    let catalogue: Vec<Num> = CATALOGUE.into_iter().filter(|&p| set(p)).collect();
+    let radii = set(Num::R1) || set(Num::R2);
+    if !catalogue.is_empty() {
+        if let Some(&missing) = CATALOGUE.iter().find(|&&p| !set(p)) {
+            return Err(bad(
+                missing.name(),
+                format!(
+                    "is missing: the geometry in catalogue terms needs all of d1, z1, z2 and m_x \
+                     (given: {})",
+                    names(&catalogue)
+                ),
+            ));
+        }
+        if radii {
+            return Err(bad(
+                if set(Num::R1) { "r1" } else { "r2" },
+                "gives the geometry a second time: give d1, z1, z2 and m_x, or r1 and r2 with \
+                 gamma_deg, not both"
+                    .into(),
+            ));
+        }
+        if set(Num::GammaDeg) {
+            return Err(bad(
+                "gamma_deg",
+                "is given twice: d1, z1 and m_x fix the lead angle (tan gamma = z1 m_x / d1); \
+                 leave gamma_deg out, or give r1 and r2 with gamma_deg instead"
+                    .into(),
+            ));
+        }
+        let tan_g = v(Num::Z1) * v(Num::MX) / v(Num::D1);
+        out[Num::GammaDeg as usize] = Some(tan_g.atan().to_degrees());
+        from[Num::GammaDeg as usize] = Some(("d1, z1, m_x", "atan(z1 m_x / d1)"));
+        return Ok((v(Num::D1) / 2.0, v(Num::Z2) * v(Num::MX) / 2.0));
+    }
+    if !radii {
+        return Ok((f64::NAN, f64::NAN));
+    }
+    for (p, q) in [(Num::R1, Num::R2), (Num::R2, Num::R1)] {
+        if !set(p) {
+            return Err(bad(
+                p.name(),
+                format!(
+                    "is missing: {} gives one pitch radius; the geometry in radii needs r1 and r2 \
+                     (with gamma_deg)",
+                    q.name()
+                ),
+            ));
+        }
+    }
+    Ok((v(Num::R1), v(Num::R2)))
 }
 
 impl Converted {

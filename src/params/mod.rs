@@ -7,6 +7,7 @@
 //! [`table`]; the `Num` enum, the defaults, ownership, validation, the
 //! guide's table (docs/guide.md) and the resolved provenance are all derived from it.
 
+mod check;
 pub mod gear;
 mod resolve;
 pub mod table;

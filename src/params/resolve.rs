@@ -2,10 +2,10 @@
 //! validated [`Params`], driven by the table of `table.rs` (gear terms
 //! converted by `gear.rs` first).
 
-use std::fmt;
-
+use super::check::check;
+pub use super::check::ParamError;
 use super::gear;
-use super::table::{Bound, Fallback, FrictionKind, MotorKind, Num, Param, N_NUM};
+use super::table::{FrictionKind, MotorKind, Num, Param, N_NUM};
 use super::table_name::TableName;
 
 /// A partial parameter set: `None` means "not set, the default applies".
@@ -29,21 +29,6 @@ impl Default for Spec {
             friction: None,
             friction_table: None,
         }
-    }
-}
-
-/// A parameter that fails validation: which one, and what is allowed.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ParamError {
-    /// The parameter's name.
-    pub param: &'static str,
-    /// What is wrong and what is allowed.
-    pub msg: String,
-}
-
-impl fmt::Display for ParamError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.param, self.msg)
     }
 }
 
@@ -137,12 +122,15 @@ impl Spec {
     pub fn resolve(&self, tables: &[TableName]) -> Result<Params, ParamError> {
         let motor = self.motor.unwrap_or(MotorKind::Kloss);
         let friction = self.friction.unwrap_or(FrictionKind::Paper);
-        if !gear::any(self) {
+        if !gear::any(&self.num) {
             return self.resolve_wedge(motor, friction, tables);
         }
-        let converted = gear::to_wedge(self, motor, friction)?;
-        let mut p = converted
-            .spec
+        let converted = gear::to_wedge(&self.num, motor, friction)?;
+        let wedge = Spec {
+            num: converted.num,
+            ..self.clone()
+        };
+        let mut p = wedge
             .resolve_wedge(motor, friction, tables)
             .map_err(|e| converted.explain(e))?;
         p.r1 = converted.r1;
@@ -159,7 +147,7 @@ impl Spec {
     ) -> Result<Params, ParamError> {
         let mut num = [f64::NAN; N_NUM];
         for p in Num::ALL {
-            num[p as usize] = self.resolve_one(p, motor, friction, &num)?;
+            num[p as usize] = check(p, self.num[p as usize], motor, friction, &num)?;
         }
         let table = self.table_index(friction, tables)?;
         Ok(Params {
@@ -208,98 +196,29 @@ impl Spec {
             (None, [_]) => Ok(0),
             (None, _) => err(
                 "friction_table",
-                format!("is required: the sweep has several friction tables; allowed: {}", list()),
+                format!(
+                    "is required: the sweep has several friction tables; allowed: {}",
+                    list()
+                ),
             ),
             (Some(name), _) => match tables.iter().position(|t| *t == name) {
                 Some(i) => Ok(i),
                 None if tables == [TableName::UNNAMED] => err(
                     "friction_table",
                     format!(
-                        "names `{name}`, but the sweep's one [friction_table] has no name; name it                          [friction_table.{name}] or leave friction_table out"
+                        "names `{name}`, but the sweep's one [friction_table] has no name; name it \
+                         [friction_table.{name}] or leave friction_table out"
                     ),
                 ),
                 None => err(
                     "friction_table",
-                    format!("`{name}` is not a friction table of the sweep; allowed: {}", list()),
+                    format!(
+                        "`{name}` is not a friction table of the sweep; allowed: {}",
+                        list()
+                    ),
                 ),
             },
         }
-    }
-
-    /// One parameter's value (NaN when its law does not use it), given the
-    /// ones before it in table order.
-    pub(super) fn resolve_one(
-        &self,
-        p: Num,
-        motor: MotorKind,
-        friction: FrictionKind,
-        num: &[f64; N_NUM],
-    ) -> Result<f64, ParamError> {
-        let def = p.def();
-        let err = |msg: String| ParamError {
-            param: def.name,
-            msg,
-        };
-        let set = self.num[p as usize];
-        if let Some(v) = set.filter(|v| !v.is_finite()) {
-            return Err(err(format!(
-                "{v} is not finite; a finite number is required"
-            )));
-        }
-        if !def.owner.applies(motor, friction) {
-            return match set {
-                Some(_) => Err(err(format!(
-                    "is set but not used by motor = {}, friction = {}; it belongs to {}",
-                    motor.name(),
-                    friction.name(),
-                    def.owner.law()
-                ))),
-                None => Ok(f64::NAN),
-            };
-        }
-        let v = match (set, def.default) {
-            (Some(v), _) => v,
-            (None, Fallback::Value(d)) => d,
-            (None, Fallback::SameAs(q)) => num[q as usize],
-            (None, Fallback::Never | Fallback::NotSet) => return Ok(f64::NAN),
-            (None, Fallback::Required) => {
-                return Err(err(format!("is required by {}", def.owner.law())))
-            }
-        };
-        // Only an error needs the words (this runs for every lane).
-        let why = || {
-            if def.why.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", def.why)
-            }
-        };
-        if !def.in_range(v) {
-            let why = why();
-            return Err(err(format!("must be {}{why}, got {v}", def.range_text())));
-        }
-        if let Some(q) = def.below.filter(|&q| !(v < num[q as usize])) {
-            let b = num[q as usize];
-            let lo = match def.lo {
-                Bound::None => String::new(),
-                _ => format!("{} and ", def.range_text()),
-            };
-            return Err(err(format!("must be {lo}< {} = {b}, got {v}", q.name())));
-        }
-        if let Some(q) = def.above.filter(|&q| !(v > num[q as usize])) {
-            let b = num[q as usize];
-            return Err(err(format!(
-                "must be > {} = {b} and {}, got {v}",
-                q.name(),
-                def.range_text()
-            )));
-        }
-        if let Some(q) = def.at_least.filter(|&q| !(v >= num[q as usize])) {
-            let b = num[q as usize];
-            let why = why();
-            return Err(err(format!("must be >= {} = {b}{why}, got {v}", q.name())));
-        }
-        Ok(v)
     }
 }
 

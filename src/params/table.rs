@@ -279,7 +279,7 @@ parameter_table! {
         why: "static friction below sliding friction would stop a departing lane at once",
         ..ROW }
     num AlphaNDeg { name: "alpha_n_deg", unit: "deg",
-        meaning: "normal pressure angle of the flank: a coefficient law's mu acts as mu / cos(alpha_n)",
+        meaning: "normal pressure angle of the thread flank",
         default: Fallback::Value(0.0), owner: Owner::Coefficient, lo: Bound::Closed(0.0),
         hi: Bound::Open(45.0),
         why: "flank angles of worm threads; the paper law's fit already holds the flank", ..ROW }
@@ -294,43 +294,43 @@ parameter_table! {
         meaning: "a lane still coasting at t_end after its motor is cut runs on to this time at most",
         default: Fallback::Never, hi: Bound::Closed(1e6), above: Some(Num::TEnd),
         why: "or unset: the run ends at t_end", ..ROW }
-    num D1 { name: "d1", unit: "m", meaning: "gear terms: worm pitch diameter",
+    num D1 { name: "d1", unit: "m", meaning: "worm pitch diameter",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(10.0), ..ROW }
-    num Z1 { name: "z1", unit: "", meaning: "gear terms: worm starts (threads)",
+    num Z1 { name: "z1", unit: "", meaning: "worm starts (threads)",
         default: Fallback::NotSet, lo: Bound::Closed(1.0), hi: Bound::Closed(20.0), integer: true,
         ..ROW }
-    num Z2 { name: "z2", unit: "", meaning: "gear terms: wheel teeth",
+    num Z2 { name: "z2", unit: "", meaning: "wheel teeth",
         default: Fallback::NotSet, lo: Bound::Closed(1.0), hi: Bound::Closed(2000.0),
         integer: true, ..ROW }
-    num MX { name: "m_x", unit: "m", meaning: "gear terms: axial module (the wheel's transverse module)",
+    num MX { name: "m_x", unit: "m", meaning: "axial module (the wheel's transverse module)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1.0), ..ROW }
-    num R1 { name: "r1", unit: "m", meaning: "gear terms: worm pitch radius (with r2 and gamma_deg)",
+    num R1 { name: "r1", unit: "m", meaning: "worm pitch radius (with r2 and gamma_deg)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(10.0), ..ROW }
-    num R2 { name: "r2", unit: "m", meaning: "gear terms: wheel pitch radius (with r1 and gamma_deg)",
+    num R2 { name: "r2", unit: "m", meaning: "wheel pitch radius (with r1 and gamma_deg)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(10.0), ..ROW }
     num J1 { name: "j1", unit: "kg m^2",
-        meaning: "gear terms: inertia turning with the worm (rotor, coupling, worm); m1 = j1 / R1^2",
+        meaning: "inertia turning with the worm (rotor, coupling, worm)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1e9), ..ROW }
     num J2 { name: "j2", unit: "kg m^2",
-        meaning: "gear terms: inertia turning with the wheel (wheel, output, load); m2 = j2 / R2^2",
+        meaning: "inertia turning with the wheel (wheel, output, load)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1e9), ..ROW }
-    num T1 { name: "t1", unit: "N m", meaning: "gear terms: torque of a constant motor; f1 = t1 / R1",
+    num T1 { name: "t1", unit: "N m", meaning: "torque of a constant motor on the worm shaft",
         default: Fallback::NotSet, owner: Owner::ConstantMotor, ..ROW }
     num T2 { name: "t2", unit: "N m",
-        meaning: "gear terms: load torque on the wheel shaft (sign as f2); f2 = t2 / R2",
+        meaning: "load torque on the wheel shaft (+ overhauling, - resisting)",
         default: Fallback::NotSet, ..ROW }
     num NSync { name: "n_sync", unit: "rpm",
-        meaning: "gear terms: Kloss motor's synchronous speed; v_sync = 2 pi n_sync / 60 R1",
+        meaning: "Kloss motor: synchronous speed",
         default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Open(0.0),
         hi: Bound::Closed(1e5), ..ROW }
     num NCrit { name: "n_crit", unit: "rpm",
-        meaning: "gear terms: Kloss motor's speed at breakdown torque; v_crit = 2 pi n_crit / 60 R1",
+        meaning: "Kloss motor: speed at the breakdown torque",
         default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Closed(0.0),
         below: Some(Num::NSync), ..ROW }
     num TCrit { name: "t_crit", unit: "N m",
-        meaning: "gear terms: Kloss motor's breakdown torque; f_crit = t_crit / R1",
+        meaning: "Kloss motor: breakdown torque",
         default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
-    num N10 { name: "n1_0", unit: "rpm", meaning: "gear terms: initial worm speed; v1_0 = 2 pi n1_0 / 60 R1",
+    num N10 { name: "n1_0", unit: "rpm", meaning: "initial worm speed",
         default: Fallback::NotSet, lo: Bound::Closed(-1e5), hi: Bound::Closed(1e5), ..ROW }
 }
 

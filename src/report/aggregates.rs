@@ -105,25 +105,62 @@ impl Panel {
 /// The other axes' values of panel `p` (mixed radix, slowest first),
 /// as "name = value" parts; every axis but those of `skip`.
 pub(super) fn panel_label(sweep: &Sweep, skip: &[usize], p: u64) -> String {
+    let parts = panel_parts(sweep, skip, p);
+    if parts.is_empty() {
+        return "all lanes".into();
+    }
+    parts
+        .iter()
+        .map(|(a, v)| format!("{} = {v}", super::param_label(a.param)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Panel `p` in short: "t2 = -50 N m, friction_table = bronze" ("all
+/// lanes" for none), for sentences and titles.
+pub(super) fn panel_short(sweep: &Sweep, skip: &[usize], p: u64) -> String {
+    let parts = panel_parts(sweep, skip, p);
+    if parts.is_empty() {
+        return "all lanes".into();
+    }
+    parts
+        .iter()
+        .map(|(a, v)| {
+            let unit = match a.param {
+                crate::params::Param::Num(n) if !n.def().unit.is_empty() => {
+                    format!(" {}", n.def().unit)
+                }
+                _ => String::new(),
+            };
+            format!("{} = {v}{unit}", a.param.name())
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Panel `p`'s values alone, for a legend: "bronze", "bronze, 0.05".
+pub(super) fn panel_values(sweep: &Sweep, skip: &[usize], p: u64) -> String {
+    let parts = panel_parts(sweep, skip, p);
+    parts
+        .into_iter()
+        .map(|(_, v)| v)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The other axes and their values at panel `p`, slowest first.
+fn panel_parts<'a>(sweep: &'a Sweep, skip: &[usize], p: u64) -> Vec<(&'a Axis, String)> {
     let mut rest = p;
-    let mut label = Vec::new();
+    let mut parts = Vec::new();
     for (i, a) in sweep.axes.iter().enumerate().rev() {
         if skip.contains(&i) {
             continue;
         }
-        label.push(format!(
-            "{} = {}",
-            super::param_label(a.param),
-            value_text(a, rest % a.len())
-        ));
+        parts.push((a, value_text(a, rest % a.len())));
         rest /= a.len();
     }
-    label.reverse();
-    if label.is_empty() {
-        "all lanes".into()
-    } else {
-        label.join(", ")
-    }
+    parts.reverse();
+    parts
 }
 
 /// A grid point's index on each axis (the last axis runs fastest).

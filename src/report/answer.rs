@@ -97,6 +97,8 @@ pub(super) fn requirement(page: &mut Page, r: &RequireData) {
         return;
     };
     let mut figs = Vec::new();
+    // Panels with the same answer are answered together.
+    let mut answers: Vec<(String, Vec<&str>)> = Vec::new();
     for (p, label) in r.panel_labels.iter().enumerate() {
         let judged: Vec<Judged> = r.counts[p].iter().map(|&c| r.judge(c)).collect();
         let at = if label == "all lanes" {
@@ -104,11 +106,23 @@ pub(super) fn requirement(page: &mut Page, r: &RequireData) {
         } else {
             format!(" at {label}")
         };
-        page.answer(&format!(
-            "Requirement {want}{at}: {}",
-            along_axis(r, axis, p, &judged)
-        ));
+        let answer = along_axis(r, axis, p, &judged);
+        match answers.iter_mut().find(|a| a.0 == answer) {
+            Some(a) => a.1.push(label),
+            None => answers.push((answer, vec![label])),
+        }
         figs.push(marked_chart(r, axis, &at, &judged));
+    }
+    let every = answers.len() == 1
+        && r.panel_labels.len() > 1
+        && r.panel_labels.len() as u64 == r.panel_total;
+    for (answer, labels) in &answers {
+        let at = match labels.as_slice() {
+            _ if every => format!(" at every value of {}", r.others),
+            ["all lanes"] => String::new(),
+            ls => format!(" at {}", ls.join("; ")),
+        };
+        page.answer(&format!("Requirement {want}{at}: {answer}"));
     }
     if axis.binned {
         page.note(&format!(

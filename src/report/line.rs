@@ -2,7 +2,9 @@
 //! axis of words), a panel per value of the others; and the x axis that a
 //! line and a requirement's answer share.
 
-use super::aggregates::{axis_indices, bin, bin_values, panel_label, panel_of, Band, LINE_POINTS};
+use super::aggregates::{
+    axis_indices, bin, bin_values, panel_label, panel_of, panel_values, Band, LINE_POINTS,
+};
 use crate::input::sweep::{Axis, AxisValues, Sweep};
 use crate::params::Param;
 
@@ -87,6 +89,8 @@ pub struct LineData {
 /// One panel of a line: the accumulated results per point.
 pub struct LinePanel {
     pub label: String,
+    /// The other axes' values alone, for a legend.
+    pub values: String,
     /// Per result, per point: sum, count, min, max.
     pub(super) acc: Vec<Vec<(f64, u32, f64, f64)>>,
     pub(super) contact: Vec<[u32; 3]>,
@@ -108,6 +112,7 @@ impl LineData {
         let list = (0..total.min(panels as u64))
             .map(|p| LinePanel {
                 label: panel_label(sweep, &[iaxis], p),
+                values: panel_values(sweep, &[iaxis], p),
                 acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; results],
                 contact: vec![[0; 3]; n],
             })

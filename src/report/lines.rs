@@ -34,6 +34,7 @@ pub(super) fn lines(page: &mut Page, f: &Folder) {
             l.panel_total
         ));
     }
+    side_by_side(page, f, l, few);
     for p in &l.panels {
         if l.panel_total > 1 {
             page.heading(&p.label);
@@ -47,6 +48,68 @@ pub(super) fn lines(page: &mut Page, f: &Folder) {
             contact_table(page, l, p);
         }
     }
+}
+
+/// Most panels drawn together in one chart (one colour each).
+const SIDE_BY_SIDE: usize = 6;
+
+/// The panels' results in one chart each, a colour and a legend entry per
+/// panel (per material, law or motor of a word axis): what sets them
+/// apart at a glance. Only for 2 to 6 panels.
+fn side_by_side(page: &mut Page, f: &Folder, l: &LineData, few: bool) {
+    let n = l.panels.len();
+    if !(2..=SIDE_BY_SIDE).contains(&n) {
+        return;
+    }
+    page.heading("Side by side");
+    let figs = f
+        .results
+        .iter()
+        .enumerate()
+        .map(|(r, c)| {
+            if few {
+                let series: Vec<Series> = l
+                    .panels
+                    .iter()
+                    .map(|p| Series {
+                        name: &p.values,
+                        values: p
+                            .per_point(r)
+                            .into_iter()
+                            .map(|v| (v.0, f64::NAN, f64::NAN))
+                            .collect(),
+                        colour: None,
+                    })
+                    .collect();
+                let y = Axis::numeric(
+                    &c.label(),
+                    series.iter().flat_map(|s| s.values.iter().map(|v| v.0)),
+                );
+                points_chart(
+                    c.quantity,
+                    &l.x.categories(),
+                    &y,
+                    &series,
+                    None,
+                    SeriesLabelPosition::UpperRight,
+                )
+            } else {
+                let curves: Vec<Curve> = l
+                    .panels
+                    .iter()
+                    .map(|p| Curve {
+                        name: &p.values,
+                        points: p.curve(l.xs(), r).0,
+                        band: Vec::new(),
+                        colour: None,
+                    })
+                    .collect();
+                let x = x_axis(&param_label(l.x.param), &curves, &[], l.x.log);
+                line_chart(c.quantity, &x, l.x.log, &c.label(), &curves, &[])
+            }
+        })
+        .collect();
+    page.figures(figs);
 }
 
 /// A study's final contacts along the axis, with their intervals.

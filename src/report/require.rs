@@ -3,7 +3,7 @@
 //! share is met: with 95 % confidence where lanes are samples of a
 //! tolerance study, exactly where every lane of the grid is counted.
 
-use super::aggregates::{axis_indices, bin, panel_label, panel_of};
+use super::aggregates::{axis_indices, bin, panel_of, panel_short};
 use super::line::{line_axis, XAxis};
 use crate::input::sweep::require::Requirement;
 use crate::input::sweep::Sweep;
@@ -32,6 +32,9 @@ pub struct RequireData {
     /// sampled, so a share is exact and needs no confidence bound.
     pub exact: bool,
     pub panel_labels: Vec<String>,
+    /// The other axes' names ("t2, friction_table"), whose values make
+    /// the panels.
+    pub others: String,
     pub panel_total: u64,
     /// Per panel, per point: (passing, counted).
     pub counts: Vec<Vec<(u64, u64)>>,
@@ -58,17 +61,26 @@ impl RequireData {
                 (
                     Some(XAxis::of(&sweep.axes[i], cap)),
                     total,
-                    (0..shown).map(|p| panel_label(sweep, &[i], p)).collect(),
+                    (0..shown).map(|p| panel_short(sweep, &[i], p)).collect(),
                 )
             }
         };
         let points = x.as_ref().map_or(1, |x| x.xs.len());
+        let others = sweep
+            .axes
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| Some(*k) != iaxis)
+            .map(|(_, a)| a.param.name())
+            .collect::<Vec<_>>()
+            .join(", ");
         RequireData {
             req,
             x,
             exact: sweep.study.is_none(),
             counts: vec![vec![(0, 0); points]; labels.len()],
             panel_labels: labels,
+            others,
             panel_total,
             idx: vec![0; lens.len()],
             lens,

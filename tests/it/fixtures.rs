@@ -40,6 +40,7 @@ fn fixture_copies_match_shared() {
         "paper_expected.csv",
         "paper_engineering.csv",
         "paper_trace.csv",
+        "paper_gear_lanes.csv",
     ] {
         assert_eq!(
             std::fs::read(shared.join(f)).unwrap(),

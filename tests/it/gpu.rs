@@ -78,6 +78,24 @@ fn model_md_reference_cases_on_gpu() {
     eprintln!("GPU, docs/model.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
 
+/// The same cases given in gear terms (`paper_gear_lanes.csv`): converted
+/// once per lane, they meet the same bounds on the GPU.
+#[test]
+fn model_md_reference_cases_in_gear_terms_on_gpu() {
+    let Some(mut g) = gpu("model_md_reference_cases_in_gear_terms_on_gpu") else {
+        return;
+    };
+    let src = Source::open(None, Some(&fixture("paper_gear_lanes.csv"))).unwrap();
+    let mut params = Vec::new();
+    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut res = Vec::new();
+    g.run_chunk(0, &params, &[], &mut res).unwrap();
+    let (worst, worst_t) = check_reference_cases(&res, 2e-5, 5e-5);
+    eprintln!(
+        "GPU, gear terms: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s"
+    );
+}
+
 /// On 10,000 random user lanes, the raw f32 kernel (no self-check)
 /// against CPU within the bounds of `tswm::run::compare`, discrete fields
 /// identical on at least 98 % of lanes.

@@ -9,6 +9,7 @@ mod common;
 mod docs;
 mod engineering;
 mod fixtures;
+mod friction_laws;
 mod fuzz;
 mod gear;
 mod gpu;

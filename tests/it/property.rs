@@ -1,6 +1,8 @@
 //! The report on shapes, not on examples: 500 random sweeps (1 to 3 grid
 //! axes of 1 to 4 values, equal and near-equal values, sampled or not,
-//! extreme but allowed parameters, traces, requirements), each run on the
+//! extreme but allowed parameters, traces, requirements, the drive in gear
+//! terms, every friction law, axes over words: laws and named friction
+//! tables), each run on the
 //! CPU path and its report built; then the folder's results are replaced
 //! by values a folder can hold (constants, empty columns, huge and tiny
 //! numbers, a trace with many events) and the report built again. Every
@@ -43,6 +45,12 @@ fn axis_values(g: &mut Gen, param: &str, n: usize) -> Vec<f64> {
         "mu" => (0.0, 1.0),
         "t_end" => (1e-3, 3.0),
         "v1_0" => (-100.0, 100.0),
+        // Gear terms of a drive with d1 = 64 mm, z1 = 1, z2 = 40: lead
+        // angles 0.5 to 38 deg, reduced masses within their range.
+        "m_x" => (6e-4, 0.05),
+        "t2" => (-600.0, 600.0),
+        "j2" => (1.0, 1000.0),
+        "n1_0" => (-1000.0, 1000.0),
         _ => (0.0, 1.0),
     };
     let base = lo + (hi - lo) * g.unit();
@@ -65,12 +73,21 @@ fn axis_values(g: &mut Gen, param: &str, n: usize) -> Vec<f64> {
 
 /// A random sweep file and its lane count.
 fn random_sweep(g: &mut Gen) -> (String, u64) {
-    let coulomb = g.below(2) == 0;
+    // 0: paper, 1: coulomb, 2: agma, 3: two named tables.
+    let law = g.below(4);
+    let coulomb = law == 1;
+    let gear = g.below(4) == 0;
     let mut s = String::from("[base]\n");
     let t_end = *g.pick(&[0.05, 0.2, 0.5]);
     s += &format!("t_end = {t_end}\n");
-    if coulomb {
-        s += "friction = \"coulomb\"\nmu = 0.05\n";
+    match law {
+        1 => s += "friction = \"coulomb\"\nmu = 0.05\n",
+        2 => s += &format!("friction = \"agma\"\nalpha_n_deg = {}\n", 40.0 * g.unit()),
+        3 => s += "friction = \"table\"\n",
+        _ => {}
+    }
+    if gear {
+        s += "d1 = 0.064\nz1 = 1\nz2 = 40\nm_x = 0.0064\nj1 = 0.6\nj2 = 168\nt2 = 300\n";
     }
     if g.below(3) == 0 {
         s += &format!("motor_off = {}\n", t_end * g.unit());
@@ -78,17 +95,28 @@ fn random_sweep(g: &mut Gen) -> (String, u64) {
             s += "t_max = 10.0\n";
         }
     }
-    if g.below(8) == 0 {
+    if g.below(8) == 0 && !gear {
         s += "m1 = 1e9\nm2 = 1e9\n";
     }
-    let params: &[&str] = if coulomb {
-        &["gamma_deg", "f2", "m1", "mu", "t_end", "v1_0"]
-    } else {
-        &["gamma_deg", "f2", "m1", "m2", "t_end", "v1_0"]
+    let params: &[&str] = match (gear, coulomb) {
+        (true, _) => &["m_x", "t2", "j2", "t_end", "n1_0"],
+        (false, true) => &["gamma_deg", "f2", "m1", "mu", "t_end", "v1_0"],
+        (false, false) => &["gamma_deg", "f2", "m1", "m2", "t_end", "v1_0"],
     };
     let axes = g.below(4) as usize;
     let mut used: Vec<&str> = Vec::new();
     let mut lanes = 1u64;
+    // An axis over words: the two tables, or two laws without parameters
+    // of their own.
+    if law == 3 && g.below(2) == 0 {
+        s += "[[grid]]\nparam = \"friction_table\"\nvalues = [\"bronze\", \"iron\"]\n";
+        lanes *= 2;
+    } else if law == 0 && g.below(3) == 0 {
+        s += "[[grid]]\nparam = \"friction\"\nvalues = [\"paper\", \"agma\"]\n";
+        lanes *= 2;
+    } else if law == 3 {
+        s += "friction_table = \"iron\"\n";
+    }
     for _ in 0..axes {
         let p = *g.pick(params);
         if used.contains(&p) {
@@ -108,9 +136,10 @@ fn random_sweep(g: &mut Gen) -> (String, u64) {
         let n = 1 + g.below(6);
         s += &format!(
             "[sampling]\nmethod = \"{}\"\nn = {n}\nseed = {}\n\
-             [[tolerance]]\nparam = \"f2\"\ndist = \"{}\"\ntol = {}\n",
+             [[tolerance]]\nparam = \"{}\"\ndist = \"{}\"\ntol = {}\n",
             g.pick(&["monte_carlo", "latin_hypercube"]),
             g.below(1000),
+            if gear { "t2" } else { "f2" },
             g.pick(&["uniform", "normal", "triangular"]),
             *g.pick(&[0.0, 1.0, 2000.0])
         );
@@ -118,6 +147,10 @@ fn random_sweep(g: &mut Gen) -> (String, u64) {
     }
     if g.below(3) == 0 {
         s += &format!("[trace]\nlanes = [0, {}]\ndt = 0.01\n", lanes - 1);
+    }
+    if law == 3 {
+        s += "[friction_table.bronze]\nvs = [0, 0.5, 3]\nmu = [0.1, 0.06, 0.03]\n\
+              [friction_table.iron]\nvs = [0, 2]\nmu = [0.15, 0.08]\n";
     }
     if g.below(3) == 0 {
         let req = *g.pick(&[

@@ -12,7 +12,7 @@ use crate::common::{col, read_csv, rel1, root, run_ok};
 /// A Python with scipy: `TSWM_PYTHON`, else Debian's (where
 /// `python3-scipy` installs it, whatever `python3` on the PATH is), else
 /// `python3`.
-fn python() -> Option<PathBuf> {
+pub(crate) fn python() -> Option<PathBuf> {
     let given = std::env::var_os("TSWM_PYTHON").map(PathBuf::from);
     given
         .into_iter()
@@ -25,7 +25,7 @@ fn python() -> Option<PathBuf> {
         })
 }
 
-fn script(py: &PathBuf, args: &[&str]) {
+pub(crate) fn script(py: &PathBuf, args: &[&str]) {
     let out = Command::new(py).args(args).output().expect("run python");
     assert!(
         out.status.success(),

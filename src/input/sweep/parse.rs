@@ -239,50 +239,7 @@ fn parse_report(
     d: &ReportDef,
     axes: &[Axis],
 ) -> std::result::Result<super::ReportSpec, (&'static str, String)> {
-    // Only numeric axes can be a map's x or y; an axis of words (laws,
-    // tables) gets panels of its own.
-    let grid: Vec<&str> = axes
-        .iter()
-        .filter(|a| !a.is_words())
-        .map(|a| a.param.name())
-        .collect();
-    let mut chosen = Vec::new();
-    for name in &d.axes {
-        match axes.iter().find(|a| a.param.name() == name) {
-            Some(a) if a.is_words() => {
-                return Err((
-                    "report.axes",
-                    format!(
-                        "`{name}` runs over words; it gets a panel for each of its values, not a \
-                         map axis; allowed: {}",
-                        if grid.is_empty() {
-                            "none".into()
-                        } else {
-                            grid.join(", ")
-                        }
-                    ),
-                ))
-            }
-            Some(a) if !chosen.contains(&a.param) => chosen.push(a.param),
-            Some(_) => return Err(("report.axes", format!("`{name}` is given twice"))),
-            None => {
-                return Err((
-                    "report.axes",
-                    format!(
-                        "`{name}` is not a grid parameter of this sweep; allowed: {}",
-                        if grid.is_empty() {
-                            "none (the sweep has no grid)".into()
-                        } else {
-                            grid.join(", ")
-                        }
-                    ),
-                ))
-            }
-        }
-    }
-    if chosen.len() > 2 {
-        return Err(("report.axes", "at most 2 axes (x, then y)".into()));
-    }
+    let chosen = report_axes(d, axes)?;
     let allowed: Vec<&str> = crate::columns::number_columns().map(|c| c.name).collect();
     for r in &d.results {
         if !allowed.contains(&r.as_str()) {
@@ -372,4 +329,56 @@ fn parse_base(at: &At, keys: &BTreeMap<String, Spanned<toml::Value>>) -> Result<
             .map_err(|m| at.bad(span, key, m))?;
     }
     Ok(base)
+}
+
+/// `[report] axes`: at most two numeric grid axes, each once.
+fn report_axes(
+    d: &ReportDef,
+    axes: &[Axis],
+) -> std::result::Result<Vec<crate::params::Param>, (&'static str, String)> {
+    // Only numeric axes can be a map's x or y; an axis of words (laws,
+    // tables) gets panels of its own.
+    let grid: Vec<&str> = axes
+        .iter()
+        .filter(|a| !a.is_words())
+        .map(|a| a.param.name())
+        .collect();
+    let mut chosen = Vec::new();
+    for name in &d.axes {
+        match axes.iter().find(|a| a.param.name() == name) {
+            Some(a) if a.is_words() => {
+                return Err((
+                    "report.axes",
+                    format!(
+                        "`{name}` runs over words; it gets a panel for each of its values, not a \
+                         map axis; allowed: {}",
+                        if grid.is_empty() {
+                            "none".into()
+                        } else {
+                            grid.join(", ")
+                        }
+                    ),
+                ))
+            }
+            Some(a) if !chosen.contains(&a.param) => chosen.push(a.param),
+            Some(_) => return Err(("report.axes", format!("`{name}` is given twice"))),
+            None => {
+                return Err((
+                    "report.axes",
+                    format!(
+                        "`{name}` is not a grid parameter of this sweep; allowed: {}",
+                        if grid.is_empty() {
+                            "none (the sweep has no grid)".into()
+                        } else {
+                            grid.join(", ")
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+    if chosen.len() > 2 {
+        return Err(("report.axes", "at most 2 axes (x, then y)".into()));
+    }
+    Ok(chosen)
 }
