@@ -99,7 +99,7 @@ fn kernel(c: &mut Criterion) {
                 .iter()
                 .map(|p| GpuLane::from(&Lane::new(p, &[])))
                 .collect();
-            let globals = GpuGlobals::new(&Settings::default(), None);
+            let globals = GpuGlobals::new(&Settings::default(), &[]);
             let chunk = tswm::backend::gpu::WorkSize::of(&dev.info, &dev.limits).chunk_lanes;
             let mut states = Vec::new();
             g.bench_with_input(BenchmarkId::new("gpu", n), &l32, |b, l| {

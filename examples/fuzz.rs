@@ -218,10 +218,31 @@ fn base_folders(base: &Path) {
         lanes: None,
         threads: Some(1),
     };
-    for (out, shard) in [("run", None), ("s0", Some("0/2")), ("s1", Some("1/2"))] {
+    // A sensitivity design, for the report's reading of sensitivity.csv.
+    let sens = base.join("sens.toml");
+    std::fs::write(
+        &sens,
+        "[base]\nfriction = \"coulomb\"\nmu = 0.06\nmu_static = 0.09\nmotor_off = 0.0\nt_end = 0.2\n\
+         [[grid]]\nparam = \"f2\"\nvalues = [-4000.0, 4000.0]\n\
+         [sensitivity]\nmethod = \"sobol\"\nn = 16\nseed = 4\nbootstrap = 20\n\
+         [[tolerance]]\nparam = \"gamma_deg\"\ndist = \"uniform\"\ntol = 2.0\n\
+         [[tolerance]]\nparam = \"mu_static\"\ndist = \"uniform\"\ntol = 0.02\n",
+    )
+    .unwrap();
+    let sens = tswm::cli::LanesArgs {
+        sweep: Some(sens),
+        lanes: None,
+        threads: Some(1),
+    };
+    for (out, shard, lanes) in [
+        ("run", None, &lanes),
+        ("s0", Some("0/2"), &lanes),
+        ("s1", Some("1/2"), &lanes),
+        ("sens", None, &sens),
+    ] {
         let out = base.join(out);
         tswm::commands::run::run(tswm::commands::run::RunArgs {
-            lanes: &lanes,
+            lanes,
             out: &out,
             backend: tswm::backend::Choice::Cpu,
             trace: &[],
@@ -248,11 +269,12 @@ fn copy_folder(from: &Path, to: &Path) {
 }
 
 /// The files of a run or shard folder a mutation may hit.
-const FOLDER_FILES: [&str; 5] = [
+const FOLDER_FILES: [&str; 6] = [
     "lanes.csv",
     "traces.csv",
     "sweep.resolved.toml",
     "summary.csv",
+    "sensitivity.csv",
     "shard.toml",
 ];
 
@@ -267,7 +289,7 @@ fn mutate_folder(
 ) -> (PathBuf, Vec<u8>) {
     let pick = |u: &mut Uniforms, n: usize| ((u.next() * n as f64) as usize).min(n - 1);
     let folders: &[&str] = if target == "report" {
-        &["run"]
+        &["run", "sens"]
     } else {
         &["s0", "s1"]
     };
@@ -308,7 +330,9 @@ pub fn run_folder(target: &str, scratch: &Path) -> Result<(), String> {
     std::thread::spawn(move || {
         let r = std::panic::catch_unwind(|| {
             if target == "report" {
-                tswm::report::build(&scratch.join("run")).map(|_| ())
+                tswm::report::build(&scratch.join("run"))
+                    .and_then(|_| tswm::report::build(&scratch.join("sens")))
+                    .map(|_| ())
             } else {
                 let _ = std::fs::remove_dir_all(scratch.join("m"));
                 tswm::run::merge::merge(

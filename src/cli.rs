@@ -38,7 +38,8 @@ pub struct LanesArgs {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run a sweep and write DIR/lanes.csv, summary.csv, sweep.resolved.toml,
-    /// report.html (and traces.csv for traced lanes).
+    /// report.html (and traces.csv for traced lanes, sensitivity.csv for a
+    /// sensitivity design).
     Run {
         #[command(flatten)]
         lanes: LanesArgs,

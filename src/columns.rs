@@ -128,6 +128,8 @@ pub const CONTACT_END: &str = "contact_end";
 /// See [`LANE`].
 pub const HOLD: &str = "hold";
 /// See [`LANE`].
+pub const ETA_DIRECT: &str = "eta_direct";
+/// See [`LANE`].
 pub const LOCK_MARGIN_DEG: &str = "lock_margin_deg";
 
 /// Bound of `tswm check` on first-switch times, s.
@@ -173,6 +175,39 @@ fn contact_words() -> Vec<&'static str> {
 }
 fn hold_words() -> Vec<&'static str> {
     Hold::ALL.map(Hold::name).to_vec()
+}
+
+/// An indicator output of a sensitivity analysis: 1 where a lane's
+/// `column` reads `word`, else 0; named `column=word`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Indicator {
+    /// The word column.
+    pub column: &'static str,
+    /// The word that counts as 1.
+    pub word: &'static str,
+}
+
+impl Indicator {
+    /// Its name in `sensitivity.csv`: `column=word`.
+    pub fn name(&self) -> String {
+        format!("{}={}", self.column, self.word)
+    }
+}
+
+/// The indicator outputs of a sensitivity analysis: each final contact
+/// (`contact_end=stick` is "holds"), then `status=ok`.
+pub fn indicators() -> Vec<Indicator> {
+    Contact::ALL
+        .iter()
+        .map(|c| Indicator {
+            column: CONTACT_END,
+            word: c.name(),
+        })
+        .chain([Indicator {
+            column: STATUS,
+            word: Status::Ok.name(),
+        }])
+        .collect()
 }
 
 /// The result columns, in the order of the results table (after the
@@ -335,7 +370,7 @@ pub const RESULTS: &[Column] = &[
         ..INTEGRATED
     },
     Column {
-        name: "eta_direct",
+        name: ETA_DIRECT,
         plotted: true,
         quantity: "direct efficiency (worm drives)",
         meaning: "w2_out / w1_in: the share of the energy the worm side put into the mesh that \

@@ -6,5 +6,6 @@
 pub mod lanes;
 mod reader;
 pub mod sampling;
+pub mod sobol_seq;
 pub mod sweep;
 pub mod testmodels;

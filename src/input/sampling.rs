@@ -27,6 +27,19 @@ impl Uniforms {
         }
     }
 
+    /// A stream of its own for `seed`, `tag` and `index` (the bootstrap's
+    /// resamples of one grid point): its key differs from the design's in
+    /// the tag, so the two never share a block.
+    pub fn keyed(seed: u64, tag: [u8; 8], index: u64) -> Self {
+        let mut key = [0u8; 32];
+        key[..8].copy_from_slice(&seed.to_le_bytes());
+        key[8..16].copy_from_slice(&tag);
+        key[16..24].copy_from_slice(&index.to_le_bytes());
+        Uniforms {
+            rng: ChaCha8Rng::from_seed(key),
+        }
+    }
+
     /// Positions the stream at the block of sample `k`, `per_sample`
     /// uniforms a block.
     pub fn seek(&mut self, k: u64, per_sample: u64) {

@@ -27,6 +27,8 @@ pub mod names {
     pub const LANES_PARQUET: &str = "lanes.parquet";
     /// Statistics per group.
     pub const SUMMARY: &str = "summary.csv";
+    /// Sensitivity indices per grid point (a sensitivity design).
+    pub const SENSITIVITY: &str = "sensitivity.csv";
     /// Traced lanes through time.
     pub const TRACES: &str = "traces.csv";
     /// The sweep with every lane's source spelled out.
@@ -40,10 +42,11 @@ pub mod names {
     /// The files tswm committed in the folder, one name a line.
     pub const MARKER: &str = ".tswm.files";
     /// Every file a command of tswm commits in an output folder.
-    pub const RESULTS: [&str; 7] = [
+    pub const RESULTS: [&str; 8] = [
         LANES_CSV,
         LANES_PARQUET,
         SUMMARY,
+        SENSITIVITY,
         TRACES,
         RESOLVED,
         REPORT,

@@ -94,6 +94,8 @@ pub struct LinePanel {
     /// Per result, per point: sum, count, min, max.
     pub(super) acc: Vec<Vec<(f64, u32, f64, f64)>>,
     pub(super) contact: Vec<[u32; 3]>,
+    /// Whether shares get Wilson intervals.
+    independent: bool,
 }
 
 impl LineData {
@@ -115,6 +117,7 @@ impl LineData {
                 values: panel_values(sweep, &[iaxis], p),
                 acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; results],
                 contact: vec![[0; 3]; n],
+                independent: sweep.independent_lanes(),
             })
             .collect();
         Some(LineData {
@@ -196,7 +199,7 @@ impl LinePanel {
             .map(|(i, c)| {
                 let n: u32 = c.iter().sum();
                 let share = |k: u32| pct(k as f64 / n as f64);
-                let (lo, hi) = crate::stats::wilson(c[0] as u64, n as u64);
+                let (lo, hi) = super::interval(c[0] as u64, n as u64, self.independent);
                 vec![
                     x.text(i),
                     n.to_string(),
@@ -218,7 +221,7 @@ impl LinePanel {
                 if n == 0 {
                     return (f64::NAN, f64::NAN, f64::NAN);
                 }
-                let (lo, hi) = crate::stats::wilson(c[i] as u64, n as u64);
+                let (lo, hi) = super::interval(c[i] as u64, n as u64, self.independent);
                 (c[i] as f64 / n as f64, lo, hi)
             })
             .collect()

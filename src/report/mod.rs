@@ -17,6 +17,7 @@ pub mod plots;
 mod require;
 mod scan;
 mod sections;
+mod sensitivity;
 mod summary_rows;
 mod trace;
 mod trace_rows;
@@ -25,7 +26,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
-use crate::output::names::{REPORT, RESOLVED, SUMMARY, TRACES};
+use crate::output::names::{REPORT, RESOLVED, SENSITIVITY, SUMMARY, TRACES};
 use crate::output::{AtomicFile, OutDir};
 use crate::params::Param;
 use crate::stats::wilson;
@@ -75,9 +76,23 @@ pub(crate) fn percent(x: f64) -> String {
     }
 }
 
-/// A share with its 95 % Wilson interval, as table cells.
-pub(super) fn share_cells(k: u64, n: u64) -> [String; 3] {
-    let (lo, hi) = wilson(k, n);
+/// The 95 % Wilson interval of k/n where the lanes are independent
+/// draws; none (NaN) otherwise.
+pub(super) fn interval(k: u64, n: u64, independent: bool) -> (f64, f64) {
+    if independent {
+        wilson(k, n)
+    } else {
+        (f64::NAN, f64::NAN)
+    }
+}
+
+/// A share with its 95 % Wilson interval, as table cells ("-" where the
+/// lanes are not independent draws).
+pub(super) fn share_cells(k: u64, n: u64, independent: bool) -> [String; 3] {
+    let (lo, hi) = interval(k, n, independent);
+    if lo.is_nan() {
+        return [k.to_string(), percent(k as f64 / n as f64), "-".into()];
+    }
     [
         k.to_string(),
         percent(k as f64 / n as f64),
@@ -141,6 +156,9 @@ pub fn build(dir: &Path) -> Result<String> {
     if folder.line.is_some() {
         lines::lines(&mut page, &folder);
     }
+    if let Some(sn) = sweep.study.as_ref().and_then(|s| s.sensitivity.as_ref()) {
+        sensitivity::section(&mut page, dir, &sweep, sn)?;
+    }
     if folder.study {
         sections::study(&mut page, &folder);
     }
@@ -150,7 +168,8 @@ pub fn build(dir: &Path) -> Result<String> {
     page.section("About this page");
     page.note(&format!(
         "Written by tswm from the files of its output folder: {} (one row per lane), {SUMMARY} \
-         (statistics), {TRACES} (traced lanes) and {RESOLVED}. Efficiencies are energy-averaged \
+         (statistics), {SENSITIVITY} (sensitivity indices, for a sensitivity design), {TRACES} \
+         (traced lanes) and {RESOLVED}. Efficiencies are energy-averaged \
          over each lane's run: eta_direct = w2_out / w1_in (worm drives wheel), eta_inverse = \
          w1_out / w2_in (wheel drives worm); the _ss values are the steady efficiencies at the \
          final sliding speed; lock_margin_deg = atan(mu_s) - gamma > 0 means the drive holds its \

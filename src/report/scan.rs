@@ -61,6 +61,8 @@ pub struct Folder {
     pub shown_params: Vec<Param>,
     pub results: Vec<&'static Column>,
     pub study: bool,
+    /// Whether shares get Wilson intervals (see `Sweep::independent_lanes`).
+    pub independent: bool,
     pub map: Option<MapData>,
     pub line: Option<LineData>,
     pub groups: Vec<GroupData>,
@@ -129,6 +131,7 @@ impl Folder {
             shown_params,
             results,
             study,
+            independent: sweep.independent_lanes(),
             map: None,
             line: None,
             groups: Vec::new(),

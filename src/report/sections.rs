@@ -13,12 +13,20 @@ use crate::output::names::{SUMMARY, TRACES};
 pub(super) fn outcomes(page: &mut Page, f: &Folder) {
     page.section("Outcomes");
     page.note(&format!("{} lanes.", f.lanes));
+    if !f.independent {
+        page.note(
+            "No intervals: the lanes of a sensitivity design are not independent draws (a row \
+             group shares every input but one), so a Wilson interval would overstate what they \
+             show. The shares are those of the design's lanes; for a share with an interval, run \
+             a [sampling] study.",
+        );
+    }
     let rows: Vec<Vec<String>> = f
         .by_status
         .iter()
         .filter(|(s, k)| *k > 0 || *s == "ok")
         .map(|&(s, k)| {
-            let [a, b, c] = share_cells(k, f.lanes);
+            let [a, b, c] = share_cells(k, f.lanes, f.independent);
             vec![s.to_string(), a, b, c]
         })
         .collect();
@@ -28,7 +36,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
         .iter()
         .enumerate()
         .map(|(i, (name, meaning))| {
-            let [a, b, c] = share_cells(f.by_contact[i], ok);
+            let [a, b, c] = share_cells(f.by_contact[i], ok, f.independent);
             vec![format!("{name} ({meaning})"), a, b, c]
         })
         .collect();
@@ -47,7 +55,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
             .by_hold
             .iter()
             .map(|(w, k)| {
-                let [a, b, c] = share_cells(*k, f.hold_lanes);
+                let [a, b, c] = share_cells(*k, f.hold_lanes, f.independent);
                 vec![w.to_string(), a, b, c]
             })
             .collect();
@@ -147,12 +155,17 @@ pub(super) fn maps(page: &mut Page, f: &Folder) {
 
 pub(super) fn study(page: &mut Page, f: &Folder) {
     page.section("Tolerance study");
-    page.note(
+    page.note(&format!(
         "Per grid point (or the whole study): the quantiles of each result from summary.csv, the \
-         probability of each final contact and hold with its 95 % Wilson interval, histograms \
-         with the empirical CDF, and the Spearman rank correlation of each sampled input with the \
-         result (a tornado: the longer the bar, the more that tolerance moves the result).",
-    );
+         probability of each final contact and hold{}, histograms with the empirical CDF, and the \
+         Spearman rank correlation of each sampled input with the result (a tornado: the longer \
+         the bar, the more that tolerance moves the result).",
+        if f.independent {
+            " with its 95 % Wilson interval"
+        } else {
+            " (no interval: the lanes of a sensitivity design are not independent draws)"
+        }
+    ));
     for g in &f.groups {
         page.heading(&g.label);
         let head = [

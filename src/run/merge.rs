@@ -115,7 +115,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
         total,
     )?];
     files.extend(merge_traces(&parts, out_dir.path())?);
-    files.push(stats.finish()?);
+    files.extend(stats.finish()?.0);
     files.push(table.into_file()?);
     out_dir.commit_run(files)?;
     let report_seconds = if with_report {

@@ -27,6 +27,8 @@ pub struct Summary {
     /// t_max.
     pub coasting_t_end: f64,
     pub coasting_with_t_max: bool,
+    /// Time spent on the sensitivity indices (a sensitivity design), s.
+    pub sensitivity_seconds: Option<f64>,
 }
 
 impl Summary {
@@ -122,7 +124,7 @@ impl Summary {
             .map(|(c, n)| format!("{} {n}", c.name()))
             .collect();
         format!(
-            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}; wrote {}",
+            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}{}; wrote {}",
             self.lanes,
             self.seconds,
             self.lanes as f64 / self.seconds.max(1e-9),
@@ -130,6 +132,10 @@ impl Summary {
             if contact.is_empty() { "-".into() } else { contact.join(", ") },
             self.hold_note(),
             self.recompute_note(),
+            self.sensitivity_seconds.map_or(String::new(), |s| format!(
+                "; sensitivity indices in {s:.2} s ({:.1} % of the run)",
+                100.0 * s / self.seconds.max(1e-9)
+            )),
             out.display()
         )
     }

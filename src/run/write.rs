@@ -94,11 +94,18 @@ impl Sink for TableSink {
         Ok(())
     }
     fn finish(self) -> Result<Self::Output> {
+        let (stats, sensitivity_seconds) = match self.stats {
+            Some(s) => s.finish()?,
+            None => (Vec::new(), None),
+        };
         Ok(Written {
             lanes: self.table.into_file()?,
-            stats: self.stats.map(Stats::finish).transpose()?,
+            stats,
             traces: self.traces.map(|t| t.out),
-            summary: self.summary,
+            summary: Summary {
+                sensitivity_seconds,
+                ..self.summary
+            },
         })
     }
 }
@@ -107,8 +114,9 @@ impl Sink for TableSink {
 pub struct Written {
     /// `lanes.csv` or `lanes.parquet`.
     pub lanes: AtomicFile,
-    /// `summary.csv` (not for a shard).
-    pub stats: Option<AtomicFile>,
+    /// `summary.csv` and, for a sensitivity design, `sensitivity.csv`
+    /// (not for a shard).
+    pub stats: Vec<AtomicFile>,
     /// `traces.csv`, when lanes were traced.
     pub traces: Option<TracesCsv>,
     /// Counts for the summary line.

@@ -5,10 +5,14 @@
 //! input with each result. Lanes of one grid point are consecutive, so
 //! one group is held at a time and memory does not grow with the run.
 
+pub mod grouping;
 pub mod quantile;
+pub mod sensitivity;
+pub mod sobol;
 pub mod summary;
 
-pub use summary::{Grouping, Stats};
+pub use grouping::Grouping;
+pub use summary::Stats;
 
 /// The 95 % Wilson score interval of a share k/n (Wilson, 1927): unlike
 /// the normal approximation it stays inside [0, 1] and is not empty at

@@ -4,13 +4,14 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::grouping::{grid_values, Grouping};
 use super::quantile::{self, Sketch, PROBS};
+use super::sensitivity::SensitivityCsv;
 use super::{spearman, wilson};
 use crate::columns::{number_columns, results, Cell, Of, Summary};
 use crate::error::Result;
-use crate::input::lanes::Source;
-use crate::input::sweep::Axis;
 use crate::output::csv_lines::CsvLines;
+use crate::output::names::SENSITIVITY;
 use crate::output::AtomicFile;
 use crate::params::{Num, Param, N_NUM};
 
@@ -20,68 +21,6 @@ use crate::params::{Num, Param, N_NUM};
 /// a study are independent draws, so these are a random sample). Memory:
 /// 8 bytes × (21 results + sampled inputs) × this, about 20 MB.
 pub const EXACT_MAX: usize = 100_000;
-
-/// How lanes fall into groups, and which inputs are sampled.
-#[derive(Clone, Debug, Default)]
-pub struct Grouping {
-    /// Lanes per group (0: the whole run is one group).
-    pub per_group: u64,
-    /// The grid's axes, whose values name a group.
-    pub axes: Vec<Axis>,
-    /// The sampled inputs, for rank correlations.
-    pub inputs: Vec<Num>,
-}
-
-impl Grouping {
-    /// A sampled sweep with a grid: one group per grid point; otherwise the
-    /// whole run.
-    pub fn of(source: &Source) -> Grouping {
-        match source {
-            Source::Sweep { sweep, .. } => {
-                let inputs = sweep
-                    .study
-                    .as_ref()
-                    .map(|s| s.params.iter().map(|t| t.param).collect())
-                    .unwrap_or_default();
-                match &sweep.study {
-                    Some(st) if !sweep.axes.is_empty() => Grouping {
-                        per_group: st.n,
-                        axes: sweep.axes.clone(),
-                        inputs,
-                    },
-                    _ => Grouping {
-                        inputs,
-                        ..Grouping::default()
-                    },
-                }
-            }
-            Source::Table { .. } => Grouping::default(),
-        }
-    }
-
-    fn group_of(&self, lane: u64) -> u64 {
-        lane.checked_div(self.per_group).unwrap_or(0)
-    }
-}
-
-/// The grid values of grid point `point` (the last axis runs fastest, as
-/// in `Sweep::lane_spec`); the lanes' own values may differ, when a
-/// tolerance scatters an axis parameter. As text: a number as lanes.csv
-/// writes it, or the word of an axis over laws or tables.
-fn grid_values(axes: &[Axis], point: u64) -> Vec<String> {
-    let mut rest = point;
-    let mut v: Vec<String> = axes
-        .iter()
-        .rev()
-        .map(|a| {
-            let x = a.text(rest % a.len());
-            rest /= a.len();
-            x
-        })
-        .collect();
-    v.reverse();
-    v
-}
 
 /// One result column of one group.
 #[derive(Default)]
@@ -197,6 +136,10 @@ pub struct Stats {
     /// A lane's number cells (reused).
     values: Vec<f64>,
     out: CsvLines,
+    /// `sensitivity.csv`, for a sensitivity design.
+    sensitivity: Option<SensitivityCsv>,
+    /// The word columns' cells by name (for the indicators).
+    word_cells: Vec<(&'static str, usize)>,
 }
 
 /// The columns of `summary.csv` after `group` and the grid's parameters.
@@ -212,7 +155,23 @@ impl Stats {
         }
         let out = CsvLines::create(path, &format!("{head},{SUMMARY_COLUMNS}"))?;
         let layout = Layout::new();
+        let sensitivity = match &grouping.sensitivity {
+            Some(d) => Some(SensitivityCsv::create(
+                &path.with_file_name(SENSITIVITY),
+                d.clone(),
+            )?),
+            None => None,
+        };
+        let first = Param::COLUMNS.len();
+        let word_cells = results()
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| matches!(c.summary, Summary::Shares(..)))
+            .map(|(i, c)| (c.name, first + i))
+            .collect();
         Ok(Stats {
+            sensitivity,
+            word_cells,
             grouping,
             values: vec![0.0; layout.numbers.len()],
             layout,
@@ -265,6 +224,17 @@ impl Stats {
         for (c, &x) in g.cols.iter_mut().zip(values) {
             c.add(x);
         }
+        if let Some(sn) = self.sensitivity.as_mut() {
+            let k = lane - id * self.grouping.per_group;
+            let cells = &self.word_cells;
+            let word = |name: &str| {
+                cells
+                    .iter()
+                    .find(|(n, _)| *n == name)
+                    .map_or("", |&(_, i)| row[i].word())
+            };
+            sn.add(id, k, values, word)?;
+        }
         if g.kept[0].len() < EXACT_MAX {
             let ins = inputs.iter().map(|&n| input(n));
             for (k, x) in g.kept.iter_mut().zip(values.iter().copied().chain(ins)) {
@@ -288,11 +258,20 @@ impl Stats {
 
     /// Writes the last group; the file, to be committed with the run's
     /// other files.
-    pub fn finish(mut self) -> Result<AtomicFile> {
+    /// With the files, the seconds spent on sensitivity indices (a
+    /// sensitivity design).
+    pub fn finish(mut self) -> Result<(Vec<AtomicFile>, Option<f64>)> {
         if let Some(g) = self.group.take() {
             self.write_group(g)?;
         }
-        Ok(self.out.into_file())
+        let mut files = vec![self.out.into_file()];
+        let mut seconds = None;
+        if let Some(sn) = self.sensitivity {
+            let (f, s) = sn.finish()?;
+            files.push(f);
+            seconds = Some(s);
+        }
+        Ok((files, seconds))
     }
 
     fn write_group(&mut self, g: Group) -> Result<()> {
@@ -342,7 +321,13 @@ impl Stats {
             .collect();
         for (column, sh) in word_columns.iter().zip(&g.shares) {
             for (word, &k) in sh.words.iter().zip(&sh.counts) {
-                let (lo, hi) = wilson(k, sh.total);
+                // No interval where the lanes are not independent draws
+                // (a sensitivity design's row groups).
+                let (lo, hi) = if self.grouping.sensitivity.is_some() {
+                    (f64::NAN, f64::NAN)
+                } else {
+                    wilson(k, sh.total)
+                };
                 let mut cells = Cells::default();
                 cells.0[10] = num(k as f64 / sh.total as f64);
                 cells.0[11] = num(lo);

@@ -102,6 +102,16 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
         "max_storage_buffer_binding_size",
     ];
     known.extend(other.map(str::to_string));
+    known.extend(
+        tswm::stats::summary::SUMMARY_COLUMNS
+            .split(',')
+            .map(str::to_string),
+    );
+    known.extend(
+        tswm::stats::sensitivity::SENSITIVITY_COLUMNS
+            .split(',')
+            .map(str::to_string),
+    );
     let mut unknown = Vec::new();
     for (name, text) in pages() {
         for n in named(&text) {

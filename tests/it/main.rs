@@ -17,6 +17,7 @@ mod output;
 mod property;
 mod reference;
 mod report;
+mod sensitivity;
 mod shader;
 mod shards;
 mod stats;

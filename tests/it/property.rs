@@ -132,7 +132,29 @@ fn random_sweep(g: &mut Gen) -> (String, u64) {
         );
         lanes *= n as u64;
     }
-    if g.below(2) == 0 {
+    let sensitivity = g.below(4) == 0;
+    if sensitivity {
+        // A sensitivity design over one or two inputs: n (D + 2) lanes a
+        // grid point.
+        let n = 2 + g.below(5);
+        let two = g.below(2) == 0;
+        s += &format!(
+            "[sensitivity]\nmethod = \"sobol\"\nn = {n}\nseed = {}\nbootstrap = {}\n\
+             [[tolerance]]\nparam = \"{}\"\ndist = \"{}\"\ntol = {}\n",
+            g.below(1000),
+            g.pick(&[0, 10, 50]),
+            if gear { "t2" } else { "f2" },
+            g.pick(&["uniform", "normal", "triangular"]),
+            *g.pick(&[0.0, 1.0, 2000.0])
+        );
+        if two {
+            s += &format!(
+                "[[tolerance]]\nparam = \"{}\"\ndist = \"uniform\"\ntol = 0.2\n",
+                if gear { "j1" } else { "x1_0" }
+            );
+        }
+        lanes *= n * if two { 4 } else { 3 };
+    } else if g.below(2) == 0 {
         let n = 1 + g.below(6);
         s += &format!(
             "[sampling]\nmethod = \"{}\"\nn = {n}\nseed = {}\n\
@@ -152,7 +174,7 @@ fn random_sweep(g: &mut Gen) -> (String, u64) {
         s += "[friction_table.bronze]\nvs = [0, 0.5, 3]\nmu = [0.1, 0.06, 0.03]\n\
               [friction_table.iron]\nvs = [0, 2]\nmu = [0.15, 0.08]\n";
     }
-    if g.below(3) == 0 {
+    if g.below(3) == 0 && !sensitivity {
         let req = *g.pick(&[
             "hold = held",
             "contact_end = stick",

@@ -64,7 +64,7 @@ fn merged_equals_unsharded(name: &str) {
     let parts = shards(&sweep(name), 4, dir, &[]);
     let out = ok(&merge_args(&names(&parts), "merged"), dir);
     assert!(out.contains("from 4 shards"), "{out}");
-    for f in ["lanes.csv", "summary.csv", "traces.csv"] {
+    for f in ["lanes.csv", "summary.csv", "sensitivity.csv", "traces.csv"] {
         let (a, b) = (dir.join("full").join(f), dir.join("merged").join(f));
         assert_eq!(a.exists(), b.exists(), "{name}: {f}");
         if a.exists() {
@@ -86,6 +86,11 @@ fn merged_equals_unsharded(name: &str) {
 #[test]
 fn four_shards_of_the_tolerance_study_merge_to_the_unsharded_table() {
     merged_equals_unsharded("tolerance.toml");
+}
+
+#[test]
+fn four_shards_of_a_sensitivity_design_merge_to_the_unsharded_indices() {
+    merged_equals_unsharded("which_tolerance.toml");
 }
 
 #[test]

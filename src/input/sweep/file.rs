@@ -19,6 +19,7 @@ pub(super) struct SweepFile {
     #[serde(default)]
     pub(super) grid: Vec<Spanned<AxisDef>>,
     pub(super) sampling: Option<Spanned<SamplingDef>>,
+    pub(super) sensitivity: Option<Spanned<SensitivityDef>>,
     #[serde(default)]
     pub(super) tolerance: Vec<Spanned<TolDef>>,
     pub(super) friction_table: Option<Spanned<toml::Table>>,
@@ -65,6 +66,18 @@ pub(super) struct SamplingDef {
     pub(super) seed: Spanned<Seed>,
 }
 
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SensitivityDef {
+    pub(super) method: Spanned<String>,
+    pub(super) n: Spanned<i64>,
+    pub(super) seed: Spanned<Seed>,
+    pub(super) bootstrap: Option<Spanned<i64>>,
+    pub(super) confidence: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) results: Vec<Spanned<String>>,
+}
+
 /// Largest seed: `sweep.resolved.toml` writes seeds as TOML integers,
 /// which are signed 64-bit, and a seed must come back as it was given.
 pub const MAX_SEED: u64 = i64::MAX as u64;
@@ -99,6 +112,10 @@ pub enum Method {
     MonteCarlo,
     /// One sample in each of n equal-probability strata per parameter.
     LatinHypercube,
+    /// A Saltelli design on scrambled Sobol' points (`[sensitivity]`, not
+    /// a `[sampling]` method).
+    #[serde(skip)]
+    Sobol,
 }
 
 #[derive(Deserialize)]

@@ -12,16 +12,18 @@
 //! numbers), so designs are compared under the same tolerances.
 
 mod axes;
+mod design;
 mod file;
 mod parse;
 pub mod require;
 mod resolved;
 mod study;
 
-use crate::input::sampling::{Dist, Permutation, Uniforms};
+use crate::input::sampling::Uniforms;
 use crate::model::FrictionTables;
-use crate::params::{Num, Param, Spec};
+use crate::params::{Param, Spec};
 
+pub use design::{Sensitivity, Study, Tolerance};
 pub use file::{Method, MAX_SEED};
 
 /// One grid axis: a parameter and its values (numbers, or the words of a
@@ -101,33 +103,6 @@ impl Axis {
             }
         }
     }
-}
-
-/// One parameter of a tolerance study.
-#[derive(Clone, Copy, Debug)]
-pub struct Tolerance {
-    /// The parameter.
-    pub param: Num,
-    /// Its distribution.
-    pub dist: Dist,
-    /// Half-width of the band, absolute (`tol`) ...
-    pub tol: f64,
-    /// ... or as a fraction of the nominal value (`tol_rel`).
-    pub relative: bool,
-}
-
-/// A tolerance study.
-#[derive(Clone, Debug)]
-pub struct Study {
-    /// Sampling method.
-    pub method: Method,
-    /// Samples per grid point.
-    pub n: u64,
-    /// Seed of the ChaCha8 stream.
-    pub seed: u64,
-    /// The varied parameters.
-    pub params: Vec<Tolerance>,
-    pub(crate) perms: Vec<Permutation>,
 }
 
 /// A parsed, validated sweep: a function from lane index to parameters.
@@ -262,24 +237,7 @@ impl Sweep {
             g /= len;
         }
         if let Some(st) = &self.study {
-            let dims = st.params.len() as u64;
-            u.seek(k, dims);
-            for (d, t) in st.params.iter().enumerate() {
-                let r = u.next();
-                let q = match st.method {
-                    Method::MonteCarlo => r,
-                    Method::LatinHypercube => (st.perms[d].apply(k) as f64 + r) / n as f64,
-                };
-                let nominal = spec.num[t.param as usize]
-                    .or_else(|| t.param.default_value())
-                    .unwrap_or(f64::NAN);
-                let half = if t.relative {
-                    t.tol * nominal.abs()
-                } else {
-                    t.tol
-                };
-                spec.set(t.param, nominal + half * t.dist.quantile(q));
-            }
+            st.draw(k, &mut spec, u);
         }
         spec
     }
@@ -300,6 +258,13 @@ impl Sweep {
         }
     }
 
+    /// Whether its lanes are independent draws, so that a share of them
+    /// has a Wilson interval: not for a sensitivity design, whose row
+    /// groups share every input but one.
+    pub fn independent_lanes(&self) -> bool {
+        self.study.as_ref().is_none_or(|s| s.sensitivity.is_none())
+    }
+
     /// A stream of uniforms for this sweep's study.
     pub fn uniforms(&self) -> Uniforms {
         Uniforms::new(self.study.as_ref().map_or(0, |s| s.seed))
@@ -310,6 +275,7 @@ impl Sweep {
 mod tests {
     use super::*;
     use crate::error::Result;
+    use crate::params::Num;
     use std::path::Path;
 
     fn parse(t: &str) -> Result<Sweep> {

@@ -101,6 +101,19 @@ impl Sweep {
         if let Some(r) = &file.report {
             sweep.report = parse_report(r.get_ref(), &sweep.axes)
                 .map_err(|(key, m)| at.bad(r.span(), key, m))?;
+            let sensitivity = sweep
+                .study
+                .as_ref()
+                .is_some_and(|s| s.sensitivity.is_some());
+            if sensitivity && sweep.report.require.is_some() {
+                // A share's Wilson bound counts independent lanes; the
+                // lanes of a row group share all inputs but one.
+                return Err(at.bad(
+                    r.span(),
+                    "report.require",
+                    "a requirement is answered on a [sampling] study, not on a [sensitivity] design (its lanes are not independent draws)".into(),
+                ));
+            }
         }
         Ok(sweep)
     }

@@ -16,7 +16,12 @@ impl Sweep {
         }
         if let Some(st) = &self.study {
             let (sampling, tols) = study_toml(st);
-            t.insert("sampling".into(), sampling.into());
+            let name = if st.sensitivity.is_some() {
+                "sensitivity"
+            } else {
+                "sampling"
+            };
+            t.insert(name.into(), sampling.into());
             t.insert("tolerance".into(), tols.into());
         }
         if let Some(tr) = &self.trace {
@@ -116,9 +121,24 @@ fn axis_toml(a: &super::Axis) -> toml::Value {
 /// A study's `[sampling]` and its `[[tolerance]]` entries.
 fn study_toml(st: &super::Study) -> (toml::Table, Vec<toml::Value>) {
     let mut s = toml::Table::new();
-    s.insert("method".into(), serde_name(&st.method));
-    s.insert("n".into(), (st.n as i64).into());
-    s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
+    match &st.sensitivity {
+        Some(sn) => {
+            s.insert("method".into(), "sobol".into());
+            s.insert("n".into(), (sn.base as i64).into());
+            s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
+            s.insert("bootstrap".into(), (sn.bootstrap as i64).into());
+            s.insert("confidence".into(), sn.confidence.into());
+            if !sn.results.is_empty() {
+                let v: Vec<toml::Value> = sn.results.iter().map(|r| r.clone().into()).collect();
+                s.insert("results".into(), v.into());
+            }
+        }
+        None => {
+            s.insert("method".into(), serde_name(&st.method));
+            s.insert("n".into(), (st.n as i64).into());
+            s.insert("seed".into(), toml::Value::Integer(st.seed as i64));
+        }
+    }
     let tols = st
         .params
         .iter()

@@ -1,0 +1,101 @@
+//! A tolerance study and a sensitivity design: what they vary and how a
+//! sample's values are drawn.
+
+use super::file::Method;
+use crate::input::sampling::{Dist, Permutation, Uniforms};
+use crate::input::sobol_seq::SobolSeq;
+use crate::params::{Num, Spec};
+
+/// One parameter of a tolerance study.
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerance {
+    /// The parameter.
+    pub param: Num,
+    /// Its distribution.
+    pub dist: Dist,
+    /// Half-width of the band, absolute (`tol`) ...
+    pub tol: f64,
+    /// ... or as a fraction of the nominal value (`tol_rel`).
+    pub relative: bool,
+}
+
+/// A tolerance study.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// Sampling method.
+    pub method: Method,
+    /// Samples per grid point.
+    pub n: u64,
+    /// Seed of the ChaCha8 stream.
+    pub seed: u64,
+    /// The varied parameters.
+    pub params: Vec<Tolerance>,
+    pub(crate) perms: Vec<Permutation>,
+    /// A sensitivity design (`[sensitivity]`): `n` is then
+    /// `base · (inputs + 2)`.
+    pub sensitivity: Option<Box<Sensitivity>>,
+}
+
+/// A variance-based sensitivity design (`[sensitivity]`, method `sobol`):
+/// at every grid point the Saltelli design over the study's inputs, in
+/// row groups of `inputs + 2` lanes (A, AB¹ ... ABᵈ, B).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensitivity {
+    /// Base samples N.
+    pub base: u64,
+    /// Bootstrap resamples (0: no intervals).
+    pub bootstrap: usize,
+    /// Two-sided coverage of the intervals.
+    pub confidence: f64,
+    /// The results the report charts (empty: its default).
+    pub results: Vec<String>,
+    /// The design's points.
+    pub(crate) seq: SobolSeq,
+}
+
+impl Sensitivity {
+    /// Default bootstrap resamples.
+    pub const DEFAULT_BOOTSTRAP: usize = 1000;
+    /// Default coverage of the intervals.
+    pub const DEFAULT_CONFIDENCE: f64 = 0.95;
+    /// Most resamples.
+    pub const MAX_BOOTSTRAP: usize = 10_000;
+    /// Most inputs (the sequence's dimensions hold A and B).
+    pub const MAX_INPUTS: usize = crate::input::sobol_seq::MAX_DIMS / 2;
+    /// Most base samples.
+    pub const MAX_BASE: u64 = 1 << 30;
+}
+
+impl Study {
+    /// Sets the varied parameters of sample `k` (of a grid point) in
+    /// `spec`, around the nominal values it holds.
+    pub(super) fn draw(&self, k: u64, spec: &mut Spec, u: &mut Uniforms) {
+        let dims = self.params.len() as u64;
+        u.seek(k, dims);
+        for (d, t) in self.params.iter().enumerate() {
+            let q = match (self.method, &self.sensitivity) {
+                (Method::Sobol, Some(sn)) => {
+                    // Row group j, row m: A (m = 0), A with input m − 1
+                    // from B, or B (m = dims + 1).
+                    let (j, m) = (k / (dims + 2), (k % (dims + 2)) as usize);
+                    let from_b = m == dims as usize + 1 || m == d + 1;
+                    let dim = if from_b { dims as usize + d } else { d };
+                    sn.seq.point(j, dim)
+                }
+                (Method::LatinHypercube, _) => {
+                    (self.perms[d].apply(k) as f64 + u.next()) / self.n as f64
+                }
+                _ => u.next(),
+            };
+            let nominal = spec.num[t.param as usize]
+                .or_else(|| t.param.default_value())
+                .unwrap_or(f64::NAN);
+            let half = if t.relative {
+                t.tol * nominal.abs()
+            } else {
+                t.tol
+            };
+            spec.set(t.param, nominal + half * t.dist.quantile(q));
+        }
+    }
+}

@@ -1,0 +1,288 @@
+//! The report's sensitivity section: per shown grid point and chosen
+//! result, a bar chart of the first-order and total indices of each input
+//! with their intervals, and a sentence that reads it. `sensitivity.csv`
+//! is read strictly, keeping only the rows shown (bounded).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::charts::PALETTE;
+use super::html::Page;
+use super::plots::{chart, err, inline, Axis, SIZE};
+use crate::columns::{Indicator, CONTACT_END, ETA_DIRECT};
+use crate::error::{Error, Result};
+use crate::input::sweep::{Sensitivity, Sweep};
+use crate::integrator::Contact;
+use crate::output::names::SENSITIVITY;
+use crate::stats::sensitivity::{result_names, SENSITIVITY_COLUMNS};
+
+/// The results charted when `[sensitivity] results` names none: whether
+/// the drive holds (the first indicator that is a final contact of
+/// `stick`), and its efficiency with the worm driving.
+fn default_results() -> Vec<String> {
+    let holds = Indicator {
+        column: CONTACT_END,
+        word: Contact::Stick.name(),
+    };
+    vec![holds.name(), ETA_DIRECT.to_string()]
+}
+
+/// One row of `sensitivity.csv`: s1, s1_low, s1_high, st, st_low,
+/// st_high (NaN for empty) and the row groups used.
+#[derive(Clone, Copy, Debug)]
+struct Row {
+    v: [f64; 6],
+    samples: u64,
+}
+
+/// The rows kept: (group, result) → rows by input, in design order.
+type Kept = BTreeMap<(u64, String), Vec<Row>>;
+
+fn bad(path: &Path, line: usize, what: &str, msg: String) -> Error {
+    Error::input(path, Some(format!("line {line}")), Some(what), msg)
+}
+
+/// Reads the rows of groups below `shown` for `results`, checking every
+/// row of the file.
+fn read(path: &Path, sweep: &Sweep, results: &[String], shown: u64) -> Result<Kept> {
+    // Read as a stream, line by line: the file grows with the grid.
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut lines = std::io::BufRead::split(std::io::BufReader::new(file), b'\n')
+        .enumerate()
+        .map(|(i, l)| {
+            let l = l.map_err(|e| Error::io(path, e))?;
+            String::from_utf8(l).map_err(|_| bad(path, i + 1, "row", "is not UTF-8 text".into()))
+        });
+    if lines.next().transpose()?.as_deref() != Some(SENSITIVITY_COLUMNS) {
+        return Err(bad(
+            path,
+            1,
+            "header",
+            format!("allowed: {SENSITIVITY_COLUMNS}"),
+        ));
+    }
+    let names = result_names();
+    let study = sweep.study.as_ref();
+    let inputs: Vec<&str> = study.map_or(Vec::new(), |s| {
+        s.params.iter().map(|t| t.param.name()).collect()
+    });
+    let mut kept = Kept::new();
+    for (i, l) in lines.enumerate() {
+        let line = i + 2;
+        let l = l?;
+        let (group, result, k, row) = parse_row(path, line, &l, &names, &inputs)?;
+        if group < shown && results.iter().any(|r| r == result) {
+            let rows = kept.entry((group, result.to_string())).or_default();
+            if rows.len() != k {
+                return Err(bad(
+                    path,
+                    line,
+                    "input",
+                    "inputs out of design order".into(),
+                ));
+            }
+            rows.push(row);
+        }
+    }
+    Ok(kept)
+}
+
+/// One row of `sensitivity.csv`, checked: its group, result, input's
+/// index and values.
+fn parse_row<'a>(
+    path: &Path,
+    line: usize,
+    l: &'a str,
+    names: &[String],
+    inputs: &[&str],
+) -> Result<(u64, &'a str, usize, Row)> {
+    let c: Vec<&str> = l.split(',').collect();
+    if c.len() != 10 {
+        return Err(bad(
+            path,
+            line,
+            "row",
+            format!("has {} cells; allowed: 10", c.len()),
+        ));
+    }
+    let group: u64 = c[0]
+        .parse()
+        .map_err(|_| bad(path, line, "group", "not a group number".into()))?;
+    if !names.iter().any(|n| n == c[1]) {
+        return Err(bad(
+            path,
+            line,
+            "result",
+            format!("{:?} is not a result", c[1]),
+        ));
+    }
+    let Some(k) = inputs.iter().position(|x| *x == c[2]) else {
+        return Err(bad(
+            path,
+            line,
+            "input",
+            format!("{:?} is not an input of the sweep", c[2]),
+        ));
+    };
+    let mut v = [f64::NAN; 6];
+    for (x, cell) in v.iter_mut().zip(&c[3..9]) {
+        if !cell.is_empty() {
+            *x = cell
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| bad(path, line, "index", format!("{cell:?} is not a number")))?;
+        }
+    }
+    let samples: u64 = c[9]
+        .parse()
+        .map_err(|_| bad(path, line, "samples", "not a count".into()))?;
+    Ok((group, c[1], k, Row { v, samples }))
+}
+
+/// The section, for a sweep with a sensitivity design.
+pub(super) fn section(page: &mut Page, dir: &Path, sweep: &Sweep, sn: &Sensitivity) -> Result<()> {
+    let results: Vec<String> = if sn.results.is_empty() {
+        default_results()
+    } else {
+        sn.results.clone()
+    };
+    let groups = sweep.axes.iter().map(|a| a.len()).product::<u64>().max(1);
+    let shown = groups.min(sweep.report.panels() as u64);
+    let kept = read(&dir.join(SENSITIVITY), sweep, &results, shown)?;
+    let inputs: Vec<String> = sweep.study.as_ref().map_or(Vec::new(), |s| {
+        s.params
+            .iter()
+            .map(|t| t.param.name().to_string())
+            .collect()
+    });
+    page.section("Which input matters: sensitivity indices");
+    page.note(&format!(
+        "A Saltelli design of {} base samples over {} inputs ({} lanes a grid point) on scrambled \
+         Sobol' points. S1, the first-order index, is the share of a result's variance an input \
+         causes alone; ST, the total index, adds its interactions with the others. Whiskers: {} % \
+         bootstrap intervals ({} resamples); on Sobol' points they are wider than the error, an \
+         upper bound on it. {SENSITIVITY} has every result and grid point.",
+        sn.base,
+        inputs.len(),
+        sn.base * (inputs.len() as u64 + 2),
+        100.0 * sn.confidence,
+        sn.bootstrap,
+    ));
+    if shown < groups {
+        page.note(&format!(
+            "Showing {shown} of {groups} grid points ([report] panels sets the limit)."
+        ));
+    }
+    for g in 0..shown {
+        if groups > 1 {
+            page.heading(&format!("Grid point {g}"));
+        }
+        let mut figs = Vec::new();
+        for r in &results {
+            let rows = kept.get(&(g, r.clone())).map_or(&[][..], |v| &v[..]);
+            page.note(&reading(r, &inputs, rows, sn.base));
+            if rows.iter().any(|x| x.v[3].is_finite()) {
+                figs.push(bars(&format!("{r}: S1 and ST by input"), &inputs, rows));
+            }
+        }
+        page.figures(figs);
+    }
+    Ok(())
+}
+
+/// The sentence that reads one chart.
+fn reading(result: &str, inputs: &[String], rows: &[Row], base: u64) -> String {
+    let samples = rows.first().map_or(0, |r| r.samples);
+    let dropped = if samples < base {
+        format!(
+            " {} of {base} row groups were dropped (a lane not ok, or no value of {result}).",
+            base - samples
+        )
+    } else {
+        String::new()
+    };
+    if !rows.iter().any(|x| x.v[3].is_finite()) {
+        return format!(
+            "{result}: no index. It does not vary over the design's A and B samples (or no row group had it), so there is no variance to apportion.{dropped}"
+        );
+    }
+    let (top, row) = rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.v[3].is_finite())
+        .max_by(|a, b| a.1.v[3].total_cmp(&b.1.v[3]))
+        .expect("one is finite");
+    let sum: f64 = rows.iter().map(|r| r.v[0]).filter(|x| x.is_finite()).sum();
+    let interaction = if sum >= 0.95 {
+        "the inputs act almost alone (little interaction)".to_string()
+    } else {
+        format!(
+            "about {:.0} % of the variance comes from inputs acting together",
+            100.0 * (1.0 - sum.max(0.0))
+        )
+    };
+    format!(
+        "{result}: the largest total index is {}'s, ST = {:.3} ({:.3} to {:.3}). The first-order \
+         indices sum to {sum:.3}: {interaction}.{dropped}",
+        inputs[top], row.v[3], row.v[4], row.v[5]
+    )
+}
+
+/// Bars of S1 and ST per input with their intervals as whiskers.
+fn bars(title: &str, inputs: &[String], rows: &[Row]) -> std::result::Result<String, String> {
+    let x = Axis::Cat {
+        label: "input".into(),
+        names: inputs.to_vec(),
+    };
+    let vals = rows.iter().flat_map(|r| r.v).filter(|v| v.is_finite());
+    let y = Axis::numeric("Sobol' index", vals.chain([0.0, 1.0]));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut c = chart(&root, title, &x, &y, true)?;
+        for (k, name) in ["S1 (first order)", "ST (total)"].into_iter().enumerate() {
+            let col = PALETTE[k];
+            let dx = (k as f64 - 0.5) * 0.35;
+            let at = |i: usize| i as f64 + dx;
+            let base = 3 * k;
+            c.draw_series(
+                rows.iter()
+                    .enumerate()
+                    .filter(|(_, r)| r.v[base].is_finite())
+                    .map(|(i, r)| {
+                        Rectangle::new(
+                            [(at(i) - 0.16, y.map(0.0)), (at(i) + 0.16, y.map(r.v[base]))],
+                            col.mix(0.8).filled(),
+                        )
+                    }),
+            )
+            .map_err(err)?
+            .label(name)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], col.filled()));
+            c.draw_series(
+                rows.iter()
+                    .enumerate()
+                    .filter(|(_, r)| r.v[base + 1].is_finite() && r.v[base + 2].is_finite())
+                    .map(|(i, r)| {
+                        PathElement::new(
+                            [(at(i), y.map(r.v[base + 1])), (at(i), y.map(r.v[base + 2]))],
+                            BLACK.stroke_width(2),
+                        )
+                    }),
+            )
+            .map_err(err)?;
+        }
+        c.configure_series_labels()
+            .position(plotters::chart::SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(inline(svg))
+}
