@@ -217,6 +217,7 @@ fn base_folders(base: &Path) {
         sweep: Some(sweep),
         lanes: None,
         threads: Some(1),
+        tol: None,
     };
     // A sensitivity design, for the report's reading of sensitivity.csv.
     let sens = base.join("sens.toml");
@@ -233,6 +234,7 @@ fn base_folders(base: &Path) {
         sweep: Some(sens),
         lanes: None,
         threads: Some(1),
+        tol: None,
     };
     for (out, shard, lanes) in [
         ("run", None, &lanes),

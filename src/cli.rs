@@ -32,6 +32,11 @@ pub struct LanesArgs {
     /// CPU threads (default: all cores).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
+    /// Per-step error tolerance of the f64 path, relative to max(1, |y|):
+    /// default 1e-8 (results within 1e-6); 1e-12 gives reference-grade
+    /// results, within 1e-9, at about 5 times the steps.
+    #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
+    pub tol: Option<f64>,
 }
 
 /// Subcommands.
@@ -200,6 +205,13 @@ fn trace_spec(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<
         .map_err(|m| Error::Usage(format!("--trace: {m}")))
 }
 
+/// The tightest `--tol`: a step's error estimate a few hundred times f64's
+/// resolution, which the step control still reads.
+pub const MIN_TOL: f64 = 1e-13;
+/// The loosest `--tol`: past it the error estimate of a result (bound
+/// 1e-6) would send most lanes to a second run.
+pub const MAX_TOL: f64 = 1e-4;
+
 /// Most CPU threads a run may ask for. Lanes are independent and
 /// CPU-bound, so threads beyond the hardware's add no speed, only a stack
 /// each; 1024 is above the hardware threads of any one machine this tool
@@ -220,11 +232,21 @@ impl LanesArgs {
             }
             _ => {}
         }
+        let mut settings = Settings::default();
+        if let Some(tol) = self.tol {
+            if !(MIN_TOL..=MAX_TOL).contains(&tol) {
+                return Err(Error::Usage(format!(
+                    "--tol: {tol:e} is not allowed; allowed: {MIN_TOL:e} to {MAX_TOL:e} (the f64 path's \
+                     per-step tolerance; 1e-8 by default)"
+                )));
+            }
+            settings.tol = tol;
+        }
         let source = Source::open(self.sweep.as_deref(), self.lanes.as_deref())?;
         Ok(Plan {
             source,
             threads: self.threads.unwrap_or(0),
-            settings: Settings::default(),
+            settings,
         })
     }
 }

@@ -99,6 +99,7 @@ impl ShardRun {
         &self,
         files: &mut [AtomicFile],
         backend: &str,
+        tol: f64,
         summary: &run::Summary,
         format: Format,
     ) -> Result<Manifest> {
@@ -125,7 +126,13 @@ impl ShardRun {
             lane_end: self.range.1,
             lanes_total: self.total,
             rows: summary.lanes,
-            backend: backend_kind(backend).into(),
+            // Rows of one run come from one kind of backend at one f64
+            // tolerance: a shard run with another --tol is refused.
+            backend: if tol == crate::integrator::DEFAULT_TOL {
+                backend_kind(backend).into()
+            } else {
+                format!("{}, f64 tol {tol:e}", backend_kind(backend))
+            },
             backend_name: backend.to_string(),
             format,
             seconds: summary.seconds,
@@ -179,7 +186,13 @@ pub fn run(a: RunArgs) -> Result<()> {
     // The table last, or for a shard its manifest: its appearance means
     // the run is complete.
     if let Some(s) = &shard {
-        let m = s.manifest(&mut files, &be.name(), &written.summary, a.format)?;
+        let m = s.manifest(
+            &mut files,
+            &be.name(),
+            plan.settings.tol,
+            &written.summary,
+            a.format,
+        )?;
         files.push(small_file(&dir.join(MANIFEST), &m.text(), false)?);
     }
     let replaced = dir.held_results();

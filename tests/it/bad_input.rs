@@ -433,3 +433,16 @@ fn lane_table_provenance_records_base_and_friction_table() {
         assert!(text.contains(want), "`{want}` missing from {text}");
     }
 }
+
+#[test]
+fn a_tolerance_out_of_range_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = crate::common::root().join("sweeps/paper.toml");
+    for tol in ["0", "-1e-8", "1e-15", "0.01", "NaN"] {
+        check(
+            &cpu(&["run", sweep.to_str().unwrap(), "--out", "out", "--tol", tol]),
+            dir.path(),
+            &["--tol", "allowed: 1e-13 to 1e-4"],
+        );
+    }
+}

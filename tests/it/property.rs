@@ -252,6 +252,7 @@ fn five_hundred_random_sweeps_get_their_reports() {
             sweep: Some(sweep),
             lanes: None,
             threads: Some(1),
+            tol: None,
         };
         let out = dir.join("o");
         run(RunArgs {

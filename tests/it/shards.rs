@@ -412,3 +412,16 @@ fn parquet_shards_merge_to_the_unsharded_csv() {
     );
     assert_same_values(&dir.join("mp/lanes.parquet"), &dir.join("full/lanes.csv"));
 }
+
+/// Rows of one run come from one f64 tolerance: a shard run with another
+/// `--tol` is refused by the merge, with the two tolerances named.
+#[test]
+fn merge_refuses_shards_run_at_different_tolerances() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let s = sweep("paper.toml");
+    ok(&cpu(&["run", &s, "--shard", "0/2", "--out", "a"]), dir);
+    ok(&cpu(&["run", &s, "--shard", "1/2", "--out", "b", "--tol", "1e-11"]), dir);
+    let parts = [dir.join("a").display().to_string(), dir.join("b").display().to_string()];
+    refused(&merge_args(&parts, "out"), dir, &parts[1], "f64 tol 1e-11");
+}
