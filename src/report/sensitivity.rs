@@ -8,6 +8,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use super::cells::{bad_row, column, num, open_csv, text};
 use super::charts::PALETTE;
 use super::html::Page;
 use super::plots::{chart, err, inline, Axis, SIZE};
@@ -40,106 +41,72 @@ struct Row {
 /// The rows kept: (group, result) → rows by input, in design order.
 type Kept = BTreeMap<(u64, String), Vec<Row>>;
 
-fn bad(path: &Path, line: usize, what: &str, msg: String) -> Error {
-    Error::input(path, Some(format!("line {line}")), Some(what), msg)
-}
-
 /// Reads the rows of groups below `shown` for `results`, checking every
-/// row of the file.
+/// row of the file (as a stream: the file grows with the grid).
 fn read(path: &Path, sweep: &Sweep, results: &[String], shown: u64) -> Result<Kept> {
-    // Read as a stream, line by line: the file grows with the grid.
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut lines = std::io::BufRead::split(std::io::BufReader::new(file), b'\n')
-        .enumerate()
-        .map(|(i, l)| {
-            let l = l.map_err(|e| Error::io(path, e))?;
-            String::from_utf8(l).map_err(|_| bad(path, i + 1, "row", "is not UTF-8 text".into()))
-        });
-    if lines.next().transpose()?.as_deref() != Some(SENSITIVITY_COLUMNS) {
-        return Err(bad(
+    let mut rd = open_csv(path)?;
+    let head = rd.byte_headers().map_err(|e| bad_row(path, e))?.clone();
+    let want: Vec<&str> = SENSITIVITY_COLUMNS.split(',').collect();
+    if head.len() != want.len() {
+        return Err(Error::input(
             path,
-            1,
-            "header",
+            Some("line 1".into()),
+            Some("header"),
             format!("allowed: {SENSITIVITY_COLUMNS}"),
         ));
     }
+    let cols: Vec<usize> = want
+        .iter()
+        .map(|n| column(path, &head, n))
+        .collect::<Result<_>>()?;
     let names = result_names();
-    let study = sweep.study.as_ref();
-    let inputs: Vec<&str> = study.map_or(Vec::new(), |s| {
+    let inputs: Vec<&str> = sweep.study.as_ref().map_or(Vec::new(), |s| {
         s.params.iter().map(|t| t.param.name()).collect()
     });
     let mut kept = Kept::new();
-    for (i, l) in lines.enumerate() {
-        let line = i + 2;
-        let l = l?;
-        let (group, result, k, row) = parse_row(path, line, &l, &names, &inputs)?;
-        if group < shown && results.iter().any(|r| r == result) {
-            let rows = kept.entry((group, result.to_string())).or_default();
-            if rows.len() != k {
-                return Err(bad(
-                    path,
-                    line,
-                    "input",
-                    "inputs out of design order".into(),
-                ));
+    let mut rec = csv::ByteRecord::new();
+    while rd
+        .read_byte_record(&mut rec)
+        .map_err(|e| bad_row(path, e))?
+    {
+        let bad = |what: &str, msg: String| {
+            let line = rec.position().map(|p| format!("line {}", p.line()));
+            Error::input(path, line, Some(what), msg)
+        };
+        let count = |i: usize, what: &str| -> Result<u64> {
+            let v = num(path, &rec, cols[i], what)?;
+            if v >= 0.0 && v.fract() == 0.0 {
+                Ok(v as u64)
+            } else {
+                Err(bad(what, "is not a count".into()))
             }
-            rows.push(row);
+        };
+        let group = count(0, "group")?;
+        let result = text(&rec, cols[1]);
+        if !names.contains(&result) {
+            return Err(bad("result", format!("{result:?} is not a result")));
+        }
+        let input = text(&rec, cols[2]);
+        let Some(k) = inputs.iter().position(|x| *x == input) else {
+            return Err(bad(
+                "input",
+                format!("{input:?} is not an input of the sweep"),
+            ));
+        };
+        let mut v = [f64::NAN; 6];
+        for (x, (i, name)) in v.iter_mut().zip(want.iter().enumerate().skip(3)) {
+            *x = num(path, &rec, cols[i], name)?;
+        }
+        let samples = count(9, "samples")?;
+        if group < shown && results.contains(&result) {
+            let rows = kept.entry((group, result)).or_default();
+            if rows.len() != k {
+                return Err(bad("input", "inputs out of design order".into()));
+            }
+            rows.push(Row { v, samples });
         }
     }
     Ok(kept)
-}
-
-/// One row of `sensitivity.csv`, checked: its group, result, input's
-/// index and values.
-fn parse_row<'a>(
-    path: &Path,
-    line: usize,
-    l: &'a str,
-    names: &[String],
-    inputs: &[&str],
-) -> Result<(u64, &'a str, usize, Row)> {
-    let c: Vec<&str> = l.split(',').collect();
-    if c.len() != 10 {
-        return Err(bad(
-            path,
-            line,
-            "row",
-            format!("has {} cells; allowed: 10", c.len()),
-        ));
-    }
-    let group: u64 = c[0]
-        .parse()
-        .map_err(|_| bad(path, line, "group", "not a group number".into()))?;
-    if !names.iter().any(|n| n == c[1]) {
-        return Err(bad(
-            path,
-            line,
-            "result",
-            format!("{:?} is not a result", c[1]),
-        ));
-    }
-    let Some(k) = inputs.iter().position(|x| *x == c[2]) else {
-        return Err(bad(
-            path,
-            line,
-            "input",
-            format!("{:?} is not an input of the sweep", c[2]),
-        ));
-    };
-    let mut v = [f64::NAN; 6];
-    for (x, cell) in v.iter_mut().zip(&c[3..9]) {
-        if !cell.is_empty() {
-            *x = cell
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| bad(path, line, "index", format!("{cell:?} is not a number")))?;
-        }
-    }
-    let samples: u64 = c[9]
-        .parse()
-        .map_err(|_| bad(path, line, "samples", "not a count".into()))?;
-    Ok((group, c[1], k, Row { v, samples }))
 }
 
 /// The section, for a sweep with a sensitivity design.

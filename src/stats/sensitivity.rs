@@ -22,7 +22,8 @@ use rayon::prelude::*;
 use super::sobol::{resample_counts, Accumulator, Bootstrap, Index, MAX_UNITS};
 use crate::columns::{indicators, number_columns, Indicator};
 use crate::error::Result;
-use crate::output::csv_lines::CsvLines;
+use crate::input::sweep::Sensitivity;
+use crate::output::csv_lines::{push_f64, CsvLines};
 use crate::output::AtomicFile;
 use crate::params::Num;
 
@@ -144,14 +145,18 @@ impl SensitivityCsv {
         }
         if m as u64 == self.design.row() - 1 && j < n {
             let g = self.group.as_mut().expect("set above");
-            let mut y = vec![0.0; d + 2];
+            let mut buf = [0.0; Sensitivity::MAX_INPUTS + 2];
+            let y = &mut buf[..d + 2];
             for (i, acc) in g.accs.iter_mut().enumerate() {
-                let status = i == r - 1;
+                // status=ok is what a lane that is not ok changes: it uses
+                // every row group.
+                let status = i >= self.numbers
+                    && self.indicators[i - self.numbers].column == crate::columns::STATUS;
                 for (mm, yy) in y.iter_mut().enumerate() {
                     *yy = self.rows[mm * r + i];
                 }
                 if status || (self.rows_ok && y.iter().all(|v| v.is_finite())) {
-                    acc.add(j, &y);
+                    acc.add(j, y);
                 }
             }
         }
@@ -185,9 +190,7 @@ impl SensitivityCsv {
                 let _ = write!(line, "{},{name},{}", g.id, input.name());
                 for v in [x.s1, x.s1_low, x.s1_high, x.st, x.st_low, x.st_high] {
                     line.push(',');
-                    if v.is_finite() {
-                        let _ = write!(line, "{v:?}");
-                    }
+                    push_f64(line, v);
                 }
                 let _ = write!(line, ",{}", acc.samples());
                 self.out.end_line()?;

@@ -187,8 +187,10 @@ impl Accumulator {
                 continue;
             }
             for (i, (s1, st)) in estimate(&t, d, centre).into_iter().enumerate() {
-                s1s[i].push(s1);
-                sts[i].push(st);
+                if s1.is_finite() && st.is_finite() {
+                    s1s[i].push(s1);
+                    sts[i].push(st);
+                }
             }
         }
         let p = (1.0 - boot.confidence) / 2.0;
@@ -217,7 +219,16 @@ fn estimate(t: &[f64], d: usize, centre: f64) -> Vec<(f64, f64)> {
             // Σ (B − c)(AB − A) = Σ B(AB − A) − c Σ (AB − A).
             let s1 = (t[5 + 3 * i] - centre * t[6 + 3 * i]) / n / var;
             let st = 0.5 * t[7 + 3 * i] / n / var;
-            (s1, st)
+            // A variance lost to rounding (values all but equal) gives no
+            // index, never an infinite one.
+            let finite = |x: f64| {
+                if var > 0.0 && x.is_finite() {
+                    x
+                } else {
+                    f64::NAN
+                }
+            };
+            (finite(s1), finite(st))
         })
         .collect()
 }

@@ -10,7 +10,7 @@ use super::sensitivity::SensitivityCsv;
 use super::{spearman, wilson};
 use crate::columns::{number_columns, results, Cell, Of, Summary};
 use crate::error::Result;
-use crate::output::csv_lines::CsvLines;
+use crate::output::csv_lines::{push_f64, CsvLines};
 use crate::output::names::SENSITIVITY;
 use crate::output::AtomicFile;
 use crate::params::{Num, Param, N_NUM};
@@ -376,9 +376,7 @@ struct Cells([String; 14]);
 
 /// A number cell: empty for NaN, else the shortest text that reads back.
 fn num(v: f64) -> String {
-    if v.is_nan() {
-        String::new()
-    } else {
-        format!("{v:?}")
-    }
+    let mut s = String::new();
+    push_f64(&mut s, v);
+    s
 }

@@ -4,7 +4,7 @@
 //! by side in the report.
 
 use crate::common::*;
-use crate::reference::{python, script};
+use crate::reference::{python_for, script, SCIPY};
 
 /// 500 random lanes under the `agma` law with flank angles 5 to 30 deg
 /// (`random_lanes.py ... agma`), against scipy's DOP853 at 1e-12 written
@@ -15,14 +15,7 @@ use crate::reference::{python, script};
 /// some both ways.
 #[test]
 fn agma_law_agrees_with_an_independent_integration() {
-    let Some(py) = python() else {
-        if std::env::var_os("CI").is_some() {
-            panic!("CI: python3 with scipy is required (.ci/run installs python3-scipy)");
-        }
-        skipped(
-            "the agma scipy reference",
-            "no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)",
-        );
+    let Some(py) = python_for(&SCIPY, "the agma scipy reference") else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

@@ -9,20 +9,49 @@ use std::process::Command;
 use crate::common::cpu;
 use crate::common::{col, read_csv, rel1, root, run_ok};
 
-/// A Python with scipy: `TSWM_PYTHON`, else Debian's (where
-/// `python3-scipy` installs it, whatever `python3` on the PATH is), else
-/// `python3`.
-pub(crate) fn python() -> Option<PathBuf> {
-    let given = std::env::var_os("TSWM_PYTHON").map(PathBuf::from);
-    given
-        .into_iter()
+/// An independent reference in Python: the modules it imports, the
+/// variables that may name its interpreter, and how CI installs it.
+pub(crate) struct Needs {
+    pub(crate) modules: &'static str,
+    pub(crate) vars: &'static [&'static str],
+    pub(crate) install: &'static str,
+}
+
+/// scipy: `python3-scipy` from Debian (`.ci/run`).
+pub(crate) const SCIPY: Needs = Needs {
+    modules: "scipy",
+    vars: &["TSWM_PYTHON"],
+    install: "apt-get install python3-scipy, or set TSWM_PYTHON",
+};
+
+/// A Python that imports `needs.modules`: the variables' first, else
+/// Debian's (whatever `python3` on the PATH is), else `python3`. None
+/// after saying why the test `test` is skipped; in CI, where `.ci/run`
+/// installs it, its absence fails the test.
+pub(crate) fn python_for(needs: &Needs, test: &str) -> Option<PathBuf> {
+    let found = needs
+        .vars
+        .iter()
+        .filter_map(|v| std::env::var_os(v).map(PathBuf::from))
         .chain(["/usr/bin/python3", "python3"].map(PathBuf::from))
         .find(|py| {
             Command::new(py)
-                .args(["-c", "import scipy"])
+                .args(["-c", &format!("import {}", needs.modules)])
                 .output()
                 .is_ok_and(|o| o.status.success())
-        })
+        });
+    if found.is_none() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI: python3 with {} is required (.ci/run installs it)",
+            needs.modules
+        );
+        crate::common::skipped(
+            test,
+            &format!("no python3 with {} ({})", needs.modules, needs.install),
+        );
+    }
+    found
 }
 
 pub(crate) fn script(py: &PathBuf, args: &[&str]) {
@@ -36,14 +65,7 @@ pub(crate) fn script(py: &PathBuf, args: &[&str]) {
 
 #[test]
 fn an_independent_integration_agrees_on_1000_random_lanes() {
-    let Some(py) = python() else {
-        if std::env::var_os("CI").is_some() {
-            panic!("CI: python3 with scipy is required (.ci/run installs python3-scipy)");
-        }
-        crate::common::skipped(
-            "the scipy reference",
-            "no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)",
-        );
+    let Some(py) = python_for(&SCIPY, "the scipy reference") else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -144,14 +166,7 @@ fn an_independent_integration_agrees_on_1000_random_lanes() {
 /// cut (70 % with a t_max), on the CPU path and the GPU path.
 #[test]
 fn hold_and_t_stop_agree_with_an_independent_integration() {
-    let Some(py) = python() else {
-        if std::env::var_os("CI").is_some() {
-            panic!("CI: python3 with scipy is required (.ci/run installs python3-scipy)");
-        }
-        crate::common::skipped(
-            "the scipy reference",
-            "no python3 with scipy (apt-get install python3-scipy, or set TSWM_PYTHON)",
-        );
+    let Some(py) = python_for(&SCIPY, "the scipy reference") else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

@@ -4,25 +4,19 @@
 //! designs are refused with one line.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-use crate::common::{col, cpu, read_csv, rejected, root, run_ok, skipped, tswm};
+use crate::common::{col, cpu, read_csv, rejected, root, run_ok, tswm};
+use crate::reference::{python_for, Needs};
 
-/// A python3 that has SALib: `TSWM_SALIB_PYTHON`, `TSWM_PYTHON`, or the
-/// one on the path (`.ci/run` installs SALib from the package index).
-fn salib_python() -> Option<PathBuf> {
-    ["TSWM_SALIB_PYTHON", "TSWM_PYTHON"]
-        .iter()
-        .filter_map(|v| std::env::var_os(v).map(PathBuf::from))
-        .chain(["/usr/bin/python3", "python3"].map(PathBuf::from))
-        .find(|py| {
-            Command::new(py)
-                .args(["-c", "import SALib, pandas"])
-                .output()
-                .is_ok_and(|o| o.status.success())
-        })
-}
+/// SALib (and pandas) from the package index, in a venv of its own
+/// (`.ci/run`).
+const SALIB: Needs = Needs {
+    modules: "SALib, pandas",
+    vars: &["TSWM_SALIB_PYTHON", "TSWM_PYTHON"],
+    install: "pip install SALib pandas, or set TSWM_SALIB_PYTHON",
+};
 
 /// The sensitivity rows of `dir`: (group, result, input) → cells.
 fn indices(dir: &Path) -> BTreeMap<(String, String, String), Vec<String>> {
@@ -133,14 +127,7 @@ fn holding_from_rest_does_not_depend_on_the_load() {
 
 #[test]
 fn salib_gives_the_same_indices() {
-    let Some(py) = salib_python() else {
-        if std::env::var_os("CI").is_some() {
-            panic!("CI: a python3 with SALib is required (.ci/run installs it into a venv)");
-        }
-        skipped(
-            "the SALib cross-check",
-            "no python3 with SALib and pandas (pip install SALib, or set TSWM_SALIB_PYTHON)",
-        );
+    let Some(py) = python_for(&SALIB, "the SALib cross-check") else {
         return;
     };
     let t = tempfile::tempdir().unwrap();

@@ -421,7 +421,13 @@ fn merge_refuses_shards_run_at_different_tolerances() {
     let dir = t.path();
     let s = sweep("paper.toml");
     ok(&cpu(&["run", &s, "--shard", "0/2", "--out", "a"]), dir);
-    ok(&cpu(&["run", &s, "--shard", "1/2", "--out", "b", "--tol", "1e-11"]), dir);
-    let parts = [dir.join("a").display().to_string(), dir.join("b").display().to_string()];
+    ok(
+        &cpu(&["run", &s, "--shard", "1/2", "--out", "b", "--tol", "1e-11"]),
+        dir,
+    );
+    let parts = [
+        dir.join("a").display().to_string(),
+        dir.join("b").display().to_string(),
+    ];
     refused(&merge_args(&parts, "out"), dir, &parts[1], "f64 tol 1e-11");
 }
