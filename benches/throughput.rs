@@ -4,6 +4,11 @@
 //! ±6 kN, start at rest, 2 s), made once outside the timing.
 //!
 //! - `cpu/1-thread`, `cpu/all-threads`: the f64 path, 4096 lanes.
+//! - `cpu-width/{paper-like,heterogeneous}/ISA-xW`: the f64 path on one
+//!   thread at each vector width W of this core's widest instruction set
+//!   and at the natural width of each narrower one, 4096 paper-like lanes
+//!   and the first 4096 of `sweeps/heterogeneous.toml`, in blocks of
+//!   `BLOCK_LANES` as `run_cpu_lanes` gives them to a thread.
 //! - `kernel/{cpu,gpu}/N`: integration only, N = 10^3..10^6 lanes; for the
 //!   GPU this is upload, all dispatches and read-back of the states.
 //! - `end_to_end/{cpu,gpu}/N`: `runner::run` on a sweep file of N lanes:
@@ -20,13 +25,14 @@
 //! below 10^6 lanes.
 
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
-use tswm::backend::cpu::run_cpu_lanes;
+use tswm::backend::cpu::{run_cpu_lanes, BLOCK_LANES};
 use tswm::backend::gpu::layout::{GpuGlobals, GpuLane};
 use tswm::backend::gpu::{Gpu, GpuBackend};
 use tswm::backend::{Backend, CpuBackend};
 use tswm::input::lanes::Source;
 use tswm::input::testmodels::paper_like;
-use tswm::integrator::Settings;
+use tswm::integrator::width::{isas, Width};
+use tswm::integrator::{simulate_batch_at, Settings};
 use tswm::model::Lane;
 use tswm::output::table::{Format, LanesWriter};
 use tswm::params::Params;
@@ -36,6 +42,44 @@ fn lanes(n: usize) -> Vec<Params> {
         .iter()
         .map(|s| s.resolve(&[]).unwrap())
         .collect()
+}
+
+/// Lanes one thread steps together, and its instruction set: the
+/// widest set's widths 1, 2, 4 and 8, and each narrower set's own.
+fn widths() -> Vec<Width> {
+    let all = isas();
+    let best = *all.last().unwrap();
+    let mut v: Vec<Width> = [1, 2, 4, 8]
+        .map(|lanes| Width { lanes, isa: best })
+        .to_vec();
+    v.extend(all[..all.len() - 1].iter().map(|&i| Width::natural(i)));
+    v
+}
+
+fn cpu_widths(c: &mut Criterion) {
+    let n = 4096;
+    let paper: Vec<Lane> = lanes(n).iter().map(|p| Lane::new(p, &[])).collect();
+    let (het, _) = tswm::backend::gpu::cost::heterogeneous_and_sorted(n);
+    let het: Vec<Lane> = het.iter().map(|p| Lane::new(p, &[])).collect();
+    let mut g = c.benchmark_group("cpu-width");
+    g.throughput(Throughput::Elements(n as u64));
+    g.sample_size(10);
+    let set = Settings::default();
+    let mut out = vec![tswm::integrator::LaneResult::EMPTY; n];
+    for (name, lanes) in [("paper-like", &paper), ("heterogeneous", &het)] {
+        for w in widths() {
+            let id = BenchmarkId::new(name, w.name().replace(' ', "-"));
+            g.bench_function(id, |b| {
+                b.iter(|| {
+                    let b = BLOCK_LANES;
+                    for (l, o) in lanes.chunks(b).zip(out.chunks_mut(b)) {
+                        simulate_batch_at(w, l, &[], &set, o);
+                    }
+                })
+            });
+        }
+    }
+    g.finish();
 }
 
 fn sizes() -> Vec<usize> {
@@ -242,6 +286,7 @@ fn end_to_end(c: &mut Criterion) {
 criterion_group!(
     benches,
     cpu_threads,
+    cpu_widths,
     kernel,
     end_to_end,
     table,

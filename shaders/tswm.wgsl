@@ -8,13 +8,15 @@
 //   src/model/ (mod.rs, friction.rs)  motor_force, tan_small, agma_mu, agma_upper,
 //                                 mu_sliding, phi, side_of, Mode, motion, stick_test
 //   src/integrator/result.rs      status codes
-//   src/integrator/stepper.rs     tableau, rhs, stage*_v, increment, error_term,
-//                                 error_scale, dense_coeffs, dense_r5, try_step
+//   src/integrator/stepper.rs     tableau, rhs (src/integrator/rhs.rs), stage*_v,
+//                                 increment, error_term, error_scale, dense_coeffs,
+//                                 dense_r5, try_step
 //   src/integrator/events.rs      dense_v, event_value, locate_root, earliest_event
 //   src/integrator/flow.rs        dense_slope, split, dense_w, step_flow
 //   src/integrator/automaton.rs   State, init, set_side, check_mode, come_to_rest,
 //                                 depart, cut_motor, horizon, reach_time_event
-//   src/integrator/step.rs        prepare, step_factor, finish_step, add_flow,
+//   src/integrator/step.rs        prepare, step_factor (src/integrator/control.rs),
+//                                 finish_step, add_flow,
 //                                 step_to_event, attempt
 //   src/integrator/batch.rs       Globals, bindings, the entry point
 // Structs and constants shared with the host are mirrored in
@@ -26,7 +28,10 @@
 // event roots are located to a relative step fraction of 1e-6 rather than
 // 1e-13 s; a step below 1e-7·max(t, 1) s, not 1e-15·max(t, 1), is an
 // underflow; tan_small's series stops at x^9, exact in f32; "never" is
-// 3e38 rather than infinity.
+// 3e38 rather than infinity. The f64 path computes x^y and the step
+// factor's err^(-1/5) with its own straight-line kernels (so that they
+// run as vector code, src/model/vmath.rs and src/integrator/control.rs);
+// here WGSL's pow does.
 
 // ==== src/model/ (mod.rs, friction.rs) ====
 

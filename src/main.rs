@@ -12,6 +12,13 @@ use tswm::output::atomic::remove_partials_on_signal;
 fn main() -> ExitCode {
     quiet_mesa();
     let cli = Cli::parse();
+    // A forced vector width is read (and refused) before any command
+    // writes anything.
+    if let Err(why) = tswm::integrator::width::width() {
+        let e = tswm::error::Error::Usage(why);
+        eprintln!("tswm: error: {e}");
+        return ExitCode::from(e.exit_code());
+    }
     if let Err(e) = remove_partials_on_signal() {
         eprintln!("tswm: error: {e}");
         return ExitCode::from(e.exit_code());

@@ -16,7 +16,7 @@ use gpu::{Gpu, GpuBackend};
 
 /// Something that turns lane parameters into results.
 pub trait Backend {
-    /// Short name for the summary ("cpu (2 threads)", "gpu: ADAPTER").
+    /// Short name for the summary ("cpu (2 threads, avx2 x4)", "gpu: ADAPTER").
     fn name(&self) -> String;
     /// Per-step tolerance the lanes are integrated at (for provenance).
     fn tolerance(&self) -> f64;

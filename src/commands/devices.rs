@@ -1,10 +1,19 @@
-//! `tswm devices`: the GPU adapters wgpu finds, their limits and the
-//! work sizes a run gets from them.
+//! `tswm devices`: the CPU path's threads and vector width, and the GPU
+//! adapters wgpu finds, their limits and the work sizes a run gets from
+//! them.
 
 use crate::error::Result;
 
 /// Runs `tswm devices`.
 pub fn run() -> Result<()> {
+    let w = crate::integrator::width::width().map_err(crate::error::Error::Usage)?;
+    println!(
+        "cpu: {} threads, each stepping {} lanes in lockstep ({}; {}=1, 2, 4 or 8 forces the lanes)",
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        w.lanes,
+        w.name(),
+        crate::integrator::width::WIDTH_VAR,
+    );
     let list = crate::backend::gpu::adapters();
     if list.is_empty() {
         println!("no GPU adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");

@@ -7,52 +7,139 @@ use super::automaton::{init, LaneState};
 use super::result::{LaneResult, RowPath};
 use super::step::{advance, finish_step, prepare, StepPlan};
 use super::stepper::try_steps;
+use super::width::{best_isa, isas, width, Isa, Width};
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};
 
-/// Lanes one thread interleaves in [`simulate_batch`]. Measured on one
-/// thread (paper-like lanes): 1 lane 23.7k lanes/s, 2: 38.8k, 4: 45.1k,
-/// 8: 46.5k; 4 takes nearly all of it with half the state of 8.
-pub const INTERLEAVE: usize = 4;
-
-/// Runs `lanes` to their ends, `out[i]` for `lanes[i]`, interleaving
-/// [`INTERLEAVE`] lanes on this thread: each slot takes the next lane when
-/// its lane finishes. Lanes whose error estimate asks for it are then run
-/// again, interleaved too, at [`Settings::tighter`]. Per lane the
-/// arithmetic is exactly [`simulate`]'s.
+/// Runs `lanes` to their ends, `out[i]` for `lanes[i]`, stepping
+/// [`width`]`().lanes` of them in lockstep on this thread, lanes as
+/// vector elements: each slot takes the next lane when its lane finishes.
+/// Lanes whose error estimate asks for it are then run again at
+/// [`Settings::tighter`]. Per lane the arithmetic is exactly
+/// [`simulate`]'s, so a row does not depend on the width.
 pub fn simulate_batch(
     lanes: &[Lane],
     tables: &[FrictionTable],
     set: &Settings,
     out: &mut [LaneResult],
 ) {
+    // A width the variable forces wrongly is refused where the backend is
+    // made; here it falls back to the core's own.
+    let w = width().unwrap_or_else(|_| Width::natural(best_isa()));
+    simulate_batch_at(w, lanes, tables, set, out)
+}
+
+/// [`simulate_batch`] at width `w` (tests and benchmarks compare widths
+/// in one process). Panics when this core lacks `w.isa`.
+pub fn simulate_batch_at(
+    w: Width,
+    lanes: &[Lane],
+    tables: &[FrictionTable],
+    set: &Settings,
+    out: &mut [LaneResult],
+) {
     assert_eq!(lanes.len(), out.len());
+    assert!(
+        isas().contains(&w.isa),
+        "this core has no {:?} instructions",
+        w.isa
+    );
     let mut redo = Vec::new();
-    interleaved(lanes, 0..lanes.len(), tables, set, |i, st| {
-        out[i] = st.end_state().result(&lanes[i], tables);
-        if needs_refining(set, &out[i], &st.budget) {
-            redo.push(i);
-        }
-    });
+    run_width(
+        w,
+        lanes,
+        &mut (0..lanes.len()),
+        tables,
+        set,
+        &mut |i, st| {
+            out[i] = st.end_state().result(&lanes[i], tables);
+            if needs_refining(set, &out[i], &st.budget) {
+                redo.push(i);
+            }
+        },
+    );
     if !redo.is_empty() {
         let tight = set.tighter();
-        interleaved(lanes, redo.into_iter(), tables, &tight, |i, st| {
-            out[i] = st.end_state().result(&lanes[i], tables);
-            out[i].path = RowPath::Refined;
-        });
+        run_width(
+            w,
+            lanes,
+            &mut redo.into_iter(),
+            tables,
+            &tight,
+            &mut |i, st| {
+                out[i] = st.end_state().result(&lanes[i], tables);
+                out[i].path = RowPath::Refined;
+            },
+        );
     }
 }
 
-/// Runs the lanes `order` names to their ends, [`INTERLEAVE`] at a time,
-/// handing each finished lane's index and end state to `done`.
-fn interleaved(
+type Order<'a> = &'a mut dyn Iterator<Item = usize>;
+type Done<'a> = &'a mut dyn FnMut(usize, &LaneState);
+
+/// [`interleaved`] at width `w`, compiled for its instruction set.
+fn run_width(
+    w: Width,
     lanes: &[Lane],
-    mut order: impl Iterator<Item = usize>,
+    order: Order,
     tables: &[FrictionTable],
     set: &Settings,
-    mut done: impl FnMut(usize, &LaneState),
+    done: Done,
 ) {
-    const N: usize = INTERLEAVE;
+    macro_rules! at {
+        ($f:ident) => {
+            match w.lanes {
+                1 => $f::<1>(lanes, order, tables, set, done),
+                2 => $f::<2>(lanes, order, tables, set, done),
+                4 => $f::<4>(lanes, order, tables, set, done),
+                _ => $f::<8>(lanes, order, tables, set, done),
+            }
+        };
+    }
+    match w.isa {
+        // SAFETY: best_isa() found the features on this core.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { at!(on_avx512) },
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { at!(on_avx2) },
+        _ => at!(interleaved),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
+unsafe fn on_avx512<const N: usize>(
+    lanes: &[Lane],
+    order: Order,
+    tables: &[FrictionTable],
+    set: &Settings,
+    done: Done,
+) {
+    interleaved::<N>(lanes, order, tables, set, done)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn on_avx2<const N: usize>(
+    lanes: &[Lane],
+    order: Order,
+    tables: &[FrictionTable],
+    set: &Settings,
+    done: Done,
+) {
+    interleaved::<N>(lanes, order, tables, set, done)
+}
+
+/// Runs the lanes `order` names to their ends, N at a time in lockstep,
+/// handing each finished lane's index and end state to `done`.
+#[inline(always)]
+fn interleaved<const N: usize>(
+    lanes: &[Lane],
+    order: Order,
+    tables: &[FrictionTable],
+    set: &Settings,
+    done: Done,
+) {
     if lanes.is_empty() {
         return;
     }

@@ -17,16 +17,19 @@
 pub mod accuracy;
 pub mod automaton;
 pub mod batch;
+pub mod control;
 pub mod events;
 pub mod flow;
 pub mod path;
 pub mod result;
+pub mod rhs;
 pub mod step;
 pub mod stepper;
 pub mod trace;
+pub mod width;
 
 pub use automaton::{init, LaneState, H_INITIAL};
-pub use batch::{simulate, simulate_batch, INTERLEAVE};
+pub use batch::{simulate, simulate_batch, simulate_batch_at};
 pub use result::{Contact, EndState, Hold, LaneResult, Recheck, RowPath, Status};
 pub use step::{advance, attempt};
 

@@ -86,15 +86,6 @@ pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Opt
     })
 }
 
-/// Step-size factor from a trial's error norm.
-fn step_factor(err: f64) -> f64 {
-    if err == 0.0 {
-        5.0
-    } else {
-        (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
-    }
-}
-
 /// Second half of a step attempt: accept or reject the trial step, locate
 /// the earliest event inside it and restart from there in the new mode, or
 /// move to the step's end.
@@ -107,7 +98,7 @@ pub fn finish_step(
     trial: &Trial,
 ) {
     let h = plan.h;
-    let fac = step_factor(trial.err);
+    let fac = trial.fac;
     if trial.err > 1.0 {
         st.h = h * fac.min(1.0);
         if st.h < 1e-15 * st.t.max(1.0) {

@@ -7,8 +7,11 @@
 //! shader's `try_step` (section `src/integrator/stepper.rs` of
 //! `shaders/tswm.wgsl`) for one, line for line.
 
+use super::control::step_factor;
+pub use super::rhs::rhs;
+use super::rhs::{rhs_lanes, Coefs};
 use super::{Settings, NY};
-use crate::model::{motion, FrictionTable, Lane};
+use crate::model::{FrictionTable, Lane};
 
 // Dormand–Prince 5(4) tableau. Keep in sync with the shader (a test reads
 // its constants and compares).
@@ -49,18 +52,6 @@ pub const D6: f64 = -1453857185.0 / 822651844.0;
 pub const D7: f64 = 69997945.0 / 29380423.0;
 
 pub use crate::model::Mode;
-
-/// Right-hand side: derivative of (x1, ẋ1, w_motor, w_load, w_friction,
-/// w_p1), and D of the mode. Depends on ẋ1 only: x1 and the works are
-/// quadratures. p1 = S1 ẋ1 and p2 = S2 ẋ2 are the powers the bodies put
-/// into the mesh (docs/model.md section 10).
-#[inline]
-pub fn rhs(lane: &Lane, tables: &[FrictionTable], mode: Mode, v: f64) -> ([f64; NY], f64) {
-    let m = motion(lane, tables, mode, v);
-    let v2 = v * lane.tan_g;
-    let (p1, p2) = (m.s1 * v, m.s2 * v2);
-    ([v, m.acc, m.f1 * v, lane.f2 * v2, p1 + p2, p1], m.d)
-}
 
 // ẋ1 at which stages 2 to 6 evaluate the right-hand side (only ẋ1 is
 // needed: the right-hand side depends on nothing else).
@@ -138,6 +129,8 @@ pub struct Trial {
     pub(crate) k7: [f64; NY],
     /// Error norm: <= 1 means accepted.
     pub(crate) err: f64,
+    /// The step-size factor the norm asks for (`step::step_factor`).
+    pub(crate) fac: f64,
     /// Dense-output coefficients of ẋ1 (r1..r5).
     pub(crate) dense_v: [f64; 5],
     /// The step's increments of ∫p1 and ∫p2 (w_p1, and w_friction −
@@ -165,11 +158,11 @@ pub(crate) fn try_step(
 }
 
 /// Trial steps of N lanes at once (lanes with `active[j]` false are
-/// skipped). Each stage is computed for every lane before the next stage,
-/// so the lanes' independent chains of pow, tan and divisions overlap in
-/// the processor; per lane the arithmetic is exactly that of one lane, so
-/// results do not depend on N.
-#[inline]
+/// computed too, and ignored). Each stage is computed for every lane
+/// before the next stage, lanes as vector elements; per lane the
+/// arithmetic is exactly that of one lane, so a lane's trial, and its
+/// row, do not depend on N or on the lanes beside it.
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn try_steps<const N: usize>(
     lane: [&Lane; N],
@@ -189,64 +182,92 @@ pub(crate) fn try_steps<const N: usize>(
             set.tol
         }
     };
-    let z = [[0.0; NY]; N];
+    let c = Coefs::of(&lane, &mode);
+    // Component-major copies: k[i][j] is component i of lane j.
+    let cm = |a: &[[f64; NY]; N]| -> [[f64; N]; NY] {
+        std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
+    };
+    let (y0, k1) = (cm(y), cm(k1));
+    let z = [[0.0; N]; NY];
     let (mut k2, mut k3, mut k4, mut k5, mut k6, mut k7) = (z, z, z, z, z, z);
-    let mut tr = [Trial::default(); N];
-    let f = |j: usize, v: f64| rhs(lane[j], tables, mode[j], v).0;
-    let on = || (0..N).filter(|&j| active[j]);
-    for j in on() {
-        k2[j] = f(j, stage2_v(y[j][1], h[j], k1[j][1]));
-    }
-    for j in on() {
-        k3[j] = f(j, stage3_v(y[j][1], h[j], k1[j][1], k2[j][1]));
-    }
-    for j in on() {
-        k4[j] = f(j, stage4_v(y[j][1], h[j], k1[j][1], k2[j][1], k3[j][1]));
-    }
-    for j in on() {
-        let v = stage5_v(y[j][1], h[j], k1[j][1], k2[j][1], k3[j][1], k4[j][1]);
-        k5[j] = f(j, v);
-    }
-    for j in on() {
-        let (a, b, c, d, e) = (k1[j][1], k2[j][1], k3[j][1], k4[j][1], k5[j][1]);
-        k6[j] = f(j, stage6_v(y[j][1], h[j], a, b, c, d, e));
-    }
-    for j in on() {
-        for i in 0..NY {
-            let dy = increment(h[j], k1[j][i], k3[j][i], k4[j][i], k5[j][i], k6[j][i]);
-            tr[j].y1[i] = y[j][i] + dy;
+    let v0 = &y0[1];
+    let a1 = &k1[1];
+    let v: [f64; N] = std::array::from_fn(|j| stage2_v(v0[j], h[j], a1[j]));
+    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k2);
+    let v: [f64; N] = std::array::from_fn(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
+    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k3);
+    let v: [f64; N] = std::array::from_fn(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
+    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k4);
+    let v: [f64; N] =
+        std::array::from_fn(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
+    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k5);
+    let v: [f64; N] = std::array::from_fn(|j| {
+        stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j])
+    });
+    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k6);
+    let mut y1 = z;
+    for i in 0..NY {
+        for j in 0..N {
+            let dy = increment(h[j], k1[i][j], k3[i][j], k4[i][j], k5[i][j], k6[i][j]);
+            y1[i][j] = y0[i][j] + dy;
         }
     }
-    for j in on() {
-        k7[j] = f(j, tr[j].y1[1]);
-    }
-    for j in on() {
-        let (k1, k3, k4, k5, k6, k7, h, t) = (
-            &k1[j], &k3[j], &k4[j], &k5[j], &k6[j], &k7[j], h[j], &mut tr[j],
-        );
-        let mut err: f64 = 0.0;
-        for i in 0..NY {
-            let e = error_term(h, k1[i], k3[i], k4[i], k5[i], k6[i], k7[i]);
-            err = err.max(e.abs() / error_scale(tol_of(i), y[j][i], t.y1[i]));
-            t.est[i] = e.abs();
+    rhs_lanes(&c, &lane, tables, &mode, &y1[1], &mut k7);
+    // The rest component-major too, every lane (inactive ones ignored),
+    // so each loop is vector arithmetic; then one copy into each Trial.
+    let mut est = [[0.0; N]; NY + 1];
+    let mut err = [0.0f64; N];
+    for i in 0..NY {
+        let tol = tol_of(i);
+        for j in 0..N {
+            let et = error_term(
+                h[j], k1[i][j], k3[i][j], k4[i][j], k5[i][j], k6[i][j], k7[i][j],
+            );
+            est[i][j] = et.abs();
+            err[j] = err[j].max(est[i][j] / error_scale(tol, y0[i][j], y1[i][j]));
         }
-        t.err = if err.is_finite() { err } else { f64::INFINITY };
-        t.k7 = *k7;
-        t.dense_v = dense_coeffs(
-            y[j][1], t.y1[1], h, k1[1], k3[1], k4[1], k5[1], k6[1], k7[1],
-        );
+    }
+    let mut fac = [0.0; N];
+    for j in 0..N {
+        err[j] = if err[j].is_finite() {
+            err[j]
+        } else {
+            f64::INFINITY
+        };
+        fac[j] = step_factor(err[j]);
+    }
+    let mut dense_v = [[0.0; N]; 5];
+    let mut dw = [[0.0; N]; 2];
+    let mut dw_r4 = [[0.0; N]; 2];
+    for j in 0..N {
+        let (a, b, c3, d, e, f) = (k1[1][j], k3[1][j], k4[1][j], k5[1][j], k6[1][j], k7[1][j]);
+        let r = dense_coeffs(y0[1][j], y1[1][j], h[j], a, b, c3, d, e, f);
+        for (dv, r) in dense_v.iter_mut().zip(r) {
+            dv[j] = r;
+        }
         // ∫p1 is component 5; ∫p2 the difference of components 4 and 5.
-        let p2 = |k: &[f64; NY]| k[4] - k[5];
-        let (a, c, d, e, f, g) = (p2(k1), p2(k3), p2(k4), p2(k5), p2(k6), p2(k7));
-        t.dw = [
-            increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]),
-            increment(h, a, c, d, e, f),
-        ];
-        t.dw_r4 = [
-            dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
-            dense_r5(h, a, c, d, e, f, g),
-        ];
-        t.est[NY] = error_term(h, a, c, d, e, f, g).abs();
+        let w = |k: &[[f64; N]; NY]| k[5][j];
+        let p2 = |k: &[[f64; N]; NY]| k[4][j] - k[5][j];
+        let (a, b, c3, d, e, f) = (w(&k1), w(&k3), w(&k4), w(&k5), w(&k6), w(&k7));
+        dw[0][j] = increment(h[j], a, b, c3, d, e);
+        dw_r4[0][j] = dense_r5(h[j], a, b, c3, d, e, f);
+        let (a, b, c3, d, e, f) = (p2(&k1), p2(&k3), p2(&k4), p2(&k5), p2(&k6), p2(&k7));
+        dw[1][j] = increment(h[j], a, b, c3, d, e);
+        dw_r4[1][j] = dense_r5(h[j], a, b, c3, d, e, f);
+        est[NY][j] = error_term(h[j], a, b, c3, d, e, f).abs();
+    }
+    let mut tr = [Trial::default(); N];
+    for (j, t) in tr.iter_mut().enumerate().filter(|(j, _)| active[*j]) {
+        *t = Trial {
+            y1: std::array::from_fn(|i| y1[i][j]),
+            k7: std::array::from_fn(|i| k7[i][j]),
+            err: err[j],
+            fac: fac[j],
+            dense_v: std::array::from_fn(|i| dense_v[i][j]),
+            dw: [dw[0][j], dw[1][j]],
+            dw_r4: [dw_r4[0][j], dw_r4[1][j]],
+            est: std::array::from_fn(|i| est[i][j]),
+        };
     }
     tr
 }

@@ -7,6 +7,7 @@
 //! friction laws are in [`friction`].
 
 pub mod friction;
+pub mod vmath;
 
 use crate::params::{FrictionKind, MotorKind, Num, Params};
 pub use friction::{
@@ -223,17 +224,24 @@ pub fn motion(lane: &Lane, tables: &[FrictionTable], mode: Mode, v1: f64) -> Mot
     let f1 = motor_force(lane, v1, mode.motor_on);
     let vs = (mode.dir as f64 * v1).max(0.0) * lane.inv_cos_g;
     let t = (mode.side * mode.dir) as f64 * mu_sliding(lane, tables, vs, mode.upper);
-    let p = lane.tan_g + t;
-    let q = 1.0 - lane.tan_g * t;
+    motion_parts(f1, t, lane.tan_g, lane.m1, lane.m2, lane.f2)
+}
+
+/// The motion from the motor force `f1` and the signed tan ρ `t`: the
+/// arithmetic `motion` and the stepper's lanes share.
+#[inline(always)]
+pub fn motion_parts(f1: f64, t: f64, tan_g: f64, m1: f64, m2: f64, f2: f64) -> Motion {
+    let p = tan_g + t;
+    let q = 1.0 - tan_g * t;
     // D·q = m1 q + p m2 tan γ
-    let dq = lane.m1 * q + p * lane.m2 * lane.tan_g;
-    let acc = (f1 * q + p * lane.f2) / dq;
+    let dq = m1 * q + p * m2 * tan_g;
+    let acc = (f1 * q + p * f2) / dq;
     Motion {
         acc,
         d: dq / q,
         f1,
-        s1: f1 - lane.m1 * acc,
-        s2: lane.f2 - lane.m2 * lane.tan_g * acc,
+        s1: f1 - m1 * acc,
+        s2: f2 - m2 * tan_g * acc,
     }
 }
 

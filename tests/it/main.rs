@@ -23,3 +23,4 @@ mod shards;
 mod stats;
 mod traces;
 mod trust;
+mod widths;

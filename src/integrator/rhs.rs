@@ -1,0 +1,186 @@
+//! The right-hand side: of one lane ([`rhs`], as the shader has it), and
+//! of N lanes at once, component-major, as vector arithmetic
+//! (`rhs_lanes`), the same bits lane for lane (a test compares them).
+
+use super::NY;
+use crate::model::friction::{mu_sliding, tan_series, TAN_SERIES_MAX};
+use crate::model::vmath::pow;
+use crate::model::{
+    motion, motion_parts, FrictionTable, Lane, Mode, FRICTION_PAPER, MOTOR_CONSTANT,
+};
+
+/// Right-hand side: derivative of (x1, ẋ1, w_motor, w_load, w_friction,
+/// w_p1), and D of the mode. Depends on ẋ1 only: x1 and the works are
+/// quadratures. p1 = S1 ẋ1 and p2 = S2 ẋ2 are the powers the bodies put
+/// into the mesh (docs/model.md section 10).
+#[inline]
+pub fn rhs(lane: &Lane, tables: &[FrictionTable], mode: Mode, v: f64) -> ([f64; NY], f64) {
+    let m = motion(lane, tables, mode, v);
+    let v2 = v * lane.tan_g;
+    let (p1, p2) = (m.s1 * v, m.s2 * v2);
+    ([v, m.acc, m.f1 * v, lane.f2 * v2, p1 + p2, p1], m.d)
+}
+
+/// The constants of N lanes' right-hand sides in the current modes, one
+/// array a constant, so that a loop over the lanes is a loop over vector
+/// elements.
+pub(crate) struct Coefs<const N: usize> {
+    dir: [f64; N],
+    sd: [f64; N],
+    inv_cos_g: [f64; N],
+    tan_g: [f64; N],
+    m1: [f64; N],
+    m2: [f64; N],
+    f2: [f64; N],
+    fa: [f64; N],
+    fb: [f64; N],
+    fc: [f64; N],
+    /// Motor force law: 0 off, 1 constant, 2 Kloss.
+    motor: [u8; N],
+    f1: [f64; N],
+    v_sync: [f64; N],
+    sigma_k: [f64; N],
+    f_crit: [f64; N],
+    /// Lanes under a law other than the paper's (their μ comes from
+    /// `mu_sliding`, lane by lane).
+    other: [bool; N],
+}
+
+impl<const N: usize> Coefs<N> {
+    #[inline(always)]
+    pub(crate) fn of(lane: &[&Lane; N], mode: &[Mode; N]) -> Coefs<N> {
+        let f = |g: &dyn Fn(&Lane) -> f64| std::array::from_fn(|j| g(lane[j]));
+        Coefs {
+            dir: std::array::from_fn(|j| mode[j].dir as f64),
+            sd: std::array::from_fn(|j| (mode[j].side * mode[j].dir) as f64),
+            inv_cos_g: f(&|l| l.inv_cos_g),
+            tan_g: f(&|l| l.tan_g),
+            m1: f(&|l| l.m1),
+            m2: f(&|l| l.m2),
+            f2: f(&|l| l.f2),
+            fa: f(&|l| l.fric_a),
+            fb: f(&|l| l.fric_b),
+            fc: f(&|l| l.fric_c),
+            motor: std::array::from_fn(|j| match (mode[j].motor_on, lane[j].motor) {
+                (false, _) => 0,
+                (true, MOTOR_CONSTANT) => 1,
+                _ => 2,
+            }),
+            f1: f(&|l| l.f1),
+            v_sync: f(&|l| l.v_sync),
+            sigma_k: f(&|l| l.sigma_k),
+            f_crit: f(&|l| l.f_crit),
+            other: std::array::from_fn(|j| lane[j].friction != FRICTION_PAPER),
+        }
+    }
+}
+
+/// The right-hand sides of N lanes at speeds `v`, component-major
+/// (`k[i][j]`: component i of lane j): `rhs`'s arithmetic, operation for
+/// operation (a test compares the bits), written as loops over the lanes
+/// so that they compile to vector instructions.
+#[inline(always)]
+pub(crate) fn rhs_lanes<const N: usize>(
+    c: &Coefs<N>,
+    lane: &[&Lane; N],
+    tables: &[FrictionTable],
+    mode: &[Mode; N],
+    v: &[f64; N],
+    k: &mut [[f64; N]; NY],
+) {
+    let mut vs = [0.0; N];
+    let mut rho = [0.0; N];
+    let mut mu = [0.0; N];
+    for j in 0..N {
+        vs[j] = (c.dir[j] * v[j]).max(0.0) * c.inv_cos_g[j];
+    }
+    // The paper law's pow only where a lane has it.
+    if c.other.iter().any(|o| !o) {
+        for j in 0..N {
+            rho[j] = (std::f64::consts::PI / 180.0) / (c.fa[j] * pow(vs[j], c.fb[j]) + c.fc[j]);
+            mu[j] = tan_series(rho[j]);
+        }
+    }
+    for j in 0..N {
+        // The rare lanes off the vector's path: another law, or a
+        // friction angle past the series' range.
+        if c.other[j] {
+            mu[j] = mu_sliding(lane[j], tables, vs[j], mode[j].upper);
+        } else if rho[j].abs() > TAN_SERIES_MAX {
+            mu[j] = rho[j].tan();
+        }
+    }
+    for j in 0..N {
+        let sigma = (c.v_sync[j] - v[j]) / c.v_sync[j];
+        let sk = c.sigma_k[j];
+        let kloss = 2.0 * c.f_crit[j] * sigma * sk / (sigma * sigma + sk * sk);
+        let f1 = match c.motor[j] {
+            0 => 0.0,
+            1 => c.f1[j],
+            _ => kloss,
+        };
+        let t = c.sd[j] * mu[j];
+        let m = motion_parts(f1, t, c.tan_g[j], c.m1[j], c.m2[j], c.f2[j]);
+        let v2 = v[j] * c.tan_g[j];
+        let (p1, p2) = (m.s1 * v[j], m.s2 * v2);
+        k[0][j] = v[j];
+        k[1][j] = m.acc;
+        k[2][j] = m.f1 * v[j];
+        k[3][j] = c.f2[j] * v2;
+        k[4][j] = p1 + p2;
+        k[5][j] = p1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::sampling::Uniforms;
+    use crate::params::{Num, Spec};
+
+    /// `rhs_lanes` gives `rhs`'s bits, lane by lane, for every law and
+    /// mode, whatever the lanes beside it.
+    #[test]
+    fn the_lanes_right_hand_side_is_rhs_bit_for_bit() {
+        let mut u = Uniforms::new(9);
+        let laws = ["paper", "coulomb", "agma"];
+        for round in 0..200 {
+            let lanes: Vec<Lane> = (0..8)
+                .map(|j| {
+                    let mut s = Spec::default();
+                    s.set(Num::GammaDeg, 1.0 + 30.0 * u.next());
+                    s.set(Num::F2, -8000.0 + 16000.0 * u.next());
+                    let law = (round + j) % 3;
+                    let _ = s.set_text(crate::params::Param::Friction, laws[law]);
+                    match law {
+                        0 => s.set(Num::FricB, 0.1 + 2.0 * u.next()),
+                        1 => s.set(Num::Mu, 0.05),
+                        _ => {}
+                    }
+                    Lane::new(&s.resolve(&[]).unwrap(), &[])
+                })
+                .collect();
+            let lane: [&Lane; 8] = std::array::from_fn(|j| &lanes[j]);
+            let mode: [Mode; 8] = std::array::from_fn(|j| Mode {
+                side: if u.next() < 0.5 { 1 } else { -1 },
+                dir: if u.next() < 0.5 { 1 } else { -1 },
+                motor_on: (round + j) % 4 != 0,
+                upper: u.next() < 0.5,
+            });
+            let v: [f64; 8] =
+                std::array::from_fn(|j| if j == 3 { 0.0 } else { -6.0 + 12.0 * u.next() });
+            let mut k = [[0.0; 8]; NY];
+            rhs_lanes(&Coefs::of(&lane, &mode), &lane, &[], &mode, &v, &mut k);
+            for j in 0..8 {
+                let (want, _) = rhs(lane[j], &[], mode[j], v[j]);
+                for i in 0..NY {
+                    assert_eq!(
+                        k[i][j].to_bits(),
+                        want[i].to_bits(),
+                        "round {round} lane {j} component {i}"
+                    );
+                }
+            }
+        }
+    }
+}
