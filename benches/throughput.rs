@@ -31,7 +31,7 @@ use tswm::backend::gpu::{Gpu, GpuBackend};
 use tswm::backend::{Backend, CpuBackend};
 use tswm::input::lanes::Source;
 use tswm::input::testmodels::paper_like;
-use tswm::integrator::width::{isas, Width};
+use tswm::integrator::width::{isas, Width, LANES};
 use tswm::integrator::{simulate_batch_at, Settings};
 use tswm::model::Lane;
 use tswm::output::table::{Format, LanesWriter};
@@ -45,13 +45,11 @@ fn lanes(n: usize) -> Vec<Params> {
 }
 
 /// Lanes one thread steps together, and its instruction set: the
-/// widest set's widths 1, 2, 4 and 8, and each narrower set's own.
+/// widest set's widths (`LANES`), and each narrower set's own.
 fn widths() -> Vec<Width> {
     let all = isas();
     let best = *all.last().unwrap();
-    let mut v: Vec<Width> = [1, 2, 4, 8]
-        .map(|lanes| Width { lanes, isa: best })
-        .to_vec();
+    let mut v: Vec<Width> = LANES.map(|lanes| Width { lanes, isa: best }).to_vec();
     v.extend(all[..all.len() - 1].iter().map(|&i| Width::natural(i)));
     v
 }

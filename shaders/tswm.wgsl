@@ -31,7 +31,8 @@
 // 3e38 rather than infinity. The f64 path computes x^y and the step
 // factor's err^(-1/5) with its own straight-line kernels (so that they
 // run as vector code, src/model/vmath.rs and src/integrator/control.rs);
-// here WGSL's pow does.
+// here WGSL's pow does. Where p changes sign inside a step, the f64 path
+// finds the zero by the Illinois method, here by 24 halvings.
 
 // ==== src/model/ (mod.rs, friction.rs) ====
 

@@ -41,16 +41,28 @@ impl CpuBackend {
     }
 }
 
-/// Lanes a thread takes at a time. Within a block a finished lane's slot
-/// in the vector takes the block's next lane, so a block much longer
-/// than the vector keeps it full; measured on one thread (AVX-512, 8
-/// lanes, 20,000 lanes each): 64 gave 34,900 paper-like and 45,400
-/// heterogeneous lanes/s, 256 gave 36,500 and 51,700, 1024 gave 34,500
-/// and 53,400.
-pub const BLOCK_LANES: usize = 256;
+/// Most lanes a thread takes at a time. Within a block a finished lane's
+/// slot in the vector takes the block's next lane, and lanes refined take
+/// a second pass together, so a block much longer than the vector keeps it
+/// full. Measured on one thread at AVX-512 x16, 20,000 lanes each (the
+/// paper's design, f2 from -1.2 to 10.8 kN; `heterogeneous.toml`):
+/// blocks of 256 gave 41,200 and 58,700 lanes/s, 512 gave 44,300 and
+/// 61,500, 1024 gave 45,300 and 64,000.
+pub const BLOCK_LANES: usize = 1024;
+
+/// Fewest lanes in a block, when a chunk is cut finer so that every
+/// thread has work.
+const MIN_BLOCK_LANES: usize = 64;
+
+/// The block size for `n` lanes on `threads` threads: at least 4 blocks a
+/// thread (rayon balances them), each as long as that allows up to
+/// [`BLOCK_LANES`]. A row does not depend on it (`tests/it/widths.rs`).
+fn block_lanes(n: usize, threads: usize) -> usize {
+    (n / (4 * threads.max(1))).clamp(MIN_BLOCK_LANES, BLOCK_LANES)
+}
 
 /// Runs lanes on the CPU into `out` (cleared first): rayon over blocks of
-/// lanes, each block interleaved on its thread (`simulate_batch`).
+/// lanes, each block stepped in lockstep on its thread (`simulate_batch`).
 pub fn run_cpu_lanes(
     pool: &rayon::ThreadPool,
     settings: &Settings,
@@ -60,16 +72,14 @@ pub fn run_cpu_lanes(
 ) {
     out.clear();
     out.resize(lanes.len(), LaneResult::EMPTY);
+    let block = block_lanes(lanes.len(), pool.current_num_threads());
     pool.install(|| {
         lanes
-            .par_chunks(BLOCK_LANES)
-            .zip(out.par_chunks_mut(BLOCK_LANES))
+            .par_chunks(block)
+            .zip(out.par_chunks_mut(block))
             .for_each(|(p, o)| {
-                let mut l = [Lane::new(&p[0], tables); BLOCK_LANES];
-                for (d, s) in l.iter_mut().zip(p) {
-                    *d = Lane::new(s, tables);
-                }
-                simulate_batch(&l[..p.len()], tables, settings, o);
+                let l: Vec<Lane> = p.iter().map(|s| Lane::new(s, tables)).collect();
+                simulate_batch(&l, tables, settings, o);
             })
     });
 }
@@ -82,7 +92,8 @@ impl Backend for CpuBackend {
         self.settings.tol
     }
     fn chunk_lanes(&self) -> usize {
-        16384
+        // Enough for 4 full blocks a thread.
+        (4 * BLOCK_LANES * self.threads()).max(16384)
     }
     fn run_chunk(
         &mut self,

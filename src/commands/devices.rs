@@ -8,7 +8,7 @@ use crate::error::Result;
 pub fn run() -> Result<()> {
     let w = crate::integrator::width::width().map_err(crate::error::Error::Usage)?;
     println!(
-        "cpu: {} threads, each stepping {} lanes in lockstep ({}; {}=1, 2, 4 or 8 forces the lanes)",
+        "cpu: {} threads, each stepping {} lanes in lockstep ({}; {} forces a width, see the guide)",
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         w.lanes,
         w.name(),

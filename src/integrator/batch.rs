@@ -6,7 +6,7 @@ use super::accuracy::{needs_refining, ErrorBudget};
 use super::automaton::{init, LaneState};
 use super::result::{LaneResult, RowPath};
 use super::step::{advance, finish_step, prepare, StepPlan};
-use super::stepper::try_steps;
+use super::stepper::{try_steps, Trial};
 use super::width::{best_isa, isas, width, Isa, Width};
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};
@@ -92,7 +92,8 @@ fn run_width(
                 1 => $f::<1>(lanes, order, tables, set, done),
                 2 => $f::<2>(lanes, order, tables, set, done),
                 4 => $f::<4>(lanes, order, tables, set, done),
-                _ => $f::<8>(lanes, order, tables, set, done),
+                8 => $f::<8>(lanes, order, tables, set, done),
+                _ => $f::<16>(lanes, order, tables, set, done),
             }
         };
     }
@@ -144,6 +145,7 @@ fn interleaved<const N: usize>(
         return;
     }
     let mut slot: [Option<usize>; N] = [None; N];
+    let mut trial = [Trial::default(); N];
     let mut st = [init(&lanes[0], tables); N];
     loop {
         // Refill finished slots.
@@ -181,7 +183,7 @@ fn interleaved<const N: usize>(
         let lane: [&Lane; N] = std::array::from_fn(|j| &lanes[slot[j].unwrap_or(0)]);
         let y: [[f64; NY]; N] = std::array::from_fn(|j| st[j].y);
         let k1: [[f64; NY]; N] = std::array::from_fn(|j| st[j].k1);
-        let trial = try_steps::<N>(
+        try_steps::<N>(
             lane,
             tables,
             std::array::from_fn(|j| plan[j].mode),
@@ -190,6 +192,7 @@ fn interleaved<const N: usize>(
             std::array::from_fn(|j| plan[j].h),
             active,
             set,
+            &mut trial,
         );
         for j in (0..N).filter(|&j| active[j]) {
             finish_step(lane[j], tables, set, &mut st[j], &plan[j], &trial[j]);

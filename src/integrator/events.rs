@@ -115,6 +115,7 @@ pub fn locate_root(
 /// of the step and which it is; None when the step holds no event. A rest
 /// and a switch at the same θ count as a rest. `running_on`: the lane
 /// runs on past t_end, so speeding up is an event too.
+#[inline]
 pub fn earliest_event(
     lane: &Lane,
     tables: &[FrictionTable],
@@ -139,10 +140,9 @@ pub fn earliest_event(
         EventFn::Rest,
         event_value(lane, tables, mode, EventFn::Rest, trial.y1[1]),
     );
-    check(
-        EventFn::Switch,
-        event_value(lane, tables, mode, EventFn::Switch, trial.y1[1]),
-    );
+    // The switching function at the step's end came with the trial (the
+    // same arithmetic as `event_value`, as vector code).
+    check(EventFn::Switch, trial.g_switch);
     if running_on {
         // The step's end derivative holds the acceleration there.
         check(EventFn::Speeding, -(mode.dir as f64) * trial.k7[1]);

@@ -10,7 +10,7 @@
 //! by the sign of p at the step's two ends (the derivatives k1 and k7).
 //! Where the sign differs, the step's dense output of the integral, a
 //! quartic in θ whose slope is p, gives both the zero (where the slope
-//! changes sign, found by bisection) and the part before it (its value
+//! changes sign, found by the Illinois method) and the part before it (its value
 //! there); the part after it is the rest of the increment. So in − out is
 //! the quadrature itself, w1_in − w1_out + w2_in − w2_out = w_friction
 //! holds to rounding, and no right-hand side is evaluated again.
@@ -19,7 +19,7 @@ use super::events::dense_v;
 use super::stepper::Trial;
 use super::NY;
 
-/// Bisection for the zero of p inside a step ends when the bracket is
+/// Root finding for the zero of p inside a step ends when the bracket is
 /// this narrow: 2^-52, the resolution of f64 on [0, 1] (2^-24 in the
 /// shader's f32).
 pub const THETA_TOL: f64 = f64::EPSILON;
@@ -36,6 +36,7 @@ pub fn dense_slope(r: &[f64; 5], th: f64) -> f64 {
 /// (p < 0) parts, as [in, out]: `r` is the step's dense output of the
 /// integral with r0 = 0 (so r1 is the increment and W(θ) the part up to θ),
 /// `p0` and `p_end` the integrand at the step's ends.
+#[inline]
 pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
     let total = r[1];
     if !(p0 * p_end < 0.0) {
@@ -47,19 +48,47 @@ pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
             [0.0, -total]
         };
     }
+    split_crossing(r, p0)
+}
+
+/// [`split`] where p changes sign inside the step (about 1 % of steps,
+/// kept out of the hot path).
+#[cold]
+fn split_crossing(r: &[f64; 5], p0: f64) -> [f64; 2] {
+    let total = r[1];
     let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
-    let (mut a, mut b) = (0.0, 1.0);
-    // A tolerance, not a count, ends the loop, as in the shader (where a
-    // constant count is unrolled into code that halves lavapipe's speed);
-    // the cap guards against a bracket that rounding cannot narrow.
+    // The zero of the slope by the Illinois method (as `events` locates
+    // roots): a handful of iterations where bisection takes 52. The
+    // bracket [a, b] keeps sign·slope > 0 at a and <= 0 at b; a
+    // tolerance, not a count, ends the loop, and the cap guards against
+    // a bracket that rounding cannot narrow. (The shader bisects: in f32
+    // that is 24 halvings.)
+    let g = |th: f64| sign * dense_slope(r, th);
+    let (mut a, mut ga) = (0.0, g(0.0));
+    let (mut b, mut gb) = (1.0, g(1.0));
+    let mut side = 0;
     let mut it = 0;
-    while b - a > THETA_TOL && it < 64 {
+    while b - a > THETA_TOL && it < 200 {
         it += 1;
-        let c = 0.5 * (a + b);
-        if sign * dense_slope(r, c) > 0.0 {
+        let mut c = (a * gb - b * ga) / (gb - ga);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let gc = g(c);
+        if gc > 0.0 {
             a = c;
+            ga = gc;
+            if side == -1 {
+                gb *= 0.5;
+            }
+            side = -1;
         } else {
             b = c;
+            gb = gc;
+            if side == 1 {
+                ga *= 0.5;
+            }
+            side = 1;
         }
     }
     let first = dense_v(r, 0.5 * (a + b));
@@ -74,6 +103,7 @@ pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
 /// The dense output (r0 = 0) of an increment `dw` of a quadrature over a
 /// step of size h with derivatives `q0` and `q_end` at its ends and last
 /// coefficient `r4`: the same coefficients as `stepper::dense_coeffs`.
+#[inline]
 pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
     let r2 = h * q0 - dw;
     [0.0, dw, r2, dw - h * q_end - r2, r4]
@@ -81,6 +111,7 @@ pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
 
 /// The increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step
 /// of size `h`, from the derivative `k1` at its start to `trial`.
+#[inline]
 pub fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> [f64; 4] {
     let k7 = &trial.k7;
     let (p1_0, p1_end) = (k1[5], k7[5]);

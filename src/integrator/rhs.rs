@@ -37,6 +37,8 @@ pub(crate) struct Coefs<const N: usize> {
     fc: [f64; N],
     /// Motor force law: 0 off, 1 constant, 2 Kloss.
     motor: [u8; N],
+    /// Contact side c of the mode.
+    side: [f64; N],
     f1: [f64; N],
     v_sync: [f64; N],
     sigma_k: [f64; N],
@@ -53,6 +55,7 @@ impl<const N: usize> Coefs<N> {
         Coefs {
             dir: std::array::from_fn(|j| mode[j].dir as f64),
             sd: std::array::from_fn(|j| (mode[j].side * mode[j].dir) as f64),
+            side: std::array::from_fn(|j| mode[j].side as f64),
             inv_cos_g: f(&|l| l.inv_cos_g),
             tan_g: f(&|l| l.tan_g),
             m1: f(&|l| l.m1),
@@ -72,6 +75,30 @@ impl<const N: usize> Coefs<N> {
             f_crit: f(&|l| l.f_crit),
             other: std::array::from_fn(|j| lane[j].friction != FRICTION_PAPER),
         }
+    }
+
+    /// Lane j's motor force at speed `v`: `motor_force`'s arithmetic.
+    #[inline(always)]
+    fn motor_force(&self, j: usize, v: f64) -> f64 {
+        let sigma = (self.v_sync[j] - v) / self.v_sync[j];
+        let sk = self.sigma_k[j];
+        let kloss = 2.0 * self.f_crit[j] * sigma * sk / (sigma * sigma + sk * sk);
+        match self.motor[j] {
+            0 => 0.0,
+            1 => self.f1[j],
+            _ => kloss,
+        }
+    }
+
+    /// The switch event's function c·φ(ẋ1) of each lane at speeds `v`:
+    /// `events::event_value`'s arithmetic, as vector code.
+    #[inline(always)]
+    pub(crate) fn switching(&self, v: &[f64; N]) -> [f64; N] {
+        std::array::from_fn(|j| {
+            let phi =
+                self.motor_force(j, v[j]) / self.m1[j] - self.f2[j] / (self.m2[j] * self.tan_g[j]);
+            self.side[j] * phi
+        })
     }
 }
 
@@ -111,14 +138,7 @@ pub(crate) fn rhs_lanes<const N: usize>(
         }
     }
     for j in 0..N {
-        let sigma = (c.v_sync[j] - v[j]) / c.v_sync[j];
-        let sk = c.sigma_k[j];
-        let kloss = 2.0 * c.f_crit[j] * sigma * sk / (sigma * sigma + sk * sk);
-        let f1 = match c.motor[j] {
-            0 => 0.0,
-            1 => c.f1[j],
-            _ => kloss,
-        };
+        let f1 = c.motor_force(j, v[j]);
         let t = c.sd[j] * mu[j];
         let m = motion_parts(f1, t, c.tan_g[j], c.m1[j], c.m2[j], c.f2[j]);
         let v2 = v[j] * c.tan_g[j];
@@ -138,8 +158,9 @@ mod tests {
     use crate::input::sampling::Uniforms;
     use crate::params::{Num, Spec};
 
-    /// `rhs_lanes` gives `rhs`'s bits, lane by lane, for every law and
-    /// mode, whatever the lanes beside it.
+    /// `rhs_lanes` gives `rhs`'s bits, and `Coefs::switching` the switch
+    /// event's, lane by lane, for every law, motor and mode, whatever the
+    /// lanes beside it.
     #[test]
     fn the_lanes_right_hand_side_is_rhs_bit_for_bit() {
         let mut u = Uniforms::new(9);
@@ -157,6 +178,10 @@ mod tests {
                         1 => s.set(Num::Mu, 0.05),
                         _ => {}
                     }
+                    if (round + j) % 5 == 0 {
+                        s.motor = Some(crate::params::MotorKind::Constant);
+                        s.set(Num::F1, 3000.0 * u.next());
+                    }
                     Lane::new(&s.resolve(&[]).unwrap(), &[])
                 })
                 .collect();
@@ -170,8 +195,18 @@ mod tests {
             let v: [f64; 8] =
                 std::array::from_fn(|j| if j == 3 { 0.0 } else { -6.0 + 12.0 * u.next() });
             let mut k = [[0.0; 8]; NY];
-            rhs_lanes(&Coefs::of(&lane, &mode), &lane, &[], &mode, &v, &mut k);
+            let c = Coefs::of(&lane, &mode);
+            rhs_lanes(&c, &lane, &[], &mode, &v, &mut k);
+            let g = c.switching(&v);
             for j in 0..8 {
+                let want = crate::integrator::events::event_value(
+                    lane[j],
+                    &[],
+                    mode[j],
+                    crate::integrator::events::EventFn::Switch,
+                    v[j],
+                );
+                assert_eq!(g[j].to_bits(), want.to_bits(), "round {round} lane {j}");
                 let (want, _) = rhs(lane[j], &[], mode[j], v[j]);
                 for i in 0..NY {
                     assert_eq!(

@@ -40,6 +40,7 @@ impl StepPlan {
 /// First half of one step attempt: a stick phase jumps to the next time
 /// event, the derivative at the step's start is made valid, and the step
 /// size is chosen. None when the attempt ends here (stuck, or finished).
+#[inline]
 pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Option<StepPlan> {
     // The next time event: motor cut-off, else the end of the run.
     let end = horizon(lane, st);
@@ -89,6 +90,7 @@ pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Opt
 /// Second half of a step attempt: accept or reject the trial step, locate
 /// the earliest event inside it and restart from there in the new mode, or
 /// move to the step's end.
+#[inline]
 pub fn finish_step(
     lane: &Lane,
     tables: &[FrictionTable],
@@ -132,6 +134,7 @@ pub fn finish_step(
 }
 
 /// Adds an accepted step's energy flow (from `st`, before it moves).
+#[inline]
 fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
     let d = step_flow(&st.k1, trial, h);
     st.budget.add_step(&st.k1, trial, &d);

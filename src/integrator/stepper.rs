@@ -129,8 +129,10 @@ pub struct Trial {
     pub(crate) k7: [f64; NY],
     /// Error norm: <= 1 means accepted.
     pub(crate) err: f64,
-    /// The step-size factor the norm asks for (`step::step_factor`).
+    /// The step-size factor the norm asks for (`control::step_factor`).
     pub(crate) fac: f64,
+    /// The switch event's function at the step's end (`events`).
+    pub(crate) g_switch: f64,
     /// Dense-output coefficients of ẋ1 (r1..r5).
     pub(crate) dense_v: [f64; 5],
     /// The step's increments of ∫p1 and ∫p2 (w_p1, and w_friction −
@@ -154,11 +156,23 @@ pub(crate) fn try_step(
     h: f64,
     set: &Settings,
 ) -> Trial {
-    try_steps::<1>([lane], tables, [mode], &[*y], &[*k1], [h], [true], set)[0]
+    let mut tr = [Trial::default()];
+    try_steps::<1>(
+        [lane],
+        tables,
+        [mode],
+        &[*y],
+        &[*k1],
+        [h],
+        [true],
+        set,
+        &mut tr,
+    );
+    tr[0]
 }
 
-/// Trial steps of N lanes at once (lanes with `active[j]` false are
-/// computed too, and ignored). Each stage is computed for every lane
+/// Trial steps of N lanes at once, into `tr` (lanes with `active[j]`
+/// false are computed too, and their `tr[j]` left as it was). Each stage is computed for every lane
 /// before the next stage, lanes as vector elements; per lane the
 /// arithmetic is exactly that of one lane, so a lane's trial, and its
 /// row, do not depend on N or on the lanes beside it.
@@ -173,7 +187,8 @@ pub(crate) fn try_steps<const N: usize>(
     h: [f64; N],
     active: [bool; N],
     set: &Settings,
-) -> [Trial; N] {
+    tr: &mut [Trial; N],
+) {
     // x1 and ẋ1 may be held tighter than the works (`Settings::traj_weight`).
     let tol_of = |i: usize| {
         if i < 2 {
@@ -227,6 +242,7 @@ pub(crate) fn try_steps<const N: usize>(
             err[j] = err[j].max(est[i][j] / error_scale(tol, y0[i][j], y1[i][j]));
         }
     }
+    let g_switch = c.switching(&y1[1]);
     let mut fac = [0.0; N];
     for j in 0..N {
         err[j] = if err[j].is_finite() {
@@ -256,18 +272,17 @@ pub(crate) fn try_steps<const N: usize>(
         dw_r4[1][j] = dense_r5(h[j], a, b, c3, d, e, f);
         est[NY][j] = error_term(h[j], a, b, c3, d, e, f).abs();
     }
-    let mut tr = [Trial::default(); N];
     for (j, t) in tr.iter_mut().enumerate().filter(|(j, _)| active[*j]) {
         *t = Trial {
             y1: std::array::from_fn(|i| y1[i][j]),
             k7: std::array::from_fn(|i| k7[i][j]),
             err: err[j],
             fac: fac[j],
+            g_switch: g_switch[j],
             dense_v: std::array::from_fn(|i| dense_v[i][j]),
             dw: [dw[0][j], dw[1][j]],
             dw_r4: [dw_r4[0][j], dw_r4[1][j]],
             est: std::array::from_fn(|i| est[i][j]),
         };
     }
-    tr
 }

@@ -9,7 +9,7 @@ use std::process::Command;
 use crate::common::{read_csv, root};
 use crate::reference::{python_for, script, Needs};
 use tswm::input::testmodels::{paper_like, random_user_lanes};
-use tswm::integrator::width::{isas, Width};
+use tswm::integrator::width::{isas, Width, LANES};
 use tswm::integrator::{simulate, simulate_batch_at, LaneResult, Settings};
 use tswm::model::{FrictionTable, Lane};
 use tswm::params::{FrictionKind, Num, Spec, TableName};
@@ -83,7 +83,7 @@ fn every_width_order_and_chunk_gives_each_lane_the_same_bits() {
     let shuffled: Vec<Lane> = perm.iter().map(|&i| lanes[i]).collect();
     let mut tried = 0;
     for isa in isas() {
-        for w in [1, 2, 4, 8] {
+        for w in LANES {
             let width = Width { lanes: w, isa };
             for chunk in [1, 5, 64, n] {
                 let mut out = alone.clone();
@@ -142,8 +142,8 @@ fn run_at(dir: &Path, table: &Path, width: &str, threads: &str, out: &str) -> Ve
     read_csv(&dir.join(out).join("lanes.csv")).1
 }
 
-/// `lanes.csv` through the binary: byte-identical rows at widths 1, 2, 4
-/// and 8, on 1 and 2 threads, and from the same lane table shuffled (rows
+/// `lanes.csv` through the binary: byte-identical rows at widths 1, 2, 4,
+/// 8 and 16, on 1 and 2 threads, and from the same lane table shuffled (rows
 /// compared by lane), for the four recipes of the independent lane
 /// generator (paper and Coulomb lanes; a wide recipe with constant
 /// motors and initial speeds; lanes that run on to answer "does it
@@ -180,7 +180,8 @@ fn lanes_csv_is_the_same_at_every_width_thread_count_and_order() {
         std::fs::write(&shuffled, format!("{header}\n{}\n", body.join("\n"))).unwrap();
 
         let want = run_at(d, &table, "1", "1", &format!("ref_{recipe}"));
-        for width in ["1", "2", "4", "8"] {
+        for width in LANES.map(|n| n.to_string()) {
+            let width = width.as_str();
             for threads in ["1", "2"] {
                 let got = run_at(
                     d,
@@ -220,8 +221,8 @@ fn a_forced_width_that_is_not_allowed_is_refused() {
     let d = dir.path();
     let sweep = root().join("sweeps/paper.toml");
     for (bad, why) in [
-        ("3", "allowed: 1, 2, 4 or 8"),
-        ("wide", "allowed: 1, 2, 4 or 8"),
+        ("3", "allowed: 1, 2, 4, 8, 16"),
+        ("wide", "allowed: 1, 2, 4, 8, 16"),
     ] {
         for args in [
             vec![
