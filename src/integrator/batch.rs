@@ -5,8 +5,9 @@
 use super::accuracy::{needs_refining, ErrorBudget};
 use super::automaton::{init, LaneState};
 use super::result::{LaneResult, RowPath};
+use super::rhs::Coefs;
 use super::step::{advance, finish_step, prepare, StepPlan};
-use super::stepper::{try_steps, Trial};
+use super::stepper::{try_steps, Mode, Trial};
 use super::width::{best_isa, isas, width, Isa, Width};
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};
@@ -146,6 +147,10 @@ fn interleaved<const N: usize>(
     }
     let mut slot: [Option<usize>; N] = [None; N];
     let mut trial = [Trial::default(); N];
+    // The right-hand sides' constants, kept while a slot's lane and mode
+    // stay (a slot that takes a new lane has a new index).
+    let mut coefs = Coefs::of(&[&lanes[0]; N], &[StepPlan::IDLE.mode; N]);
+    let mut cached: [Option<(Option<usize>, Mode)>; N] = [None; N];
     let mut st = [init(&lanes[0], tables); N];
     loop {
         // Refill finished slots.
@@ -183,7 +188,15 @@ fn interleaved<const N: usize>(
         let lane: [&Lane; N] = std::array::from_fn(|j| &lanes[slot[j].unwrap_or(0)]);
         let y: [[f64; NY]; N] = std::array::from_fn(|j| st[j].y);
         let k1: [[f64; NY]; N] = std::array::from_fn(|j| st[j].k1);
+        for j in (0..N).filter(|&j| active[j]) {
+            let key = (slot[j], plan[j].mode);
+            if cached[j] != Some(key) {
+                coefs.set(j, lane[j], plan[j].mode);
+                cached[j] = Some(key);
+            }
+        }
         try_steps::<N>(
+            &coefs,
             lane,
             tables,
             std::array::from_fn(|j| plan[j].mode),

@@ -49,32 +49,61 @@ pub(crate) struct Coefs<const N: usize> {
 }
 
 impl<const N: usize> Coefs<N> {
+    /// The constants of `lane` in `mode`.
     #[inline(always)]
     pub(crate) fn of(lane: &[&Lane; N], mode: &[Mode; N]) -> Coefs<N> {
-        let f = |g: &dyn Fn(&Lane) -> f64| std::array::from_fn(|j| g(lane[j]));
-        Coefs {
-            dir: std::array::from_fn(|j| mode[j].dir as f64),
-            sd: std::array::from_fn(|j| (mode[j].side * mode[j].dir) as f64),
-            side: std::array::from_fn(|j| mode[j].side as f64),
-            inv_cos_g: f(&|l| l.inv_cos_g),
-            tan_g: f(&|l| l.tan_g),
-            m1: f(&|l| l.m1),
-            m2: f(&|l| l.m2),
-            f2: f(&|l| l.f2),
-            fa: f(&|l| l.fric_a),
-            fb: f(&|l| l.fric_b),
-            fc: f(&|l| l.fric_c),
-            motor: std::array::from_fn(|j| match (mode[j].motor_on, lane[j].motor) {
-                (false, _) => 0,
-                (true, MOTOR_CONSTANT) => 1,
-                _ => 2,
-            }),
-            f1: f(&|l| l.f1),
-            v_sync: f(&|l| l.v_sync),
-            sigma_k: f(&|l| l.sigma_k),
-            f_crit: f(&|l| l.f_crit),
-            other: std::array::from_fn(|j| lane[j].friction != FRICTION_PAPER),
+        let z = [0.0; N];
+        let mut c = Coefs {
+            dir: z,
+            sd: z,
+            side: z,
+            inv_cos_g: z,
+            tan_g: z,
+            m1: z,
+            m2: z,
+            f2: z,
+            fa: z,
+            fb: z,
+            fc: z,
+            motor: [0; N],
+            f1: z,
+            v_sync: z,
+            sigma_k: z,
+            f_crit: z,
+            other: [false; N],
+        };
+        for j in 0..N {
+            c.set(j, lane[j], mode[j]);
         }
+        c
+    }
+
+    /// Column j: the constants of `lane` in `mode` (the batch driver
+    /// keeps them from step to step and sets a column only when its
+    /// lane or mode changes).
+    #[inline(always)]
+    pub(crate) fn set(&mut self, j: usize, lane: &Lane, mode: Mode) {
+        self.dir[j] = mode.dir as f64;
+        self.sd[j] = (mode.side * mode.dir) as f64;
+        self.side[j] = mode.side as f64;
+        self.inv_cos_g[j] = lane.inv_cos_g;
+        self.tan_g[j] = lane.tan_g;
+        self.m1[j] = lane.m1;
+        self.m2[j] = lane.m2;
+        self.f2[j] = lane.f2;
+        self.fa[j] = lane.fric_a;
+        self.fb[j] = lane.fric_b;
+        self.fc[j] = lane.fric_c;
+        self.motor[j] = match (mode.motor_on, lane.motor) {
+            (false, _) => 0,
+            (true, MOTOR_CONSTANT) => 1,
+            _ => 2,
+        };
+        self.f1[j] = lane.f1;
+        self.v_sync[j] = lane.v_sync;
+        self.sigma_k[j] = lane.sigma_k;
+        self.f_crit[j] = lane.f_crit;
+        self.other[j] = lane.friction != FRICTION_PAPER;
     }
 
     /// Lane j's motor force at speed `v`: `motor_force`'s arithmetic.

@@ -158,6 +158,7 @@ pub(crate) fn try_step(
 ) -> Trial {
     let mut tr = [Trial::default()];
     try_steps::<1>(
+        &Coefs::of(&[lane], &[mode]),
         [lane],
         tables,
         [mode],
@@ -179,6 +180,7 @@ pub(crate) fn try_step(
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn try_steps<const N: usize>(
+    c: &Coefs<N>,
     lane: [&Lane; N],
     tables: &[FrictionTable],
     mode: [Mode; N],
@@ -197,7 +199,6 @@ pub(crate) fn try_steps<const N: usize>(
             set.tol
         }
     };
-    let c = Coefs::of(&lane, &mode);
     // Component-major copies: k[i][j] is component i of lane j.
     let cm = |a: &[[f64; NY]; N]| -> [[f64; N]; NY] {
         std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
@@ -208,18 +209,18 @@ pub(crate) fn try_steps<const N: usize>(
     let v0 = &y0[1];
     let a1 = &k1[1];
     let v: [f64; N] = std::array::from_fn(|j| stage2_v(v0[j], h[j], a1[j]));
-    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k2);
+    rhs_lanes(c, &lane, tables, &mode, &v, &mut k2);
     let v: [f64; N] = std::array::from_fn(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
-    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k3);
+    rhs_lanes(c, &lane, tables, &mode, &v, &mut k3);
     let v: [f64; N] = std::array::from_fn(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
-    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k4);
+    rhs_lanes(c, &lane, tables, &mode, &v, &mut k4);
     let v: [f64; N] =
         std::array::from_fn(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
-    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k5);
+    rhs_lanes(c, &lane, tables, &mode, &v, &mut k5);
     let v: [f64; N] = std::array::from_fn(|j| {
         stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j])
     });
-    rhs_lanes(&c, &lane, tables, &mode, &v, &mut k6);
+    rhs_lanes(c, &lane, tables, &mode, &v, &mut k6);
     let mut y1 = z;
     for i in 0..NY {
         for j in 0..N {
@@ -227,7 +228,7 @@ pub(crate) fn try_steps<const N: usize>(
             y1[i][j] = y0[i][j] + dy;
         }
     }
-    rhs_lanes(&c, &lane, tables, &mode, &y1[1], &mut k7);
+    rhs_lanes(c, &lane, tables, &mode, &y1[1], &mut k7);
     // The rest component-major too, every lane (inactive ones ignored),
     // so each loop is vector arithmetic; then one copy into each Trial.
     let mut est = [[0.0; N]; NY + 1];
