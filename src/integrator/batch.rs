@@ -24,8 +24,8 @@ pub fn simulate_batch(
     set: &Settings,
     out: &mut [LaneResult],
 ) {
-    // A width the variable forces wrongly is refused where the backend is
-    // made; here it falls back to the core's own.
+    // A width the variable forces wrongly is refused before any command
+    // runs (and by the CPU backend); here it falls back to the core's own.
     let w = width().unwrap_or_else(|_| Width::natural(best_isa()));
     simulate_batch_at(w, lanes, tables, set, out)
 }

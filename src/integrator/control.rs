@@ -1,6 +1,8 @@
 //! Step-size control: the factor a trial step's error norm asks the next
 //! step to grow or shrink by.
 
+use crate::model::vmath::{pow2i, round_even, split_exponent};
+
 /// Step-size factor from a trial's error norm: 0.9 err^(−1/5), kept
 /// within [0.2, 5]. The power is [`inv_fifth_root`], not the C library's
 /// `pow`: a step size needs no last-bit accuracy, and straight-line
@@ -30,12 +32,7 @@ pub(crate) fn step_factor(err: f64) -> f64 {
 /// compares it with `powf`): 2^(−log2(x)/5) with a series for each part.
 #[inline(always)]
 pub(crate) fn inv_fifth_root(x: f64) -> f64 {
-    let bits = x.to_bits();
-    let mut e = ((bits >> 52) & 0x7ff) as i64 - 1023;
-    let mut m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
-    let big = m > std::f64::consts::SQRT_2;
-    m = if big { 0.5 * m } else { m };
-    e += i64::from(big);
+    let (e, m) = split_exponent(x);
     // log2 m = (2 / ln 2) atanh(s), s = (m − 1)/(m + 1), |s| < 0.1716:
     // the series to s^7 leaves s^9/9 < 2e-8.
     let s = (m - 1.0) / (m + 1.0);
@@ -45,8 +42,7 @@ pub(crate) fn inv_fifth_root(x: f64) -> f64 {
     let t = -0.2 * (e as f64 + log2m);
     // 2^t = 2^k e^(f ln 2), k = round(t), |f ln 2| <= 0.35: Taylor to
     // the 8th power leaves 1e-10.
-    // Round to nearest by adding and subtracting 1.5 · 2^52 (no call).
-    let k = (t + 6_755_399_441_055_744.0) - 6_755_399_441_055_744.0;
+    let k = round_even(t);
     let r = (t - k) * std::f64::consts::LN_2;
     let mut p = 1.0 / 40320.0;
     p = p * r + 1.0 / 5040.0;
@@ -58,7 +54,7 @@ pub(crate) fn inv_fifth_root(x: f64) -> f64 {
     p = p * r + 1.0;
     p = p * r + 1.0;
     // k is in [−205, 3]: 2^k is a normal number.
-    p * f64::from_bits(((k as i64 + 1023) as u64) << 52)
+    p * pow2i(k as i64)
 }
 
 #[cfg(test)]

@@ -76,14 +76,25 @@ pub fn locate_root(
     g_end: f64,
     theta_tol: f64,
 ) -> f64 {
-    let (mut a, mut fa) = (0.0, event_value(lane, tables, mode, which, r[0]));
-    let (mut b, mut fb) = (1.0, g_end);
+    let fa = event_value(lane, tables, mode, which, r[0]);
     if fa <= 0.0 {
         return 0.0;
     }
+    let g = |th: f64| event_value(lane, tables, mode, which, dense_v(r, th));
+    illinois(g, fa, g_end, theta_tol).0
+}
+
+/// The bracket [a, b] ⊂ [0, 1] around a crossing of `g` from >= 0 (at a)
+/// to < 0 (at b), narrowed by the Illinois method until it is at most
+/// `tol` wide (or after 100 iterations); `g0` and `g1` are g(0) > 0 and
+/// g(1) < 0. Events and the energy flow's sign change share it.
+#[inline]
+pub(crate) fn illinois(g: impl Fn(f64) -> f64, g0: f64, g1: f64, tol: f64) -> (f64, f64) {
+    let (mut a, mut fa) = (0.0, g0);
+    let (mut b, mut fb) = (1.0, g1);
     let mut side = 0;
     for _ in 0..100 {
-        if b - a <= theta_tol {
+        if b - a <= tol {
             break;
         }
         let mut c = (a * fb - b * fa) / (fb - fa);
@@ -91,7 +102,7 @@ pub fn locate_root(
         if !(c > a && c < b) {
             c = 0.5 * (a + b);
         }
-        let fc = event_value(lane, tables, mode, which, dense_v(r, c));
+        let fc = g(c);
         if fc >= 0.0 {
             a = c;
             fa = fc;
@@ -108,7 +119,7 @@ pub fn locate_root(
             side = 1;
         }
     }
-    a
+    (a, b)
 }
 
 /// The earliest event inside an accepted step of size `h`: its fraction θ

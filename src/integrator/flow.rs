@@ -15,7 +15,7 @@
 //! the quadrature itself, w1_in − w1_out + w2_in − w2_out = w_friction
 //! holds to rounding, and no right-hand side is evaluated again.
 
-use super::events::dense_v;
+use super::events::{dense_v, illinois};
 use super::stepper::Trial;
 use super::NY;
 
@@ -57,40 +57,11 @@ pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
 fn split_crossing(r: &[f64; 5], p0: f64) -> [f64; 2] {
     let total = r[1];
     let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
-    // The zero of the slope by the Illinois method (as `events` locates
-    // roots): a handful of iterations where bisection takes 52. The
-    // bracket [a, b] keeps sign·slope > 0 at a and <= 0 at b; a
-    // tolerance, not a count, ends the loop, and the cap guards against
-    // a bracket that rounding cannot narrow. (The shader bisects: in f32
-    // that is 24 halvings.)
+    // The zero of the slope by the Illinois method, as events are located:
+    // a handful of iterations where bisection takes 52. (The shader
+    // bisects: in f32 that is 24 halvings.)
     let g = |th: f64| sign * dense_slope(r, th);
-    let (mut a, mut ga) = (0.0, g(0.0));
-    let (mut b, mut gb) = (1.0, g(1.0));
-    let mut side = 0;
-    let mut it = 0;
-    while b - a > THETA_TOL && it < 200 {
-        it += 1;
-        let mut c = (a * gb - b * ga) / (gb - ga);
-        if !(c > a && c < b) {
-            c = 0.5 * (a + b);
-        }
-        let gc = g(c);
-        if gc > 0.0 {
-            a = c;
-            ga = gc;
-            if side == -1 {
-                gb *= 0.5;
-            }
-            side = -1;
-        } else {
-            b = c;
-            gb = gc;
-            if side == 1 {
-                ga *= 0.5;
-            }
-            side = 1;
-        }
-    }
+    let (a, b) = illinois(g, g(0.0), g(1.0), THETA_TOL);
     let first = dense_v(r, 0.5 * (a + b));
     let rest = total - first;
     if sign > 0.0 {

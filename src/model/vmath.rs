@@ -36,6 +36,30 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
     (p, a.mul_add(b, -p))
 }
 
+/// (k, m) with x = 2^k · m and m in [√½, √2), for a normal x > 0: the
+/// reduction every logarithm here starts from.
+#[inline(always)]
+pub(crate) fn split_exponent(x: f64) -> (i64, f64) {
+    let bits = x.to_bits();
+    let k = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    let big = m > std::f64::consts::SQRT_2;
+    (k + i64::from(big), if big { m * 0.5 } else { m })
+}
+
+/// x rounded to the nearest integer, ties to even, for |x| < 2^51: by
+/// adding and subtracting 1.5 · 2^52 (no call, no branch).
+#[inline(always)]
+pub(crate) fn round_even(x: f64) -> f64 {
+    (x + ROUND) - ROUND
+}
+
+/// 2^k for k in the normal range [−1022, 1023], from its exponent field.
+#[inline(always)]
+pub(crate) fn pow2i(k: i64) -> f64 {
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
 /// ln x as an unevaluated sum hi + lo, about 2^-60 relative, for x > 0
 /// (subnormals included); hi is −∞ at 0 and NaN below.
 #[inline(always)]
@@ -47,13 +71,9 @@ fn ln2(x: f64) -> (f64, f64) {
     } else {
         x
     }; // 2^54
-    let bits = xs.to_bits();
-    let mut k = ((bits >> 52) & 0x7ff) as i64 - 1023 - if tiny { 54 } else { 0 };
-    let mut m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    let (k, m) = split_exponent(xs);
+    let k = k - if tiny { 54 } else { 0 };
     // m in [√½, √2): ln m = 2 atanh(s), s = f / (2 + f), |s| < 0.1716.
-    let big = m > std::f64::consts::SQRT_2;
-    m = if big { m * 0.5 } else { m };
-    k += i64::from(big);
     let f = m - 1.0;
     let s = f / (2.0 + f);
     let z = s * s;
@@ -99,7 +119,7 @@ pub fn ln(x: f64) -> f64 {
 #[inline(always)]
 fn exp2sum(x: f64, xl: f64) -> f64 {
     let xc = x.clamp(-746.0, 710.0);
-    let kf = (xc * std::f64::consts::LOG2_E + ROUND) - ROUND;
+    let kf = round_even(xc * std::f64::consts::LOG2_E);
     let r = (xc - kf * LN2_HI) + (xl - kf * LN2_LO);
     // e^r, |r| <= 0.3466: Taylor to r^13 (the tail is below 2^-58).
     let mut p = 1.0 / 6_227_020_800.0;
@@ -120,8 +140,7 @@ fn exp2sum(x: f64, xl: f64) -> f64 {
     let k = kf as i64;
     let k1 = k / 2;
     let k2 = k - k1;
-    let s1 = f64::from_bits(((k1 + 1023) as u64) << 52);
-    let s2 = f64::from_bits(((k2 + 1023) as u64) << 52);
+    let (s1, s2) = (pow2i(k1), pow2i(k2));
     let v = e * s1 * s2;
     if x.is_nan() {
         x
