@@ -82,24 +82,15 @@ impl ErrorBudget {
     /// (w1_in, w1_out, w2_in, w2_out), which says which parts it fed.
     #[inline]
     pub fn add_step(&mut self, k0: &[f64; NY], trial: &Trial, flow: &[f64; 4]) {
-        let (r0, r1) = (rates(k0), rates(&trial.k7));
-        for i in 0..RESULTS {
-            self.phase[i] += (r1[i] - r0[i]).abs() * self.lag;
-        }
-        let e = &trial.est;
-        for (l, e) in self.local[..5].iter_mut().zip(e) {
-            *l += e;
-        }
-        // ∫p1's estimate goes to the p1 parts the step fed, ∫p2's to p2's.
-        for (q, est) in [(0, e[5]), (1, e[5]), (2, e[NY]), (3, e[NY])] {
-            if flow[q] != 0.0 {
-                self.local[5 + q] += est;
-            }
-        }
-        let a = k0[1].abs().max(trial.k7[1].abs());
-        if a > 0.0 {
-            self.lag += e[1] / a;
-        }
+        self.lag = step_terms(
+            self.lag,
+            k0,
+            &trial.k7,
+            &trial.est,
+            flow,
+            &mut self.phase,
+            &mut self.local,
+        );
     }
 
     /// Whether every result of `r` is within [`LIMIT`] × [`BOUND`] by the
@@ -110,6 +101,112 @@ impl ErrorBudget {
             // NaN (a lane that did not finish) compares false: within.
             !(est > LIMIT * BOUND * v.abs().max(1.0))
         })
+    }
+}
+
+/// [`ErrorBudget::add_step`]'s arithmetic on one lane's terms: adds the
+/// step to `phase` and `local` and returns the new lag. `est` is the
+/// step's error estimates (`Trial::est`).
+#[inline(always)]
+fn step_terms(
+    lag: f64,
+    k0: &[f64; NY],
+    k7: &[f64; NY],
+    est: &[f64; NY + 1],
+    flow: &[f64; 4],
+    phase: &mut [f64; RESULTS],
+    local: &mut [f64; RESULTS],
+) -> f64 {
+    let (r0, r1) = (rates(k0), rates(k7));
+    for i in 0..RESULTS {
+        phase[i] += (r1[i] - r0[i]).abs() * lag;
+    }
+    for (l, e) in local[..5].iter_mut().zip(est) {
+        *l += e;
+    }
+    // ∫p1's estimate goes to the p1 parts the step fed, ∫p2's to p2's.
+    for (q, e) in [(0, est[5]), (1, est[5]), (2, est[NY]), (3, est[NY])] {
+        if flow[q] != 0.0 {
+            local[5 + q] += e;
+        }
+    }
+    let a = k0[1].abs().max(k7[1].abs());
+    if a > 0.0 {
+        lag + est[1] / a
+    } else {
+        lag
+    }
+}
+
+/// The error budgets of N lanes, component-major, so that the batch
+/// driver adds its lanes' common steps as vector code (`add_steps`, the
+/// arithmetic of [`ErrorBudget::add_step`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Budgets<const N: usize> {
+    lag: [f64; N],
+    phase: [[f64; N]; RESULTS],
+    local: [[f64; N]; RESULTS],
+}
+
+impl<const N: usize> Budgets<N> {
+    /// Empty budgets.
+    pub(crate) const ZERO: Budgets<N> = Budgets {
+        lag: [0.0; N],
+        phase: [[0.0; N]; RESULTS],
+        local: [[0.0; N]; RESULTS],
+    };
+
+    /// Column j from one lane's budget.
+    #[inline]
+    pub(crate) fn load(&mut self, j: usize, b: &ErrorBudget) {
+        self.lag[j] = b.lag;
+        for i in 0..RESULTS {
+            self.phase[i][j] = b.phase[i];
+            self.local[i][j] = b.local[i];
+        }
+    }
+
+    /// Column j into one lane's budget.
+    #[inline]
+    pub(crate) fn store(&self, j: usize, b: &mut ErrorBudget) {
+        b.lag = self.lag[j];
+        for i in 0..RESULTS {
+            b.phase[i] = self.phase[i][j];
+            b.local[i] = self.local[i][j];
+        }
+    }
+
+    /// Adds an accepted step to each lane j with `take[j]`: its derivatives
+    /// `k0` at the start and `k7` at the end, its error estimates `est` and
+    /// its energy flow `flow`, all component-major.
+    #[inline(always)]
+    pub(crate) fn add_steps(
+        &mut self,
+        take: &[bool; N],
+        k0: &[[f64; N]; NY],
+        k7: &[[f64; N]; NY],
+        est: &[[f64; N]; NY + 1],
+        flow: &[[f64; N]; 4],
+    ) {
+        for j in 0..N {
+            let mut phase: [f64; RESULTS] = std::array::from_fn(|i| self.phase[i][j]);
+            let mut local: [f64; RESULTS] = std::array::from_fn(|i| self.local[i][j]);
+            let lag = step_terms(
+                self.lag[j],
+                &std::array::from_fn(|i| k0[i][j]),
+                &std::array::from_fn(|i| k7[i][j]),
+                &std::array::from_fn(|i| est[i][j]),
+                &std::array::from_fn(|q| flow[q][j]),
+                &mut phase,
+                &mut local,
+            );
+            let t = take[j];
+            self.lag[j] = if t { lag } else { self.lag[j] };
+            for i in 0..RESULTS {
+                self.phase[i][j] = if t { phase[i] } else { self.phase[i][j] };
+                self.local[i][j] = if t { local[i] } else { self.local[i][j] };
+            }
+        }
     }
 }
 

@@ -1,7 +1,7 @@
 //! Step-size control: the factor a trial step's error norm asks the next
 //! step to grow or shrink by.
 
-use crate::model::vmath::{pow2i, round_even, split_exponent};
+use crate::model::vmath::{int_to_f64, pow2i, round_int, split_exponent};
 
 /// Step-size factor from a trial's error norm: 0.9 err^(−1/5), kept
 /// within [0.2, 5]. The power is [`inv_fifth_root`], not the C library's
@@ -39,10 +39,10 @@ pub(crate) fn inv_fifth_root(x: f64) -> f64 {
     let z = s * s;
     let c = 2.0 / std::f64::consts::LN_2;
     let log2m = s * c * (1.0 + z * (1.0 / 3.0 + z * (1.0 / 5.0 + z * (1.0 / 7.0))));
-    let t = -0.2 * (e as f64 + log2m);
+    let t = -0.2 * (int_to_f64(e) + log2m);
     // 2^t = 2^k e^(f ln 2), k = round(t), |f ln 2| <= 0.35: Taylor to
     // the 8th power leaves 1e-10.
-    let k = round_even(t);
+    let (k, ki) = round_int(t);
     let r = (t - k) * std::f64::consts::LN_2;
     let mut p = 1.0 / 40320.0;
     p = p * r + 1.0 / 5040.0;
@@ -54,7 +54,7 @@ pub(crate) fn inv_fifth_root(x: f64) -> f64 {
     p = p * r + 1.0;
     p = p * r + 1.0;
     // k is in [−205, 3]: 2^k is a normal number.
-    p * pow2i(k as i64)
+    p * pow2i(ki)
 }
 
 #[cfg(test)]

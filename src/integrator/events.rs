@@ -48,19 +48,83 @@ pub fn event_value(
 ) -> f64 {
     match which {
         EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
-        EventFn::Rest => mode.dir as f64 * v,
-        EventFn::Speeding => {
-            let acc = motion(lane, tables, mode, v).acc;
-            -(mode.dir as f64) * acc
+        EventFn::Rest => rest_value(mode.dir as f64, v),
+        EventFn::Speeding => speeding_value(mode.dir as f64, motion(lane, tables, mode, v).acc),
+        EventFn::Branch => branch_value(mode.dir as f64, v, lane.inv_cos_g, mode.upper),
+    }
+}
+
+/// The rest event's function s·ẋ1 at speed `v`, direction `dir`.
+#[inline(always)]
+fn rest_value(dir: f64, v: f64) -> f64 {
+    dir * v
+}
+
+/// The speeding-up event's function −s·ẍ1 at acceleration `acc`.
+#[inline(always)]
+fn speeding_value(dir: f64, acc: f64) -> f64 {
+    -dir * acc
+}
+
+/// The `agma` branch event's function at speed `v`: the sliding speed's
+/// distance from 10 ft/min on the side of the branch.
+#[inline(always)]
+fn branch_value(dir: f64, v: f64, inv_cos_g: f64, upper: bool) -> f64 {
+    let vs = (dir * v).max(0.0) * inv_cos_g;
+    if upper {
+        vs - AGMA_JUMP_M_S
+    } else {
+        AGMA_JUMP_M_S - vs
+    }
+}
+
+/// What a step checks for events: the lane's direction and, when they
+/// apply, the two events not every lane has.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Watch {
+    pub(crate) dir: f64,
+    /// Running on past t_end: speeding up is an event.
+    pub(crate) running_on: bool,
+    /// Under the `agma` law: the change of branch is an event.
+    pub(crate) agma: bool,
+    pub(crate) upper: bool,
+    pub(crate) inv_cos_g: f64,
+}
+
+impl Watch {
+    /// What a lane in `mode` watches for.
+    #[inline]
+    pub(crate) fn of(lane: &Lane, mode: Mode, running_on: bool) -> Watch {
+        Watch {
+            dir: mode.dir as f64,
+            running_on,
+            agma: lane.friction == FRICTION_AGMA,
+            upper: mode.upper,
+            inv_cos_g: lane.inv_cos_g,
         }
-        EventFn::Branch => {
-            let vs = (mode.dir as f64 * v).max(0.0) * lane.inv_cos_g;
-            if mode.upper {
-                vs - AGMA_JUMP_M_S
+    }
+
+    /// The event functions at a step's end (speed `v`, acceleration
+    /// `acc`, switching function `g_switch`) in [`EventFn`] order: Rest,
+    /// Switch, Speeding, Branch; +∞ for one the lane does not watch. An
+    /// event lies inside the step where one is < 0.
+    #[inline(always)]
+    pub(crate) fn at_end(&self, v: f64, acc: f64, g_switch: f64) -> [f64; 4] {
+        let off = f64::INFINITY;
+        [
+            rest_value(self.dir, v),
+            g_switch,
+            if self.running_on {
+                speeding_value(self.dir, acc)
             } else {
-                AGMA_JUMP_M_S - vs
-            }
-        }
+                off
+            },
+            if self.agma {
+                branch_value(self.dir, v, self.inv_cos_g, self.upper)
+            } else {
+                off
+            },
+        ]
     }
 }
 
@@ -138,7 +202,19 @@ pub fn earliest_event(
     let theta_tol = T_ROOT_TOL / h;
     let mut theta = 2.0;
     let mut which = EventFn::Rest;
-    let mut check = |f: EventFn, g_end: f64| {
+    let watch = Watch::of(lane, mode, running_on);
+    // The switching function at the step's end came with the trial (the
+    // same arithmetic as `event_value`, as vector code); the step's end
+    // derivative holds the acceleration there.
+    let ends = watch.at_end(trial.y1[1], trial.k7[1], trial.g_switch);
+    let order = [
+        EventFn::Rest,
+        EventFn::Switch,
+        EventFn::Speeding,
+        EventFn::Branch,
+    ];
+    // In this order: a rest and a switch at the same θ count as a rest.
+    for (f, g_end) in order.into_iter().zip(ends) {
         if g_end < 0.0 {
             let th = locate_root(lane, tables, mode, f, &trial.dense_v, g_end, theta_tol);
             if th < theta {
@@ -146,23 +222,6 @@ pub fn earliest_event(
                 which = f;
             }
         }
-    };
-    check(
-        EventFn::Rest,
-        event_value(lane, tables, mode, EventFn::Rest, trial.y1[1]),
-    );
-    // The switching function at the step's end came with the trial (the
-    // same arithmetic as `event_value`, as vector code).
-    check(EventFn::Switch, trial.g_switch);
-    if running_on {
-        // The step's end derivative holds the acceleration there.
-        check(EventFn::Speeding, -(mode.dir as f64) * trial.k7[1]);
-    }
-    if lane.friction == FRICTION_AGMA {
-        check(
-            EventFn::Branch,
-            event_value(lane, tables, mode, EventFn::Branch, trial.y1[1]),
-        );
     }
     (theta <= 1.0).then_some((theta, which))
 }

@@ -38,17 +38,29 @@ pub fn dense_slope(r: &[f64; 5], th: f64) -> f64 {
 /// `p0` and `p_end` the integrand at the step's ends.
 #[inline]
 pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
-    let total = r[1];
-    if !(p0 * p_end < 0.0) {
-        // No crossing (a zero at an end is no crossing either).
-        let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
-        return if positive {
-            [total, 0.0]
-        } else {
-            [0.0, -total]
-        };
+    if crosses(p0, p_end) {
+        return split_crossing(r, p0);
     }
-    split_crossing(r, p0)
+    split_whole(r[1], p0, p_end)
+}
+
+/// Whether p changes sign inside a step from `p0` to `p_end` (a zero at
+/// an end is no crossing).
+#[inline(always)]
+pub(crate) fn crosses(p0: f64, p_end: f64) -> bool {
+    p0 * p_end < 0.0
+}
+
+/// [`split`] of an increment `total` where p keeps its sign: all of it
+/// goes to one part.
+#[inline(always)]
+pub(crate) fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
+    let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
+    if positive {
+        [total, 0.0]
+    } else {
+        [0.0, -total]
+    }
 }
 
 /// [`split`] where p changes sign inside the step (about 1 % of steps,

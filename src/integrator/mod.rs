@@ -20,6 +20,7 @@ pub mod batch;
 pub mod control;
 pub mod events;
 pub mod flow;
+mod lockstep;
 pub mod path;
 pub mod result;
 pub mod rhs;

@@ -35,6 +35,74 @@ impl StepPlan {
         t_stop: 0.0,
         landing: false,
     };
+
+    /// A step in `mode` of size `h` towards the time event `t_stop`,
+    /// `landing` on it.
+    pub(crate) fn new(mode: Mode, h: f64, t_stop: f64, landing: bool) -> StepPlan {
+        StepPlan {
+            mode,
+            h,
+            t_stop,
+            landing,
+        }
+    }
+
+    /// Whether the step ends on its time event.
+    pub(crate) fn landing(&self) -> bool {
+        self.landing
+    }
+}
+
+/// The lane's next time event: its motor's cut-off, else the end of its
+/// run.
+#[inline]
+pub(crate) fn time_stop(lane: &Lane, st: &LaneState) -> f64 {
+    let end = horizon(lane, st);
+    if st.motor_on && lane.motor_off < end {
+        lane.motor_off
+    } else {
+        end
+    }
+}
+
+/// Whether the lane's friction law has an unbounded derivative at rest
+/// (the paper and agma laws), so that steps into a stop are graded.
+#[inline]
+pub(crate) fn steep_at_rest(lane: &Lane) -> bool {
+    lane.friction == FRICTION_PAPER || lane.friction == FRICTION_AGMA
+}
+
+/// The size of the step to try from the proposed size `h`, at speed `v`
+/// and acceleration `a` in direction `dir`, `remaining` before the next
+/// time event; and whether the step lands on that event.
+#[inline(always)]
+pub(crate) fn step_size(
+    h: f64,
+    steep: bool,
+    dir: f64,
+    v: f64,
+    a: f64,
+    remaining: f64,
+) -> (f64, bool) {
+    let mut h = h;
+    // Approaching rest under the paper and agma laws, ρ(Vs) has an
+    // unbounded derivative at the stop, as it has at a start, and the
+    // error estimate reads low there: grade the steps into the stop.
+    if steep && a * dir < 0.0 {
+        let t_rest = -v / a;
+        h = h.min((0.5 * t_rest).max(H_INITIAL));
+    }
+    let landing = h >= remaining;
+    (if landing { remaining } else { h }, landing)
+}
+
+/// The size to try again after a rejected trial of size `h` whose error
+/// asks for the factor `fac`, and whether it is too small to go on at
+/// time `t` (step underflow).
+#[inline(always)]
+pub(crate) fn retry_size(h: f64, fac: f64, t: f64) -> (f64, bool) {
+    let h = h * fac.min(1.0);
+    (h, h < 1e-15 * t.max(1.0))
 }
 
 /// First half of one step attempt: a stick phase jumps to the next time
@@ -42,13 +110,7 @@ impl StepPlan {
 /// size is chosen. None when the attempt ends here (stuck, or finished).
 #[inline]
 pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Option<StepPlan> {
-    // The next time event: motor cut-off, else the end of the run.
-    let end = horizon(lane, st);
-    let t_stop = if st.motor_on && lane.motor_off < end {
-        lane.motor_off
-    } else {
-        end
-    };
+    let t_stop = time_stop(lane, st);
     if st.stuck {
         // While stuck every force is constant in time (F1 at ẋ1 = 0, F2),
         // so the stick condition can only fail at a time event.
@@ -65,20 +127,14 @@ pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Opt
         st.k1 = k;
         st.k1_valid = true;
     }
-    let mut h = st.h;
-    // Approaching rest under the paper and agma laws, ρ(Vs) has an
-    // unbounded derivative at the stop, as it has at a start, and the
-    // error estimate reads low there: grade the steps into the stop.
-    let steep_at_rest = lane.friction == FRICTION_PAPER || lane.friction == FRICTION_AGMA;
-    if steep_at_rest && st.k1[1] * (st.dir as f64) < 0.0 {
-        let t_rest = -st.y[1] / st.k1[1];
-        h = h.min((0.5 * t_rest).max(H_INITIAL));
-    }
-    let remaining = t_stop - st.t;
-    let landing = h >= remaining;
-    if landing {
-        h = remaining;
-    }
+    let (h, landing) = step_size(
+        st.h,
+        steep_at_rest(lane),
+        st.dir as f64,
+        st.y[1],
+        st.k1[1],
+        t_stop - st.t,
+    );
     Some(StepPlan {
         mode,
         h,
@@ -102,8 +158,9 @@ pub fn finish_step(
     let h = plan.h;
     let fac = trial.fac;
     if trial.err > 1.0 {
-        st.h = h * fac.min(1.0);
-        if st.h < 1e-15 * st.t.max(1.0) {
+        let (h_retry, underflow) = retry_size(h, fac, st.t);
+        st.h = h_retry;
+        if underflow {
             st.finish(Status::StepUnderflow);
         }
         return;

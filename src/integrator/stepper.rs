@@ -145,6 +145,54 @@ pub struct Trial {
     pub(crate) est: [f64; NY + 1],
 }
 
+/// Trial steps of N lanes, component-major (`y1[i][j]`: component i of
+/// lane j), as [`try_steps`] computes them: the batch driver reads the
+/// common outcome as vector code and takes one lane's [`Trial`] out
+/// ([`Trials::lane`]) only where the lane needs its automaton.
+#[derive(Clone, Copy)]
+pub(crate) struct Trials<const N: usize> {
+    pub(crate) y1: [[f64; N]; NY],
+    pub(crate) k7: [[f64; N]; NY],
+    pub(crate) err: [f64; N],
+    pub(crate) fac: [f64; N],
+    pub(crate) g_switch: [f64; N],
+    pub(crate) dense_v: [[f64; N]; 5],
+    pub(crate) dw: [[f64; N]; 2],
+    pub(crate) dw_r4: [[f64; N]; 2],
+    pub(crate) est: [[f64; N]; NY + 1],
+}
+
+impl<const N: usize> Trials<N> {
+    /// All zero (a driver's scratch before its first step).
+    pub(crate) const ZERO: Trials<N> = Trials {
+        y1: [[0.0; N]; NY],
+        k7: [[0.0; N]; NY],
+        err: [0.0; N],
+        fac: [0.0; N],
+        g_switch: [0.0; N],
+        dense_v: [[0.0; N]; 5],
+        dw: [[0.0; N]; 2],
+        dw_r4: [[0.0; N]; 2],
+        est: [[0.0; N]; NY + 1],
+    };
+
+    /// Lane j's trial.
+    #[inline]
+    pub(crate) fn lane(&self, j: usize) -> Trial {
+        Trial {
+            y1: std::array::from_fn(|i| self.y1[i][j]),
+            k7: std::array::from_fn(|i| self.k7[i][j]),
+            err: self.err[j],
+            fac: self.fac[j],
+            g_switch: self.g_switch[j],
+            dense_v: std::array::from_fn(|i| self.dense_v[i][j]),
+            dw: [self.dw[0][j], self.dw[1][j]],
+            dw_r4: [self.dw_r4[0][j], self.dw_r4[1][j]],
+            est: std::array::from_fn(|i| self.est[i][j]),
+        }
+    }
+}
+
 /// One trial step of size h from (y, k1).
 #[inline]
 pub(crate) fn try_step(
@@ -156,27 +204,29 @@ pub(crate) fn try_step(
     h: f64,
     set: &Settings,
 ) -> Trial {
-    let mut tr = [Trial::default()];
+    let mut tr = Trials::<1>::ZERO;
+    let col = |a: &[f64; NY]| -> [[f64; 1]; NY] { std::array::from_fn(|i| [a[i]]) };
     try_steps::<1>(
         &Coefs::of(&[lane], &[mode]),
         [lane],
         tables,
         [mode],
-        &[*y],
-        &[*k1],
+        &col(y),
+        &col(k1),
         [h],
-        [true],
         set,
         &mut tr,
     );
-    tr[0]
+    tr.lane(0)
 }
 
-/// Trial steps of N lanes at once, into `tr` (lanes with `active[j]`
-/// false are computed too, and their `tr[j]` left as it was). Each stage is computed for every lane
-/// before the next stage, lanes as vector elements; per lane the
-/// arithmetic is exactly that of one lane, so a lane's trial, and its
-/// row, do not depend on N or on the lanes beside it.
+/// Trial steps of N lanes at once from states `y` with derivatives `k1`
+/// (component-major), into `tr`; every lane is computed, its own `h[j]`
+/// (the caller ignores the lanes it has no step for). Each stage is
+/// computed for every lane before the next stage, lanes as vector
+/// elements; per lane the arithmetic is exactly that of one lane, so a
+/// lane's trial, and its row, do not depend on N or on the lanes beside
+/// it.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn try_steps<const N: usize>(
@@ -184,12 +234,11 @@ pub(crate) fn try_steps<const N: usize>(
     lane: [&Lane; N],
     tables: &[FrictionTable],
     mode: [Mode; N],
-    y: &[[f64; NY]; N],
-    k1: &[[f64; NY]; N],
+    y0: &[[f64; N]; NY],
+    k1: &[[f64; N]; NY],
     h: [f64; N],
-    active: [bool; N],
     set: &Settings,
-    tr: &mut [Trial; N],
+    tr: &mut Trials<N>,
 ) {
     // x1 and ẋ1 may be held tighter than the works (`Settings::traj_weight`).
     let tol_of = |i: usize| {
@@ -199,13 +248,9 @@ pub(crate) fn try_steps<const N: usize>(
             set.tol
         }
     };
-    // Component-major copies: k[i][j] is component i of lane j.
-    let cm = |a: &[[f64; NY]; N]| -> [[f64; N]; NY] {
-        std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
-    };
-    let (y0, k1) = (cm(y), cm(k1));
     let z = [[0.0; N]; NY];
-    let (mut k2, mut k3, mut k4, mut k5, mut k6, mut k7) = (z, z, z, z, z, z);
+    let (mut k2, mut k3, mut k4, mut k5, mut k6) = (z, z, z, z, z);
+    let k7 = &mut tr.k7;
     let v0 = &y0[1];
     let a1 = &k1[1];
     let v: [f64; N] = std::array::from_fn(|j| stage2_v(v0[j], h[j], a1[j]));
@@ -221,17 +266,17 @@ pub(crate) fn try_steps<const N: usize>(
         stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j])
     });
     rhs_lanes(c, &lane, tables, &mode, &v, &mut k6);
-    let mut y1 = z;
+    let y1 = &mut tr.y1;
     for i in 0..NY {
         for j in 0..N {
             let dy = increment(h[j], k1[i][j], k3[i][j], k4[i][j], k5[i][j], k6[i][j]);
             y1[i][j] = y0[i][j] + dy;
         }
     }
-    rhs_lanes(c, &lane, tables, &mode, &y1[1], &mut k7);
-    // The rest component-major too, every lane (inactive ones ignored),
-    // so each loop is vector arithmetic; then one copy into each Trial.
-    let mut est = [[0.0; N]; NY + 1];
+    rhs_lanes(c, &lane, tables, &mode, &y1[1], k7);
+    // The rest component-major too, every lane, so each loop is vector
+    // arithmetic.
+    let est = &mut tr.est;
     let mut err = [0.0f64; N];
     for i in 0..NY {
         let tol = tol_of(i);
@@ -243,47 +288,27 @@ pub(crate) fn try_steps<const N: usize>(
             err[j] = err[j].max(est[i][j] / error_scale(tol, y0[i][j], y1[i][j]));
         }
     }
-    let g_switch = c.switching(&y1[1]);
-    let mut fac = [0.0; N];
-    for j in 0..N {
-        err[j] = if err[j].is_finite() {
-            err[j]
-        } else {
-            f64::INFINITY
-        };
-        fac[j] = step_factor(err[j]);
+    tr.g_switch = c.switching(&y1[1]);
+    for (e, fac) in err.iter_mut().zip(&mut tr.fac) {
+        *e = if e.is_finite() { *e } else { f64::INFINITY };
+        *fac = step_factor(*e);
     }
-    let mut dense_v = [[0.0; N]; 5];
-    let mut dw = [[0.0; N]; 2];
-    let mut dw_r4 = [[0.0; N]; 2];
+    tr.err = err;
     for j in 0..N {
         let (a, b, c3, d, e, f) = (k1[1][j], k3[1][j], k4[1][j], k5[1][j], k6[1][j], k7[1][j]);
         let r = dense_coeffs(y0[1][j], y1[1][j], h[j], a, b, c3, d, e, f);
-        for (dv, r) in dense_v.iter_mut().zip(r) {
+        for (dv, r) in tr.dense_v.iter_mut().zip(r) {
             dv[j] = r;
         }
         // ∫p1 is component 5; ∫p2 the difference of components 4 and 5.
         let w = |k: &[[f64; N]; NY]| k[5][j];
         let p2 = |k: &[[f64; N]; NY]| k[4][j] - k[5][j];
-        let (a, b, c3, d, e, f) = (w(&k1), w(&k3), w(&k4), w(&k5), w(&k6), w(&k7));
-        dw[0][j] = increment(h[j], a, b, c3, d, e);
-        dw_r4[0][j] = dense_r5(h[j], a, b, c3, d, e, f);
-        let (a, b, c3, d, e, f) = (p2(&k1), p2(&k3), p2(&k4), p2(&k5), p2(&k6), p2(&k7));
-        dw[1][j] = increment(h[j], a, b, c3, d, e);
-        dw_r4[1][j] = dense_r5(h[j], a, b, c3, d, e, f);
+        let (a, b, c3, d, e, f) = (w(k1), w(&k3), w(&k4), w(&k5), w(&k6), w(k7));
+        tr.dw[0][j] = increment(h[j], a, b, c3, d, e);
+        tr.dw_r4[0][j] = dense_r5(h[j], a, b, c3, d, e, f);
+        let (a, b, c3, d, e, f) = (p2(k1), p2(&k3), p2(&k4), p2(&k5), p2(&k6), p2(k7));
+        tr.dw[1][j] = increment(h[j], a, b, c3, d, e);
+        tr.dw_r4[1][j] = dense_r5(h[j], a, b, c3, d, e, f);
         est[NY][j] = error_term(h[j], a, b, c3, d, e, f).abs();
-    }
-    for (j, t) in tr.iter_mut().enumerate().filter(|(j, _)| active[*j]) {
-        *t = Trial {
-            y1: std::array::from_fn(|i| y1[i][j]),
-            k7: std::array::from_fn(|i| k7[i][j]),
-            err: err[j],
-            fac: fac[j],
-            g_switch: g_switch[j],
-            dense_v: std::array::from_fn(|i| dense_v[i][j]),
-            dw: [dw[0][j], dw[1][j]],
-            dw_r4: [dw_r4[0][j], dw_r4[1][j]],
-            est: std::array::from_fn(|i| est[i][j]),
-        };
     }
 }

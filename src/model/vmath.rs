@@ -47,11 +47,21 @@ pub(crate) fn split_exponent(x: f64) -> (i64, f64) {
     (k + i64::from(big), if big { m * 0.5 } else { m })
 }
 
-/// x rounded to the nearest integer, ties to even, for |x| < 2^51: by
-/// adding and subtracting 1.5 · 2^52 (no call, no branch).
+/// (x rounded to the nearest integer, ties to even, and that integer as
+/// an i64), for |x| < 2^51: the integer is read off the sum's bits, as
+/// vector integer arithmetic (a float-to-integer `as` saturates, which
+/// no vector instruction does, and so runs lane by lane).
 #[inline(always)]
-pub(crate) fn round_even(x: f64) -> f64 {
-    (x + ROUND) - ROUND
+pub(crate) fn round_int(x: f64) -> (f64, i64) {
+    let t = x + ROUND;
+    (t - ROUND, t.to_bits() as i64 - ROUND.to_bits() as i64)
+}
+
+/// k as an f64, exactly, for |k| < 2^51: by the bits of 1.5 · 2^52 + k
+/// (an i64-to-float `as` has no vector instruction before AVX-512).
+#[inline(always)]
+pub(crate) fn int_to_f64(k: i64) -> f64 {
+    f64::from_bits((ROUND.to_bits() as i64 + k) as u64) - ROUND
 }
 
 /// 2^k for k in the normal range [−1022, 1023], from its exponent field.
@@ -94,7 +104,7 @@ fn ln2(x: f64) -> (f64, f64) {
     // k ln2_hi + f is summed exactly, the small rest added to it.
     let (ff, ffe) = two_prod(f, f);
     let hfsq = 0.5 * ff;
-    let kf = k as f64;
+    let kf = int_to_f64(k);
     let small = (s * (hfsq + r) - 0.5 * ffe - hfsq) + kf * LN2_LO;
     let (h, l) = two_sum(kf * LN2_HI, f);
     let (hi, lo) = two_sum(h, l + small);
@@ -119,7 +129,7 @@ pub fn ln(x: f64) -> f64 {
 #[inline(always)]
 fn exp2sum(x: f64, xl: f64) -> f64 {
     let xc = x.clamp(-746.0, 710.0);
-    let kf = round_even(xc * std::f64::consts::LOG2_E);
+    let (kf, k) = round_int(xc * std::f64::consts::LOG2_E);
     let r = (xc - kf * LN2_HI) + (xl - kf * LN2_LO);
     // e^r, |r| <= 0.3466: Taylor to r^13 (the tail is below 2^-58).
     let mut p = 1.0 / 6_227_020_800.0;
@@ -137,7 +147,6 @@ fn exp2sum(x: f64, xl: f64) -> f64 {
     let e = 1.0 + (r + r * r * p);
     // 2^k in two factors, so k down to −1075 and up to 1024 is reached
     // without an out-of-range exponent field.
-    let k = kf as i64;
     let k1 = k / 2;
     let k2 = k - k1;
     let (s1, s2) = (pow2i(k1), pow2i(k2));
