@@ -33,6 +33,7 @@
 //! `cpu:refined` and the run's summary counts it.
 
 use super::stepper::Trial;
+use super::width::lanewise;
 use super::{LaneResult, Settings, NY};
 
 /// Results the budget covers: x1, ẋ1, w_motor, w_load, w_friction, w1_in,
@@ -189,14 +190,14 @@ impl<const N: usize> Budgets<N> {
         flow: &[[f64; N]; 4],
     ) {
         for j in 0..N {
-            let mut phase: [f64; RESULTS] = std::array::from_fn(|i| self.phase[i][j]);
-            let mut local: [f64; RESULTS] = std::array::from_fn(|i| self.local[i][j]);
+            let mut phase: [f64; RESULTS] = lanewise(|i| self.phase[i][j]);
+            let mut local: [f64; RESULTS] = lanewise(|i| self.local[i][j]);
             let lag = step_terms(
                 self.lag[j],
-                &std::array::from_fn(|i| k0[i][j]),
-                &std::array::from_fn(|i| k7[i][j]),
-                &std::array::from_fn(|i| est[i][j]),
-                &std::array::from_fn(|q| flow[q][j]),
+                &lanewise(|i| k0[i][j]),
+                &lanewise(|i| k7[i][j]),
+                &lanewise(|i| est[i][j]),
+                &lanewise(|q| flow[q][j]),
                 &mut phase,
                 &mut local,
             );

@@ -207,7 +207,10 @@ fn interleaved<const N: usize>(
         if !active.iter().any(|&a| a) {
             continue;
         }
-        let lane: [&Lane; N] = std::array::from_fn(|j| &lanes[slot[j].unwrap_or(0)]);
+        let mut lane = [&lanes[0]; N];
+        for (l, s) in lane.iter_mut().zip(&slot) {
+            *l = &lanes[s.unwrap_or(0)];
+        }
         for j in 0..N {
             if active[j] && !fresh[j] {
                 coefs.set(j, lane[j], mode[j]);

@@ -2,6 +2,7 @@
 //! of N lanes at once, component-major, as vector arithmetic
 //! (`rhs_lanes`), the same bits lane for lane (a test compares them).
 
+use super::width::lanewise;
 use super::NY;
 use crate::model::friction::{mu_sliding, tan_series, TAN_SERIES_MAX};
 use crate::model::vmath::pow;
@@ -123,7 +124,7 @@ impl<const N: usize> Coefs<N> {
     /// `events::event_value`'s arithmetic, as vector code.
     #[inline(always)]
     pub(crate) fn switching(&self, v: &[f64; N]) -> [f64; N] {
-        std::array::from_fn(|j| {
+        lanewise(|j| {
             let phi =
                 self.motor_force(j, v[j]) / self.m1[j] - self.f2[j] / (self.m2[j] * self.tan_g[j]);
             self.side[j] * phi

@@ -10,6 +10,7 @@
 use super::control::step_factor;
 pub use super::rhs::rhs;
 use super::rhs::{rhs_lanes, Coefs};
+use super::width::lanewise;
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};
 
@@ -253,18 +254,16 @@ pub(crate) fn try_steps<const N: usize>(
     let k7 = &mut tr.k7;
     let v0 = &y0[1];
     let a1 = &k1[1];
-    let v: [f64; N] = std::array::from_fn(|j| stage2_v(v0[j], h[j], a1[j]));
+    let v: [f64; N] = lanewise(|j| stage2_v(v0[j], h[j], a1[j]));
     rhs_lanes(c, &lane, tables, &mode, &v, &mut k2);
-    let v: [f64; N] = std::array::from_fn(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
+    let v: [f64; N] = lanewise(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
     rhs_lanes(c, &lane, tables, &mode, &v, &mut k3);
-    let v: [f64; N] = std::array::from_fn(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
+    let v: [f64; N] = lanewise(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
     rhs_lanes(c, &lane, tables, &mode, &v, &mut k4);
-    let v: [f64; N] =
-        std::array::from_fn(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
+    let v: [f64; N] = lanewise(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
     rhs_lanes(c, &lane, tables, &mode, &v, &mut k5);
-    let v: [f64; N] = std::array::from_fn(|j| {
-        stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j])
-    });
+    let v: [f64; N] =
+        lanewise(|j| stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j]));
     rhs_lanes(c, &lane, tables, &mode, &v, &mut k6);
     let y1 = &mut tr.y1;
     for i in 0..NY {
