@@ -5,7 +5,7 @@ use rayon::prelude::*;
 use super::Backend;
 use crate::error::{Error, Result};
 use crate::integrator::width::{width, Width};
-use crate::integrator::{simulate_batch, LaneResult, Settings};
+use crate::integrator::{first_pass, own_width, refine_pass, LaneResult, Settings};
 use crate::model::{FrictionTable, Lane};
 use crate::params::Params;
 
@@ -62,7 +62,11 @@ fn block_lanes(n: usize, threads: usize) -> usize {
 }
 
 /// Runs lanes on the CPU into `out` (cleared first): rayon over blocks of
-/// lanes, each block stepped in lockstep on its thread (`simulate_batch`).
+/// lanes, each block stepped in lockstep on its thread (`first_pass`);
+/// then the lanes any block found to need a second, tighter run, gathered
+/// from all blocks and shared out again (`refine_pass`), so that they fill
+/// the vectors and every thread rather than trailing each block a few
+/// lanes at a time.
 pub fn run_cpu_lanes(
     pool: &rayon::ThreadPool,
     settings: &Settings,
@@ -72,16 +76,42 @@ pub fn run_cpu_lanes(
 ) {
     out.clear();
     out.resize(lanes.len(), LaneResult::EMPTY);
-    let block = block_lanes(lanes.len(), pool.current_num_threads());
-    pool.install(|| {
+    let w = own_width();
+    let threads = pool.current_num_threads();
+    let block = block_lanes(lanes.len(), threads);
+    let redo: Vec<usize> = pool.install(|| {
         lanes
             .par_chunks(block)
             .zip(out.par_chunks_mut(block))
-            .for_each(|(p, o)| {
+            .enumerate()
+            .flat_map_iter(|(b, (p, o))| {
                 let l: Vec<Lane> = p.iter().map(|s| Lane::new(s, tables)).collect();
-                simulate_batch(&l, tables, settings, o);
+                let redo = first_pass(w, &l, tables, settings, o);
+                redo.into_iter().map(move |i| b * block + i)
+            })
+            .collect()
+    });
+    if redo.is_empty() {
+        return;
+    }
+    // Each thread a share, in whole vectors.
+    let share = redo.len().div_ceil(threads).next_multiple_of(w.lanes);
+    let mut rows = vec![LaneResult::EMPTY; redo.len()];
+    pool.install(|| {
+        redo.par_chunks(share)
+            .zip(rows.par_chunks_mut(share))
+            .for_each(|(which, r)| {
+                let l: Vec<Lane> = which
+                    .iter()
+                    .map(|&i| Lane::new(&lanes[i], tables))
+                    .collect();
+                let all: Vec<usize> = (0..l.len()).collect();
+                refine_pass(w, &l, &all, tables, settings, r);
             })
     });
+    for (i, r) in redo.into_iter().zip(rows) {
+        out[i] = r;
+    }
 }
 
 impl Backend for CpuBackend {

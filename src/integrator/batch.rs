@@ -25,10 +25,14 @@ pub fn simulate_batch(
     set: &Settings,
     out: &mut [LaneResult],
 ) {
-    // A width the variable forces wrongly is refused before any command
-    // runs (and by the CPU backend); here it falls back to the core's own.
-    let w = width().unwrap_or_else(|_| Width::natural(best_isa()));
-    simulate_batch_at(w, lanes, tables, set, out)
+    simulate_batch_at(own_width(), lanes, tables, set, out)
+}
+
+/// The width this process runs: the forced one, or the core's own. A
+/// width the variable forces wrongly is refused before any command runs
+/// (and by the CPU backend); here it falls back to the core's own.
+pub fn own_width() -> Width {
+    width().unwrap_or_else(|_| Width::natural(best_isa()))
 }
 
 /// [`simulate_batch`] at width `w` (tests and benchmarks compare widths
@@ -40,6 +44,26 @@ pub fn simulate_batch_at(
     set: &Settings,
     out: &mut [LaneResult],
 ) {
+    let redo = first_pass(w, lanes, tables, set, out);
+    let mut rows = vec![LaneResult::EMPTY; redo.len()];
+    refine_pass(w, lanes, &redo, tables, set, &mut rows);
+    for (i, r) in redo.into_iter().zip(rows) {
+        out[i] = r;
+    }
+}
+
+/// The first pass of [`simulate_batch_at`]: every lane's row at `set`
+/// into `out`; returns the indices of the lanes whose error estimate
+/// asks for a second run (their rows are to be replaced by
+/// [`refine_pass`]'s). The CPU backend gathers these from all of a
+/// chunk's blocks, so that its threads refine them in full vectors.
+pub fn first_pass(
+    w: Width,
+    lanes: &[Lane],
+    tables: &[FrictionTable],
+    set: &Settings,
+    out: &mut [LaneResult],
+) -> Vec<usize> {
     assert_eq!(lanes.len(), out.len());
     assert!(
         isas().contains(&w.isa),
@@ -60,20 +84,36 @@ pub fn simulate_batch_at(
             }
         },
     );
-    if !redo.is_empty() {
-        let tight = set.tighter();
-        run_width(
-            w,
-            lanes,
-            &mut redo.into_iter(),
-            tables,
-            &tight,
-            &mut |i, st| {
-                out[i] = st.end_state().result(&lanes[i], tables);
-                out[i].path = RowPath::Refined;
-            },
-        );
+    redo
+}
+
+/// The second pass: the lanes `which` names run again at
+/// [`Settings::tighter`] than `set`, row k (marked refined) into
+/// `rows[k]` for `lanes[which[k]]`.
+pub fn refine_pass(
+    w: Width,
+    lanes: &[Lane],
+    which: &[usize],
+    tables: &[FrictionTable],
+    set: &Settings,
+    rows: &mut [LaneResult],
+) {
+    assert_eq!(which.len(), rows.len());
+    if which.is_empty() {
+        return;
     }
+    assert!(
+        isas().contains(&w.isa),
+        "this core has no {:?} instructions",
+        w.isa
+    );
+    let tight = set.tighter();
+    let picked: Vec<Lane> = which.iter().map(|&i| lanes[i]).collect();
+    let mut order = 0..picked.len();
+    run_width(w, &picked, &mut order, tables, &tight, &mut |k, st| {
+        rows[k] = st.end_state().result(&picked[k], tables);
+        rows[k].path = RowPath::Refined;
+    });
 }
 
 type Order<'a> = &'a mut dyn Iterator<Item = usize>;

@@ -30,7 +30,7 @@ pub mod trace;
 pub mod width;
 
 pub use automaton::{init, LaneState, H_INITIAL};
-pub use batch::{simulate, simulate_batch, simulate_batch_at};
+pub use batch::{first_pass, own_width, refine_pass, simulate, simulate_batch, simulate_batch_at};
 pub use result::{Contact, EndState, Hold, LaneResult, Recheck, RowPath, Status};
 pub use step::{advance, attempt};
 

@@ -44,6 +44,8 @@ pub(crate) struct Coefs<const N: usize> {
     v_sync: [f64; N],
     sigma_k: [f64; N],
     f_crit: [f64; N],
+    /// F2/(m2 tan γ), the switching function's constant part.
+    load_term: [f64; N],
     /// Lanes under a law other than the paper's (their μ comes from
     /// `mu_sliding`, lane by lane).
     other: [bool; N],
@@ -71,6 +73,7 @@ impl<const N: usize> Coefs<N> {
             v_sync: z,
             sigma_k: z,
             f_crit: z,
+            load_term: z,
             other: [false; N],
         };
         for j in 0..N {
@@ -104,6 +107,7 @@ impl<const N: usize> Coefs<N> {
         self.v_sync[j] = lane.v_sync;
         self.sigma_k[j] = lane.sigma_k;
         self.f_crit[j] = lane.f_crit;
+        self.load_term[j] = lane.f2 / (lane.m2 * lane.tan_g);
         self.other[j] = lane.friction != FRICTION_PAPER;
     }
 
@@ -120,22 +124,20 @@ impl<const N: usize> Coefs<N> {
         }
     }
 
-    /// The switch event's function c·φ(ẋ1) of each lane at speeds `v`:
-    /// `events::event_value`'s arithmetic, as vector code.
+    /// The switch event's function c·φ(ẋ1) of each lane whose motor
+    /// force is `f1` (at the speed φ is wanted at, as `rhs_lanes`
+    /// returns it): `events::event_value`'s arithmetic, as vector code.
     #[inline(always)]
-    pub(crate) fn switching(&self, v: &[f64; N]) -> [f64; N] {
-        lanewise(|j| {
-            let phi =
-                self.motor_force(j, v[j]) / self.m1[j] - self.f2[j] / (self.m2[j] * self.tan_g[j]);
-            self.side[j] * phi
-        })
+    pub(crate) fn switching(&self, f1: &[f64; N]) -> [f64; N] {
+        lanewise(|j| self.side[j] * (f1[j] / self.m1[j] - self.load_term[j]))
     }
 }
 
 /// The right-hand sides of N lanes at speeds `v`, component-major
 /// (`k[i][j]`: component i of lane j): `rhs`'s arithmetic, operation for
 /// operation (a test compares the bits), written as loops over the lanes
-/// so that they compile to vector instructions.
+/// so that they compile to vector instructions. Returns the lanes' motor
+/// forces at `v` (for the switching function).
 #[inline(always)]
 pub(crate) fn rhs_lanes<const N: usize>(
     c: &Coefs<N>,
@@ -144,8 +146,9 @@ pub(crate) fn rhs_lanes<const N: usize>(
     mode: &[Mode; N],
     v: &[f64; N],
     k: &mut [[f64; N]; NY],
-) {
+) -> [f64; N] {
     let mut vs = [0.0; N];
+    let mut f1s = [0.0; N];
     let mut rho = [0.0; N];
     let mut mu = [0.0; N];
     for j in 0..N {
@@ -169,6 +172,7 @@ pub(crate) fn rhs_lanes<const N: usize>(
     }
     for j in 0..N {
         let f1 = c.motor_force(j, v[j]);
+        f1s[j] = f1;
         let t = c.sd[j] * mu[j];
         let m = motion_parts(f1, t, c.tan_g[j], c.m1[j], c.m2[j], c.f2[j]);
         let v2 = v[j] * c.tan_g[j];
@@ -180,6 +184,7 @@ pub(crate) fn rhs_lanes<const N: usize>(
         k[4][j] = p1 + p2;
         k[5][j] = p1;
     }
+    f1s
 }
 
 #[cfg(test)]
@@ -226,8 +231,8 @@ mod tests {
                 std::array::from_fn(|j| if j == 3 { 0.0 } else { -6.0 + 12.0 * u.next() });
             let mut k = [[0.0; 8]; NY];
             let c = Coefs::of(&lane, &mode);
-            rhs_lanes(&c, &lane, &[], &mode, &v, &mut k);
-            let g = c.switching(&v);
+            let f1 = rhs_lanes(&c, &lane, &[], &mode, &v, &mut k);
+            let g = c.switching(&f1);
             for j in 0..8 {
                 let want = crate::integrator::events::event_value(
                     lane[j],

@@ -272,7 +272,7 @@ pub(crate) fn try_steps<const N: usize>(
             y1[i][j] = y0[i][j] + dy;
         }
     }
-    rhs_lanes(c, &lane, tables, &mode, &y1[1], k7);
+    let f1_end = rhs_lanes(c, &lane, tables, &mode, &y1[1], k7);
     // The rest component-major too, every lane, so each loop is vector
     // arithmetic.
     let est = &mut tr.est;
@@ -287,7 +287,7 @@ pub(crate) fn try_steps<const N: usize>(
             err[j] = err[j].max(est[i][j] / error_scale(tol, y0[i][j], y1[i][j]));
         }
     }
-    tr.g_switch = c.switching(&y1[1]);
+    tr.g_switch = c.switching(&f1_end);
     for (e, fac) in err.iter_mut().zip(&mut tr.fac) {
         *e = if e.is_finite() { *e } else { f64::INFINITY };
         *fac = step_factor(*e);
