@@ -3,12 +3,10 @@
 //! invocation (the GPU path).
 
 use super::accuracy::{needs_refining, ErrorBudget};
-use super::automaton::{init, LaneState};
-use super::lockstep::Lanes;
+use super::automaton::init;
+use super::lockstep::{Done, Order, Slots};
 use super::result::{LaneResult, RowPath};
-use super::rhs::Coefs;
-use super::step::{advance, finish_step, prepare, StepPlan};
-use super::stepper::{try_steps, Trials};
+use super::step::advance;
 use super::width::{best_isa, isas, width, Isa, Width};
 use super::Settings;
 use crate::model::{FrictionTable, Lane};
@@ -116,9 +114,6 @@ pub fn refine_pass(
     });
 }
 
-type Order<'a> = &'a mut dyn Iterator<Item = usize>;
-type Done<'a> = &'a mut dyn FnMut(usize, &LaneState);
-
 /// [`interleaved`] at width `w`, compiled for its instruction set.
 fn run_width(
     w: Width,
@@ -174,10 +169,7 @@ unsafe fn on_avx2<const N: usize>(
 }
 
 /// Runs the lanes `order` names to their ends, N at a time in lockstep,
-/// handing each finished lane's index and end state to `done`. Each
-/// attempt is planned, tried and ended for all N slots as vector code
-/// (`lockstep`); a slot whose attempt is not the common one goes through
-/// its lane's automaton, alone.
+/// handing each finished lane's index and end state to `done`.
 #[inline(always)]
 fn interleaved<const N: usize>(
     lanes: &[Lane],
@@ -186,96 +178,10 @@ fn interleaved<const N: usize>(
     set: &Settings,
     done: Done,
 ) {
-    if lanes.is_empty() {
-        return;
-    }
-    let mut slot: [Option<usize>; N] = [None; N];
-    let mut st = [init(&lanes[0], tables); N];
-    let mut hot = Lanes::<N>::EMPTY;
-    let mut trials = Trials::<N>::ZERO;
-    let mut mode = [StepPlan::IDLE.mode; N];
-    // The right-hand sides' constants, kept while a slot's lane and mode
-    // stay: `fresh[j]` until the automaton runs on slot j.
-    let mut coefs = Coefs::of(&[&lanes[0]; N], &mode);
-    let mut fresh = [false; N];
-    // The automaton on slot j: its state in, `f`, its state out.
-    macro_rules! on_automaton {
-        ($j:expr, $i:expr, $f:expr) => {{
-            hot.store($j, &mut st[$j]);
-            let r = $f(&lanes[$i], &mut st[$j]);
-            hot.load($j, &lanes[$i], &st[$j]);
-            mode[$j] = st[$j].mode();
-            fresh[$j] = false;
-            r
-        }};
-    }
-    loop {
-        // Refill finished slots.
-        for j in 0..N {
-            if let Some(i) = slot[j] {
-                if !hot.done[j] {
-                    continue;
-                }
-                hot.store(j, &mut st[j]);
-                done(i, &st[j]);
-                slot[j] = None;
-            }
-            if let Some(next) = order.next() {
-                st[j] = init(&lanes[next], tables);
-                hot.load(j, &lanes[next], &st[j]);
-                mode[j] = st[j].mode();
-                fresh[j] = false;
-                slot[j] = Some(next);
-            }
-        }
-        if slot.iter().all(Option::is_none) {
-            break;
-        }
-        let (mut h, mut landing) = hot.plan();
-        let mut active = [false; N];
-        for j in 0..N {
-            let Some(i) = slot[j] else { continue };
-            if hot.done[j] {
-                continue;
-            }
-            if hot.ready[j] {
-                active[j] = true;
-            } else if let Some(p) = on_automaton!(j, i, |l, s| prepare(l, tables, s)) {
-                (h[j], landing[j], active[j]) = (p.h, p.landing(), true);
-            }
-        }
-        if !active.iter().any(|&a| a) {
-            continue;
-        }
-        let mut lane = [&lanes[0]; N];
-        for (l, s) in lane.iter_mut().zip(&slot) {
-            *l = &lanes[s.unwrap_or(0)];
-        }
-        for j in 0..N {
-            if active[j] && !fresh[j] {
-                coefs.set(j, lane[j], mode[j]);
-                fresh[j] = true;
-            }
-        }
-        try_steps::<N>(
-            &coefs,
-            lane,
-            tables,
-            mode,
-            &hot.y,
-            &hot.k1,
-            h,
-            set,
-            &mut trials,
-        );
-        let slow = hot.finish(&active, &h, &landing, &trials, set);
-        for j in (0..N).filter(|&j| slow[j]) {
-            let plan = StepPlan::new(mode[j], h[j], hot.t_stop[j], landing[j]);
-            let trial = trials.lane(j);
-            on_automaton!(j, slot[j].unwrap_or(0), |l, s| finish_step(
-                l, tables, set, s, &plan, &trial
-            ));
-        }
+    let Some(first) = lanes.first() else { return };
+    let mut slots = Slots::<N>::new(first, tables);
+    while slots.refill(lanes, order, tables, done) {
+        slots.attempt(lanes, tables, set);
     }
 }
 

@@ -1,6 +1,7 @@
-//! N lanes in lockstep: the part of their states every step reads and
-//! writes, component-major (`y[i][j]`: component i of lane j), and the
-//! common step attempt on it as vector code.
+//! N lanes in lockstep on one thread ([`Slots`], the batch driver's
+//! slots): the part of their states every step reads and writes,
+//! component-major (`y[i][j]`: component i of lane j), and the common
+//! step attempt on it as vector code.
 //!
 //! Most attempts are common: an accepted step with no event inside, not
 //! landing on a time event, whose mesh powers keep their signs; or a
@@ -15,31 +16,39 @@
 //! the bits of `simulate`'s whichever path each of its steps took.
 
 use super::accuracy::Budgets;
-use super::automaton::LaneState;
+use super::automaton::{init, LaneState};
 use super::events::Watch;
 use super::flow::{crosses, split_whole};
-use super::step::{retry_size, steep_at_rest, step_size, time_stop};
-use super::stepper::Trials;
+use super::rhs::Coefs;
+use super::step::{
+    finish_step, prepare, retry_size, steep_at_rest, step_size, time_stop, StepPlan,
+};
+use super::stepper::{try_steps, Mode, Trials};
 use super::{Settings, NY};
-use crate::model::Lane;
+use crate::model::{FrictionTable, Lane};
+
+/// The lanes a driver is to run, by index, in order.
+pub(crate) type Order<'a> = &'a mut dyn Iterator<Item = usize>;
+/// What a driver does with a finished lane: its index and end state.
+pub(crate) type Done<'a> = &'a mut dyn FnMut(usize, &LaneState);
 
 /// The hot part of N lanes' states, and what the common step reads of
 /// their automata.
-pub(crate) struct Lanes<const N: usize> {
-    pub(crate) t: [f64; N],
+struct Lanes<const N: usize> {
+    t: [f64; N],
     /// The proposed size of each lane's next step.
     h: [f64; N],
-    pub(crate) y: [[f64; N]; NY],
-    pub(crate) k1: [[f64; N]; NY],
+    y: [[f64; N]; NY],
+    k1: [[f64; N]; NY],
     flow: [[f64; N]; 4],
     budget: Budgets<N>,
     steps: [u32; N],
     /// The lane is done (its automaton says so).
-    pub(crate) done: [bool; N],
+    done: [bool; N],
     /// The common plan applies: sliding, derivative valid, not done.
-    pub(crate) ready: [bool; N],
+    ready: [bool; N],
     /// The next time event.
-    pub(crate) t_stop: [f64; N],
+    t_stop: [f64; N],
     steep: [bool; N],
     /// What each lane's steps watch for (its direction among it).
     dir: [f64; N],
@@ -51,7 +60,7 @@ pub(crate) struct Lanes<const N: usize> {
 
 impl<const N: usize> Lanes<N> {
     /// N empty slots.
-    pub(crate) const EMPTY: Lanes<N> = Lanes {
+    const EMPTY: Lanes<N> = Lanes {
         t: [0.0; N],
         h: [0.0; N],
         y: [[0.0; N]; NY],
@@ -72,7 +81,7 @@ impl<const N: usize> Lanes<N> {
 
     /// Slot j from lane `lane`'s state `st`.
     #[inline]
-    pub(crate) fn load(&mut self, j: usize, lane: &Lane, st: &LaneState) {
+    fn load(&mut self, j: usize, lane: &Lane, st: &LaneState) {
         self.t[j] = st.t;
         self.h[j] = st.h;
         for i in 0..NY {
@@ -98,7 +107,7 @@ impl<const N: usize> Lanes<N> {
 
     /// Slot j's hot part back into its lane's state `st`.
     #[inline]
-    pub(crate) fn store(&self, j: usize, st: &mut LaneState) {
+    fn store(&self, j: usize, st: &mut LaneState) {
         st.t = self.t[j];
         st.h = self.h[j];
         for i in 0..NY {
@@ -116,7 +125,7 @@ impl<const N: usize> Lanes<N> {
     /// the size of the step to try and whether it lands on the time
     /// event. Meaningless for slots that are not ready.
     #[inline(always)]
-    pub(crate) fn plan(&self) -> ([f64; N], [bool; N]) {
+    fn plan(&self) -> ([f64; N], [bool; N]) {
         let mut h = [0.0; N];
         let mut landing = [false; N];
         for j in 0..N {
@@ -137,7 +146,7 @@ impl<const N: usize> Lanes<N> {
     /// attempt is common (`step::finish_step`'s arithmetic); returns the
     /// slots whose attempt is not, left as they were for the automaton.
     #[inline(always)]
-    pub(crate) fn finish(
+    fn finish(
         &mut self,
         active: &[bool; N],
         h: &[f64; N],
@@ -195,5 +204,133 @@ impl<const N: usize> Lanes<N> {
             self.h[j] = if a || retry[j] { h_next[j] } else { self.h[j] };
         }
         slow
+    }
+}
+
+/// N slots of one thread's driver: which lane each holds, its automaton's
+/// state and its hot part ([`Lanes`]), its mode and the right-hand sides'
+/// constants, and the scratch of the trial steps.
+pub(crate) struct Slots<const N: usize> {
+    slot: [Option<usize>; N],
+    st: [LaneState; N],
+    hot: Lanes<N>,
+    trials: Trials<N>,
+    mode: [Mode; N],
+    /// The constants, kept while a slot's lane and mode stay: `fresh[j]`
+    /// until the automaton runs on slot j or it takes a new lane.
+    coefs: Coefs<N>,
+    fresh: [bool; N],
+}
+
+impl<const N: usize> Slots<N> {
+    /// N empty slots (`any` is a lane to fill the unused ones with).
+    #[inline(always)]
+    pub(crate) fn new(any: &Lane, tables: &[FrictionTable]) -> Slots<N> {
+        let mode = [StepPlan::IDLE.mode; N];
+        Slots {
+            slot: [None; N],
+            st: [init(any, tables); N],
+            hot: Lanes::EMPTY,
+            trials: Trials::ZERO,
+            mode,
+            coefs: Coefs::of(&[any; N], &mode),
+            fresh: [false; N],
+        }
+    }
+
+    /// Runs `f` (the automaton) on slot j, lane `lane`: its state copied
+    /// out of the hot part and back.
+    #[inline(always)]
+    fn on_automaton<R>(&mut self, j: usize, lane: &Lane, f: impl FnOnce(&mut LaneState) -> R) -> R {
+        self.hot.store(j, &mut self.st[j]);
+        let r = f(&mut self.st[j]);
+        self.hot.load(j, lane, &self.st[j]);
+        self.mode[j] = self.st[j].mode();
+        self.fresh[j] = false;
+        r
+    }
+
+    /// Hands each finished slot's lane to `done` and gives the slot the
+    /// next lane of `order`; false when no slot holds a lane any more.
+    #[inline(always)]
+    pub(crate) fn refill(
+        &mut self,
+        lanes: &[Lane],
+        order: Order,
+        tables: &[FrictionTable],
+        done: Done,
+    ) -> bool {
+        for j in 0..N {
+            if let Some(i) = self.slot[j] {
+                if !self.hot.done[j] {
+                    continue;
+                }
+                self.hot.store(j, &mut self.st[j]);
+                done(i, &self.st[j]);
+                self.slot[j] = None;
+            }
+            if let Some(next) = order.next() {
+                self.st[j] = init(&lanes[next], tables);
+                self.hot.load(j, &lanes[next], &self.st[j]);
+                self.mode[j] = self.st[j].mode();
+                self.fresh[j] = false;
+                self.slot[j] = Some(next);
+            }
+        }
+        self.slot.iter().any(Option::is_some)
+    }
+
+    /// One step attempt of every slot with a lane: planned, tried and,
+    /// where common, ended as vector code; the automaton on the others.
+    #[inline(always)]
+    pub(crate) fn attempt(&mut self, lanes: &[Lane], tables: &[FrictionTable], set: &Settings) {
+        let (mut h, mut landing) = self.hot.plan();
+        let mut active = [false; N];
+        for j in 0..N {
+            let Some(i) = self.slot[j] else { continue };
+            if self.hot.done[j] {
+                continue;
+            }
+            if self.hot.ready[j] {
+                active[j] = true;
+            } else if let Some(p) =
+                self.on_automaton(j, &lanes[i], |s| prepare(&lanes[i], tables, s))
+            {
+                (h[j], landing[j], active[j]) = (p.h, p.landing(), true);
+            }
+        }
+        if !active.iter().any(|&a| a) {
+            return;
+        }
+        let mut lane = [&lanes[0]; N];
+        for (l, s) in lane.iter_mut().zip(&self.slot) {
+            *l = &lanes[s.unwrap_or(0)];
+        }
+        for j in 0..N {
+            if active[j] && !self.fresh[j] {
+                self.coefs.set(j, lane[j], self.mode[j]);
+                self.fresh[j] = true;
+            }
+        }
+        let hot = &mut self.hot;
+        try_steps::<N>(
+            &self.coefs,
+            lane,
+            tables,
+            self.mode,
+            &hot.y,
+            &hot.k1,
+            h,
+            set,
+            &mut self.trials,
+        );
+        let slow = hot.finish(&active, &h, &landing, &self.trials, set);
+        for j in (0..N).filter(|&j| slow[j]) {
+            let plan = StepPlan::new(self.mode[j], h[j], self.hot.t_stop[j], landing[j]);
+            let trial = self.trials.lane(j);
+            self.on_automaton(j, lane[j], |s| {
+                finish_step(lane[j], tables, set, s, &plan, &trial)
+            });
+        }
     }
 }

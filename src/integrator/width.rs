@@ -1,12 +1,11 @@
 //! The CPU path's vector width: how many lanes one thread steps in
 //! lockstep, and the instruction set that runs them. One binary, built
 //! without `target-cpu` flags, picks the widest the core has, and steps
-//! two of its vectors of f64 at once (AVX-512: 16 lanes, AVX2: 8,
-//! otherwise 4 on SSE2's or NEON's f64 pairs): two independent chains
-//! of pow and divisions keep the pipelines busy where one vector would
-//! wait on each result (measured: AVX-512 x8 34,500 paper-like lanes/s,
-//! x16 39,000 to 41,500, x32 32,500; AVX2 x4 28,900, x8 34,000 to 36,100;
-//! base x2 14,200, x4 21,000, x8 22,600).
+//! several of its vectors of f64 at once (AVX-512: 16 lanes in two
+//! vectors, AVX2: 16 in four, otherwise 4 on SSE2's or NEON's f64
+//! pairs): independent chains of pow and divisions keep the pipelines
+//! busy where one vector would wait on each result ([`Width::natural`]
+//! says what was measured).
 //! `TSWM_SIMD_WIDTH` forces the number of lanes ([`LANES`], on the
 //! widest instruction set still), an instruction set (`avx2`) or both
 //! (`avx2:8`), for tests and comparisons. A lane's row is the same bits
@@ -60,12 +59,15 @@ impl Width {
 }
 
 impl Width {
-    /// The width an instruction set runs at unless one is forced: two of
-    /// its vectors of f64 (16 for AVX-512, 8 for AVX2, 4 otherwise).
+    /// The width an instruction set runs at unless one is forced: 16
+    /// for AVX-512 (two vectors of f64) and for AVX2 (four: measured 5 %
+    /// faster than two on paper-like and heterogeneous lanes, the extra
+    /// independent chains hiding the latency of pow and the divisions;
+    /// three AVX-512 vectors were 9 % slower than two), 4 otherwise (two).
     pub fn natural(isa: Isa) -> Width {
         let lanes = match isa {
             Isa::Avx512 => 16,
-            Isa::Avx2 => 8,
+            Isa::Avx2 => 16,
             Isa::Base => 4,
         };
         Width { lanes, isa }
