@@ -96,6 +96,7 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
         // crates
         "rand_chacha",
         "rand_core",
+        "fearless_simd",
         // wgpu's limits, which `tswm devices` prints
         "max_buffer_size",
         "max_compute_workgroups_per_dimension",
