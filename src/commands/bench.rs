@@ -36,7 +36,7 @@ pub fn run(lanes: &LanesArgs, choice: Choice) -> Result<()> {
     let start = std::time::Instant::now();
     let n = run::pipeline(&plan.source, be.as_mut(), false, Discard(0))?;
     let s = start.elapsed().as_secs_f64();
-    println!(
+    sayln!(
         "tswm bench: {n} lanes in {s:.3} s ({:.0} lanes/s, {}); nothing written",
         n as f64 / s.max(1e-9),
         be.name()

@@ -26,12 +26,12 @@ pub fn run(lanes: &LanesArgs, disagreements: Option<&Path>) -> Result<()> {
     };
     let progress = std::io::stderr().is_terminal();
     let report = check::compare(&plan.source, &mut gpu, cpu, progress, report)?;
-    println!(
+    sayln!(
         "tswm check: {} lanes, {} against {cpu_name}",
         report.lanes,
         backend::Backend::name(&gpu),
     );
-    print!("{}", report.text());
+    say!("{}", report.text());
     if report.passes() {
         Ok(())
     } else {

@@ -7,7 +7,7 @@ use crate::error::Result;
 /// Runs `tswm devices`.
 pub fn run() -> Result<()> {
     let w = crate::integrator::width::width().map_err(crate::error::Error::Usage)?;
-    println!(
+    sayln!(
         "cpu: {} threads, each stepping {} lanes in lockstep ({}; {} forces a width, see the guide)",
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         w.lanes,
@@ -16,12 +16,12 @@ pub fn run() -> Result<()> {
     );
     let list = crate::backend::gpu::adapters();
     if list.is_empty() {
-        println!("no GPU adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");
+        sayln!("no GPU adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");
     }
     for a in list {
         let l = &a.limits;
         let w = crate::backend::gpu::WorkSize::of(&a.info, l);
-        println!(
+        sayln!(
             "{} ({:?}, {:?}, driver {} {})\n  max_storage_buffer_binding_size {} B, max_buffer_size {} B, \
              max_compute_workgroups_per_dimension {}, max_compute_invocations_per_workgroup {}\n  \
              chunks: {} lanes, cut into parts of {} lanes, {} in flight at once, each on {} slots \

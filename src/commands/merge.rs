@@ -8,6 +8,6 @@ use crate::output::table::Format;
 /// Runs `tswm merge`; prints its summary line.
 pub fn run(dirs: &[PathBuf], out: &Path, format: Format, report: bool) -> Result<()> {
     let merged = crate::run::merge::merge(dirs, out, format, report)?;
-    println!("{}", merged.line());
+    sayln!("{}", merged.line());
     Ok(())
 }

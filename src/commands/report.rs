@@ -11,6 +11,6 @@ use crate::output::OutDir;
 pub fn run(dir: &Path) -> Result<()> {
     let mut d = OutDir::open_existing(dir)?;
     crate::report::write(&mut d)?;
-    println!("tswm: wrote {}", d.join(REPORT).display());
+    sayln!("tswm: wrote {}", d.join(REPORT).display());
     Ok(())
 }

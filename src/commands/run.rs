@@ -67,7 +67,7 @@ impl ShardRun {
                 && m.version == env!("CARGO_PKG_VERSION")
                 && m.incomplete(dir.path()).is_none()
             {
-                println!(
+                sayln!(
                     "tswm: shard {}/{} is already complete in {} ({} lanes, {} to {}, {}); nothing to do",
                     s.k,
                     s.n,
@@ -217,7 +217,7 @@ pub fn run(a: RunArgs) -> Result<()> {
             start.elapsed().as_secs_f64()
         ));
     }
-    println!("{line}");
+    sayln!("{line}");
     Ok(())
 }
 

@@ -165,3 +165,23 @@ fn nothing_to_run_is_a_usage_error() {
     let out = tswm(&["run"], dir.path());
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// A reader that stops early (`tswm devices | head -1`) is no failure:
+/// the output it did not want is dropped, with exit code 0 and no panic.
+#[test]
+fn a_closed_standard_output_is_no_panic() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tswm"))
+        .arg("devices")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the reading end before the first line is written.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?}: {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
