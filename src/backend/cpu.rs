@@ -105,8 +105,7 @@ pub fn run_cpu_lanes(
                     .iter()
                     .map(|&i| Lane::new(&lanes[i], tables))
                     .collect();
-                let all: Vec<usize> = (0..l.len()).collect();
-                refine_pass(w, &l, &all, tables, settings, r);
+                refine_pass(w, &l, tables, settings, r);
             })
     });
     for (i, r) in redo.into_iter().zip(rows) {

@@ -32,6 +32,7 @@
 //! result is run again at [`Settings::tighter`]; its row says
 //! `cpu:refined` and the run's summary counts it.
 
+use super::rhs::powers;
 use super::stepper::Trial;
 use super::width::lanewise;
 use super::{LaneResult, Settings, NY};
@@ -63,15 +64,15 @@ pub struct ErrorBudget {
 /// out parts of p1 and p2.
 #[inline]
 fn rates(k: &[f64; NY]) -> [f64; RESULTS] {
-    let p2 = k[4] - k[5];
+    let (p1, p2) = powers(k[4], k[5]);
     [
         k[0],
         k[1],
         k[2],
         k[3],
         k[4],
-        k[5].max(0.0),
-        (-k[5]).max(0.0),
+        p1.max(0.0),
+        (-p1).max(0.0),
         p2.max(0.0),
         (-p2).max(0.0),
     ]

@@ -43,8 +43,9 @@ pub fn simulate_batch_at(
     out: &mut [LaneResult],
 ) {
     let redo = first_pass(w, lanes, tables, set, out);
+    let picked: Vec<Lane> = redo.iter().map(|&i| lanes[i]).collect();
     let mut rows = vec![LaneResult::EMPTY; redo.len()];
-    refine_pass(w, lanes, &redo, tables, set, &mut rows);
+    refine_pass(w, &picked, tables, set, &mut rows);
     for (i, r) in redo.into_iter().zip(rows) {
         out[i] = r;
     }
@@ -63,11 +64,6 @@ pub fn first_pass(
     out: &mut [LaneResult],
 ) -> Vec<usize> {
     assert_eq!(lanes.len(), out.len());
-    assert!(
-        isas().contains(&w.isa),
-        "this core has no {:?} instructions",
-        w.isa
-    );
     let mut redo = Vec::new();
     run_width(
         w,
@@ -85,36 +81,32 @@ pub fn first_pass(
     redo
 }
 
-/// The second pass: the lanes `which` names run again at
-/// [`Settings::tighter`] than `set`, row k (marked refined) into
-/// `rows[k]` for `lanes[which[k]]`.
+/// The second pass: `lanes` run again at [`Settings::tighter`] than
+/// `set`, row k (marked refined) into `rows[k]`.
 pub fn refine_pass(
     w: Width,
     lanes: &[Lane],
-    which: &[usize],
     tables: &[FrictionTable],
     set: &Settings,
     rows: &mut [LaneResult],
 ) {
-    assert_eq!(which.len(), rows.len());
-    if which.is_empty() {
-        return;
-    }
-    assert!(
-        isas().contains(&w.isa),
-        "this core has no {:?} instructions",
-        w.isa
-    );
+    assert_eq!(lanes.len(), rows.len());
     let tight = set.tighter();
-    let picked: Vec<Lane> = which.iter().map(|&i| lanes[i]).collect();
-    let mut order = 0..picked.len();
-    run_width(w, &picked, &mut order, tables, &tight, &mut |k, st| {
-        rows[k] = st.end_state().result(&picked[k], tables);
-        rows[k].path = RowPath::Refined;
-    });
+    run_width(
+        w,
+        lanes,
+        &mut (0..lanes.len()),
+        tables,
+        &tight,
+        &mut |k, st| {
+            rows[k] = st.end_state().result(&lanes[k], tables);
+            rows[k].path = RowPath::Refined;
+        },
+    );
 }
 
 /// [`interleaved`] at width `w`, compiled for its instruction set.
+/// Panics when this core lacks `w.isa`.
 fn run_width(
     w: Width,
     lanes: &[Lane],
@@ -123,6 +115,11 @@ fn run_width(
     set: &Settings,
     done: Done,
 ) {
+    assert!(
+        isas().contains(&w.isa),
+        "this core has no {:?} instructions",
+        w.isa
+    );
     macro_rules! at {
         ($f:ident) => {
             match w.lanes {

@@ -16,6 +16,7 @@
 //! holds to rounding, and no right-hand side is evaluated again.
 
 use super::events::{dense_v, illinois};
+use super::rhs::powers;
 use super::stepper::Trial;
 use super::NY;
 
@@ -97,8 +98,8 @@ pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
 #[inline]
 pub fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> [f64; 4] {
     let k7 = &trial.k7;
-    let (p1_0, p1_end) = (k1[5], k7[5]);
-    let (p2_0, p2_end) = (k1[4] - k1[5], k7[4] - k7[5]);
+    let (p1_0, p2_0) = powers(k1[4], k1[5]);
+    let (p1_end, p2_end) = powers(k7[4], k7[5]);
     let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
     let r2 = dense_w(trial.dw[1], h, p2_0, p2_end, trial.dw_r4[1]);
     let [i1, o1] = split(&r1, p1_0, p1_end);

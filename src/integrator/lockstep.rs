@@ -19,7 +19,7 @@ use super::accuracy::Budgets;
 use super::automaton::{init, LaneState};
 use super::events::Watch;
 use super::flow::{crosses, split_whole};
-use super::rhs::Coefs;
+use super::rhs::{powers, Coefs};
 use super::step::{
     finish_step, prepare, retry_size, steep_at_rest, step_size, time_stop, StepPlan,
 };
@@ -171,9 +171,9 @@ impl<const N: usize> Lanes<N> {
             };
             let ends = watch.at_end(tr.y1[1][j], tr.k7[1][j], tr.g_switch[j]);
             let event = ends.iter().any(|g| *g < 0.0);
-            // The mesh powers p1 and p2 at the step's ends (`flow`).
-            let (p1_0, p1_end) = (self.k1[5][j], tr.k7[5][j]);
-            let (p2_0, p2_end) = (self.k1[4][j] - self.k1[5][j], tr.k7[4][j] - tr.k7[5][j]);
+            // The mesh powers p1 and p2 at the step's ends.
+            let (p1_0, p2_0) = powers(self.k1[4][j], self.k1[5][j]);
+            let (p1_end, p2_end) = powers(tr.k7[4][j], tr.k7[5][j]);
             let finite = (0..NY).all(|i| tr.y1[i][j].is_finite());
             let plain = !event
                 && !landing[j]

@@ -22,6 +22,14 @@ pub fn rhs(lane: &Lane, tables: &[FrictionTable], mode: Mode, v: f64) -> ([f64; 
     ([v, m.acc, m.f1 * v, lane.f2 * v2, p1 + p2, p1], m.d)
 }
 
+/// The mesh powers (p1, p2) from a derivative's components 4 and 5
+/// (w_friction's rate p1 + p2, and ∫p1's rate p1): the one place that
+/// says which components they are.
+#[inline(always)]
+pub(crate) fn powers(k4: f64, k5: f64) -> (f64, f64) {
+    (k5, k4 - k5)
+}
+
 /// The constants of N lanes' right-hand sides in the current modes, one
 /// array a constant, so that a loop over the lanes is a loop over vector
 /// elements.

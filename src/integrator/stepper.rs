@@ -9,7 +9,7 @@
 
 use super::control::step_factor;
 pub use super::rhs::rhs;
-use super::rhs::{rhs_lanes, Coefs};
+use super::rhs::{powers, rhs_lanes, Coefs};
 use super::width::lanewise;
 use super::{Settings, NY};
 use crate::model::{FrictionTable, Lane};
@@ -299,9 +299,9 @@ pub(crate) fn try_steps<const N: usize>(
         for (dv, r) in tr.dense_v.iter_mut().zip(r) {
             dv[j] = r;
         }
-        // ∫p1 is component 5; ∫p2 the difference of components 4 and 5.
-        let w = |k: &[[f64; N]; NY]| k[5][j];
-        let p2 = |k: &[[f64; N]; NY]| k[4][j] - k[5][j];
+        // The quadratures of p1 and p2.
+        let w = |k: &[[f64; N]; NY]| powers(k[4][j], k[5][j]).0;
+        let p2 = |k: &[[f64; N]; NY]| powers(k[4][j], k[5][j]).1;
         let (a, b, c3, d, e, f) = (w(k1), w(&k3), w(&k4), w(&k5), w(&k6), w(k7));
         tr.dw[0][j] = increment(h[j], a, b, c3, d, e);
         tr.dw_r4[0][j] = dense_r5(h[j], a, b, c3, d, e, f);
