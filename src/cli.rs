@@ -65,7 +65,7 @@ pub enum Command {
         no_report: bool,
         /// Run only shard K (0-based) of N: a contiguous range of lanes, for
         /// a cluster's job array; join the shards with `tswm merge`.
-        #[arg(long, value_name = "K/N")]
+        #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
         shard: Option<String>,
         /// Format of the results table: lanes.csv or lanes.parquet.
         #[arg(long, value_enum, default_value_t = Format::Csv)]
@@ -141,14 +141,27 @@ pub fn trace_plan(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Opt
     Ok(spec)
 }
 
-/// The rows a trace of lanes running to `horizons` (s) gets every `dt`.
-fn trace_rows(horizons: &[f64], dt: f64) -> f64 {
-    horizons.iter().map(|h| (h / dt).floor() + 1.0).sum()
+/// Rows a traced lane gets by default (`--trace` without `--trace-dt`):
+/// its interval is the longest traced lane's time over this, rounded down
+/// to 1, 2 or 5 times a power of ten.
+pub const DEFAULT_TRACE_ROWS: f64 = 1000.0;
+
+/// The default interval of a trace whose longest lane runs `horizon` s:
+/// horizon / [`DEFAULT_TRACE_ROWS`] rounded down to 1, 2 or 5 × 10^k.
+pub fn default_trace_dt(horizon: f64) -> f64 {
+    let raw = horizon / DEFAULT_TRACE_ROWS;
+    let p = 10f64.powf(raw.log10().floor());
+    let m = [5.0, 2.0, 1.0]
+        .into_iter()
+        .find(|&m| m * p <= raw * (1.0 + 1e-12))
+        .unwrap_or(1.0);
+    m * p
 }
 
-fn check_trace_rows(spec: &TraceSpec, source: &Source) -> Result<()> {
-    let horizons: Vec<f64> = source
-        .lanes_at(&spec.lanes)?
+/// Where the traced lanes stop at the latest: t_max, or t_end.
+fn horizons(lanes: &[u64], source: &Source) -> Result<Vec<f64>> {
+    Ok(source
+        .lanes_at(lanes)?
         .iter()
         .map(|p| {
             let (te, tm) = (p.get(Num::TEnd), p.get(Num::TMax));
@@ -158,7 +171,16 @@ fn check_trace_rows(spec: &TraceSpec, source: &Source) -> Result<()> {
                 te.max(tm)
             }
         })
-        .collect();
+        .collect())
+}
+
+/// The rows a trace of lanes running to `horizons` (s) gets every `dt`.
+fn trace_rows(horizons: &[f64], dt: f64) -> f64 {
+    horizons.iter().map(|h| (h / dt).floor() + 1.0).sum()
+}
+
+fn check_trace_rows(spec: &TraceSpec, source: &Source) -> Result<()> {
+    let horizons = horizons(&spec.lanes, source)?;
     let max = MAX_TRACE_ROWS as f64;
     let rows = trace_rows(&horizons, spec.dt);
     if rows <= max {
@@ -195,9 +217,13 @@ fn trace_spec(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<
         (false, Some(dt), _) => (lanes.to_vec(), dt),
         (false, None, Some(file)) => (lanes.to_vec(), file.dt),
         (false, None, None) => {
-            return Err(Error::Usage(
-                "--trace: needs --trace-dt DT, the interval between rows in s".into(),
-            ))
+            // No interval given: about a thousand rows a lane.
+            let spec = TraceSpec::new(lanes.to_vec(), 1.0, source.lane_count())
+                .map_err(|m| Error::Usage(format!("--trace: {m}")))?;
+            let longest = horizons(&spec.lanes, source)?
+                .into_iter()
+                .fold(0.0, f64::max);
+            (spec.lanes, default_trace_dt(longest))
         }
     };
     TraceSpec::new(lanes, dt, source.lane_count())
@@ -221,6 +247,13 @@ pub const MAX_THREADS: usize = 1024;
 impl LanesArgs {
     /// Validates the lane arguments into a plan (reads and checks every lane).
     pub fn plan(&self) -> Result<Plan> {
+        self.plan_part(&|n| (0, n), false)
+    }
+
+    /// [`LanesArgs::plan`] for a run of part of a sweep's lanes (`part`
+    /// gives a shard's range from the lane count): only those lanes are
+    /// checked, with a progress bar when `progress` and they are many.
+    pub fn plan_part(&self, part: &dyn Fn(u64) -> (u64, u64), progress: bool) -> Result<Plan> {
         match self.threads {
             Some(0) => return Err(Error::Usage("--threads must be >= 1".into())),
             Some(n) if n > MAX_THREADS => {
@@ -242,11 +275,26 @@ impl LanesArgs {
             }
             settings.tol = tol;
         }
-        let source = Source::open(self.sweep.as_deref(), self.lanes.as_deref())?;
+        let source =
+            Source::open_part(self.sweep.as_deref(), self.lanes.as_deref(), part, progress)?;
         Ok(Plan {
             source,
             threads: self.threads.unwrap_or(0),
             settings,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_default_trace_interval_is_a_round_thousandth_of_the_longest_lane() {
+        use super::default_trace_dt as d;
+        assert_eq!(d(2.0), 0.002);
+        assert_eq!(d(5.0), 0.005);
+        assert_eq!(d(3.0), 0.002);
+        assert_eq!(d(1e-4), 1e-7);
+        assert_eq!(d(7.0), 0.005);
+        assert_eq!(d(10.0), 0.01);
     }
 }

@@ -11,7 +11,7 @@
 
 use std::borrow::Cow;
 
-use crate::integrator::{Contact, Hold, LaneResult, RowPath, Status};
+use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, Status};
 
 /// The type of a column's cells (its Parquet type).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,7 +128,15 @@ pub const CONTACT_END: &str = "contact_end";
 /// See [`LANE`].
 pub const HOLD: &str = "hold";
 /// See [`LANE`].
+pub const DRIVE: &str = "drive";
+/// See [`LANE`].
 pub const ETA_DIRECT: &str = "eta_direct";
+/// See [`LANE`].
+pub const ETA_INVERSE: &str = "eta_inverse";
+/// See [`LANE`].
+pub const ETA_DIRECT_SS: &str = "eta_direct_ss";
+/// See [`LANE`].
+pub const ETA_INVERSE_SS: &str = "eta_inverse_ss";
 /// See [`LANE`].
 pub const LOCK_MARGIN_DEG: &str = "lock_margin_deg";
 
@@ -176,6 +184,9 @@ fn contact_words() -> Vec<&'static str> {
 fn hold_words() -> Vec<&'static str> {
     Hold::ALL.map(Hold::name).to_vec()
 }
+fn drive_words() -> Vec<&'static str> {
+    Drive::ALL.map(Drive::name).to_vec()
+}
 
 /// An indicator output of a sensitivity analysis: 1 where a lane's
 /// `column` reads `word`, else 0; named `column=word`.
@@ -195,7 +206,8 @@ impl Indicator {
 }
 
 /// The indicator outputs of a sensitivity analysis: each final contact
-/// (`contact_end=stick` is "holds"), then `status=ok`.
+/// (`contact_end=stick` is "at rest": held with the motor cut, stalled
+/// with it on), then `status=ok`.
 pub fn indicators() -> Vec<Indicator> {
     Contact::ALL
         .iter()
@@ -273,7 +285,8 @@ pub const RESULTS: &[Column] = &[
     Column {
         name: CONTACT_END,
         quantity: "final contact",
-        meaning: "contact at the end: aa (worm pushes wheel), bb (wheel pushes worm), stick (at rest, held)",
+        meaning: "contact at the end: aa (worm pushes wheel), bb (wheel pushes worm), stick (at rest, \
+                  stuck by static friction: held if the motor is cut, stalled if it runs)",
         kind: Kind::Text,
         summary: Summary::Shares(contact_words, Of::Ok),
         compare: Compare::Exact,
@@ -314,7 +327,6 @@ pub const RESULTS: &[Column] = &[
     },
     Column {
         name: "w_friction",
-        plotted: true,
         unit: "J",
         quantity: "friction heat",
         meaning: "heat in the mesh, the integral of S1 v1 + S2 v2 (>= 0)",
@@ -371,7 +383,6 @@ pub const RESULTS: &[Column] = &[
     },
     Column {
         name: ETA_DIRECT,
-        plotted: true,
         quantity: "direct efficiency (worm drives)",
         meaning: "w2_out / w1_in: the share of the energy the worm side put into the mesh that \
                   reached the wheel side, over the whole run",
@@ -381,8 +392,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "eta_inverse",
-        plotted: true,
+        name: ETA_INVERSE,
         quantity: "inverse efficiency (wheel drives)",
         meaning: "w1_out / w2_in: the share of the energy the wheel side put into the mesh that \
                   reached the worm side; 0 when the wheel side only fed friction (a self-locking \
@@ -393,31 +403,56 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "eta_direct_ss",
-        quantity: "steady direct efficiency",
-        meaning: "tan(gamma) / tan(gamma + rho): steady direct efficiency at the final sliding speed \
-                  (at rest: the start-up value)",
+        name: ETA_DIRECT_SS,
+        plotted: true,
+        quantity: "running direct efficiency",
+        meaning: "tan(gamma) / tan(gamma + rho): steady (running) direct efficiency at the final \
+                  sliding speed (at rest: the start-up value, as eta_direct_start)",
         empty: NOT_OK,
         cell: |_, r| ok(r, r.eta_direct_ss),
         ..ROW
     },
     Column {
-        name: "eta_inverse_ss",
-        quantity: "steady inverse efficiency",
-        meaning: "tan(gamma - rho) / tan(gamma): steady inverse efficiency at the final sliding speed; \
-                  <= 0 means the wheel cannot drive the worm at that speed",
+        name: ETA_INVERSE_SS,
+        plotted: true,
+        quantity: "running inverse efficiency",
+        meaning: "tan(gamma - rho) / tan(gamma): steady (running) inverse efficiency at the final \
+                  sliding speed; <= 0 means the wheel cannot drive the worm at that speed \
+                  (self-locking)",
         empty: NOT_OK,
         cell: |_, r| ok(r, r.eta_inverse_ss),
         ..ROW
     },
     Column {
         name: LOCK_MARGIN_DEG,
+        plotted: true,
         unit: "deg",
         quantity: "static lock margin",
-        meaning: "rho_s - gamma with rho_s = atan(mu_s): > 0 means the drive holds its load at rest \
-                  with the motor off (statically self-locking)",
+        meaning: "rho_s - gamma with rho_s = atan(mu_s / cos(alpha_n)) (the static friction angle): \
+                  > 0 means the drive holds its load at rest with the motor off (statically \
+                  self-locking)",
         empty: NOT_OK,
         cell: |_, r| ok(r, r.lock_margin_deg),
+        ..ROW
+    },
+    Column {
+        name: "eta_direct_start",
+        quantity: "starting direct efficiency",
+        meaning: "tan(gamma) / tan(gamma + rho_s): the starting efficiency (breakaway from rest, \
+                  static friction), as catalogues list it beside the running efficiency",
+        empty: NOT_OK,
+        compare: Compare::Relative(VALUE_BOUND),
+        cell: |_, r| ok(r, r.eta_direct_start),
+        ..ROW
+    },
+    Column {
+        name: "eta_inverse_start",
+        quantity: "starting inverse efficiency",
+        meaning: "tan(gamma - rho_s) / tan(gamma): the starting back-driving efficiency; <= 0 \
+                  exactly when lock_margin_deg >= 0 (statically self-locking)",
+        empty: NOT_OK,
+        compare: Compare::Relative(VALUE_BOUND),
+        cell: |_, r| ok(r, r.eta_inverse_start),
         ..ROW
     },
     Column {
@@ -431,6 +466,20 @@ pub const RESULTS: &[Column] = &[
         summary: Summary::Shares(hold_words, Of::Given),
         compare: Compare::Exact,
         cell: |_, r| Cell::S(Cow::Borrowed(r.hold.map_or("", Hold::name))),
+        ..ROW
+    },
+    Column {
+        name: DRIVE,
+        quantity: "does the motor drive it",
+        meaning: "for a lane whose motor runs to the end: runs (sliding in the motor's direction), \
+                  stalled (at rest and stuck: the motor cannot start or keep moving the load) or \
+                  back_driven (sliding against the motor: the load drives the worm backwards)",
+        empty: "the motor is cut before t_end (see hold), a constant motor has f1 = 0, or the \
+                status is not ok",
+        kind: Kind::Text,
+        summary: Summary::Shares(drive_words, Of::Given),
+        compare: Compare::Exact,
+        cell: |_, r| Cell::S(Cow::Borrowed(r.drive.map_or("", Drive::name))),
         ..ROW
     },
     Column {
@@ -504,6 +553,13 @@ pub fn number_columns() -> impl Iterator<Item = &'static Column> {
     results()
         .iter()
         .filter(|c| matches!(c.summary, Summary::Numbers))
+}
+
+/// Whether a result column is an inverse efficiency (`eta_inverse`,
+/// `_ss`, `_start`), whose values <= 0 mean the wheel cannot drive the
+/// worm: the drive is self-locking there.
+pub fn is_inverse_efficiency(name: &str) -> bool {
+    name.starts_with(ETA_INVERSE)
 }
 
 /// "quantity, name (unit)": an axis label.

@@ -26,6 +26,7 @@ pub mod integrator;
 pub mod model;
 pub mod output;
 pub mod params;
+pub mod progress;
 pub mod report;
 pub mod run;
 pub mod stats;

@@ -11,17 +11,17 @@ use tswm::output::atomic::remove_partials_on_signal;
 
 fn main() -> ExitCode {
     quiet_mesa();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => return usage_error(e),
+    };
     // A forced vector width is read (and refused) before any command
     // writes anything.
     if let Err(why) = tswm::integrator::width::width() {
-        let e = tswm::error::Error::Usage(why);
-        eprintln!("tswm: error: {e}");
-        return ExitCode::from(e.exit_code());
+        return fail(&tswm::error::Error::Usage(why));
     }
     if let Err(e) = remove_partials_on_signal() {
-        eprintln!("tswm: error: {e}");
-        return ExitCode::from(e.exit_code());
+        return fail(&e);
     }
     let result = match &cli.command {
         Command::Run {
@@ -60,11 +60,45 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("tswm: error: {e}");
-            ExitCode::from(e.exit_code())
-        }
+        Err(e) => fail(&e),
     }
+}
+
+/// Prints the one error line, every control character in it (a file
+/// name's newline or escape sequence) escaped, and gives the exit code.
+fn fail(e: &tswm::error::Error) -> ExitCode {
+    eprintln!("tswm: error: {}", tswm::error::one_line(&e.to_string()));
+    ExitCode::from(e.exit_code())
+}
+
+/// A command line clap refuses: its first line, as one `tswm: error:`
+/// line with exit code 2 (help and version print as clap writes them).
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion)
+        || e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    {
+        let _ = e.print();
+        return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+    }
+    let text = e.render().to_string();
+    // The first paragraph: the error and what clap lists under it (the
+    // missing arguments, the possible values).
+    let first: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .skip_while(|l| l.is_empty())
+        .take_while(|l| !l.is_empty())
+        .collect();
+    let first = first.join(" ");
+    let first = first.strip_prefix("error: ").unwrap_or(&first);
+    let usage = text
+        .lines()
+        .map(str::trim)
+        .find_map(|l| l.strip_prefix("Usage: "))
+        .map(|u| format!("; usage: {u}"))
+        .unwrap_or_default();
+    fail(&tswm::error::Error::Usage(format!("{first}{usage}")))
 }
 
 /// Without XDG_RUNTIME_DIR, Mesa's Vulkan drivers print an error line while

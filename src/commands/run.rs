@@ -144,7 +144,9 @@ impl ShardRun {
 /// Runs `tswm run`; prints its summary line.
 pub fn run(a: RunArgs) -> Result<()> {
     let shard = a.shard.map(Shard::parse).transpose()?;
-    let plan = a.lanes.plan()?;
+    // Only the lanes that run are checked: a shard's.
+    let part = |n: u64| shard.map_or((0, n), |s| s.range(n));
+    let plan = a.lanes.plan_part(&part, a.progress)?;
     let trace = trace_plan(a.trace, a.trace_dt, &plan.source)?;
     let mut dir = OutDir::open(a.out)?;
     let total = plan.source.lane_count();

@@ -41,12 +41,38 @@ pub enum Source {
     },
 }
 
+/// Most lanes one run (or one shard) takes: 10^9, an hour or two of a
+/// many-core CPU or minutes of a data-centre GPU, and some 500 GB of
+/// `lanes.csv`. A larger sweep runs as shards (each checked alone), so no
+/// run spends hours checking lanes before it writes anything.
+pub const MAX_RUN_LANES: u64 = 1_000_000_000;
+
 impl Source {
     /// The lanes of a run: a sweep file, or a lane table over an optional
     /// sweep file's `[base]` and `[friction_table]`. Every lane is read
     /// and validated here, in one place for both kinds, so bad input is
     /// reported before anything is written.
     pub fn open(sweep: Option<&Path>, lanes: Option<&Path>) -> Result<Source> {
+        Source::open_part(sweep, lanes, &|n| (0, n), false)
+    }
+
+    /// [`Source::open`] for a run of part of the lanes: `part` gives the
+    /// range of a sweep's lanes that runs (a shard's, from the lane
+    /// count), and only those are validated, in parallel, with a
+    /// progress bar on stderr when `progress` and the part is large. A
+    /// part of more than [`MAX_RUN_LANES`] is refused at once, with the
+    /// shards that would fit.
+    pub fn open_part(
+        sweep: Option<&Path>,
+        lanes: Option<&Path>,
+        part: &dyn Fn(u64) -> (u64, u64),
+        progress: bool,
+    ) -> Result<Source> {
+        if let (Some(s), None) = (sweep, lanes) {
+            let src = Source::sweep(s)?;
+            src.validate_part(part, progress)?;
+            return Ok(src);
+        }
         let mut src =
             match (sweep, lanes) {
                 (None, None) => return Err(Error::Usage(
@@ -57,8 +83,21 @@ impl Source {
                 (s, Some(l)) => Source::table(l, s)?,
             };
         let n = src.validate()?;
-        if let Source::Table { rows, .. } = &mut src {
+        if let Source::Table { rows, trace, .. } = &mut src {
             *rows = n;
+            if let (Some(t), Some(f)) = (trace.as_ref(), sweep) {
+                if let Some(&bad) = t.lanes.iter().find(|&&l| l >= n) {
+                    return Err(Error::input(
+                        f,
+                        None,
+                        Some("trace"),
+                        format!(
+                            "lane {bad} is not in the run; allowed: 0 to {} (the lane table's rows)",
+                            n - 1
+                        ),
+                    ));
+                }
+            }
         }
         Ok(src)
     }
@@ -76,7 +115,10 @@ impl Source {
     fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
         let (base, tables, report, trace) = match sweep_file {
             Some(f) => {
-                let s = Sweep::from_file(f)?;
+                // Its `[trace]` lanes are the table's rows: checked once
+                // they are counted (`Source::open`).
+                let text = crate::input::sweep::read_text(f)?;
+                let s = Sweep::parse_with_lanes(f, &text, Some(u64::MAX))?;
                 if !s.axes.is_empty() || s.study.is_some() {
                     return Err(Error::input(
                         f,
@@ -193,6 +235,54 @@ impl Source {
             Source::Sweep { sweep, .. } => sweep.lane_count(),
             Source::Table { rows, .. } => *rows,
         }
+    }
+
+    /// Checks the lanes of a sweep that run (`part` of them), blocks of
+    /// them in parallel; the first bad lane is the one reported.
+    fn validate_part(&self, part: &dyn Fn(u64) -> (u64, u64), progress: bool) -> Result<()> {
+        use rayon::prelude::*;
+        let Source::Sweep { sweep, file } = self else {
+            return Ok(());
+        };
+        let total = sweep
+            .lane_count_checked()
+            .map_err(|m| Error::input(file, None, None, m))?;
+        let (start, end) = part(total);
+        let n = end - start;
+        if n > MAX_RUN_LANES {
+            let shards = n.div_ceil(MAX_RUN_LANES);
+            return Err(Error::input(
+                file,
+                None,
+                None,
+                format!(
+                    "{n} lanes are more than one run takes (at most {MAX_RUN_LANES:.0e}); run it \
+                     as at least {shards} shards (--shard K/{shards}, see docs/cluster.md)"
+                ),
+            ));
+        }
+        const BLOCK: u64 = 1 << 16;
+        let bar = crate::progress::bar(progress && n >= 10_000_000, n, "checking lanes");
+        let blocks = n.div_ceil(BLOCK);
+        let bad = (0..blocks)
+            .into_par_iter()
+            .map(|b| {
+                let (a, z) = (start + b * BLOCK, (start + (b + 1) * BLOCK).min(end));
+                let mut r = self.reader_range(a, z)?;
+                let mut buf = Vec::with_capacity(4096);
+                loop {
+                    buf.clear();
+                    r.fill(4096, &mut buf)?;
+                    if buf.is_empty() {
+                        break;
+                    }
+                }
+                bar.inc(z - a);
+                Ok(())
+            })
+            .find_first(|r: &Result<()>| r.is_err());
+        bar.finish_and_clear();
+        bad.unwrap_or(Ok(()))
     }
 
     /// Checks every lane; returns the count. Errors name the lane or row.

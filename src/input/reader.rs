@@ -201,12 +201,22 @@ fn csv_error(path: &Path, row: u64, e: csv::Error) -> Error {
 /// their count is even; the last one opened names the line.
 pub(super) fn check_quotes(path: &Path) -> Result<()> {
     use std::io::Read;
+    if path.is_dir() {
+        return Err(Error::input(
+            path,
+            None,
+            None,
+            "is a folder; allowed: a lane table, a CSV file with one lane a row",
+        ));
+    }
     let mut f = File::open(path)
         .map_err(|e| Error::input(path, None, None, format!("cannot read the lane table: {e}")))?;
     let mut buf = vec![0u8; 1 << 16];
     let (mut quotes, mut line, mut last_line) = (0u64, 1u64, 0u64);
     loop {
-        let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
+        let n = f.read(&mut buf).map_err(|e| {
+            Error::input(path, None, None, format!("cannot read the lane table: {e}"))
+        })?;
         if n == 0 {
             break;
         }

@@ -21,6 +21,7 @@ pub mod control;
 pub mod events;
 pub mod flow;
 mod lockstep;
+pub mod outcome;
 pub mod path;
 pub mod result;
 pub mod rhs;
@@ -31,7 +32,7 @@ pub mod width;
 
 pub use automaton::{init, LaneState, H_INITIAL};
 pub use batch::{first_pass, own_width, refine_pass, simulate, simulate_batch, simulate_batch_at};
-pub use result::{Contact, EndState, Hold, LaneResult, Recheck, RowPath, Status};
+pub use result::{Contact, Drive, EndState, Hold, LaneResult, Recheck, RowPath, Status};
 pub use step::{advance, attempt};
 
 /// Components of the integrated state: x1, ẋ1, w_motor, w_load,

@@ -19,11 +19,14 @@ pub enum Recheck {
     StiffMotor,
     /// A work that cancels below what f32 resolves of the energy that flowed.
     Cancellation,
+    /// A traced lane: its row comes from the f64 integration its trace is
+    /// taken from, so the row and the trace are one integration.
+    Traced,
 }
 
 impl Recheck {
     /// Every reason, in order.
-    pub const ALL: [Recheck; 7] = [
+    pub const ALL: [Recheck; 8] = [
         Recheck::F32Range,
         Recheck::Unfinished,
         Recheck::GpuStatus,
@@ -31,6 +34,7 @@ impl Recheck {
         Recheck::EnergyBalance,
         Recheck::StiffMotor,
         Recheck::Cancellation,
+        Recheck::Traced,
     ];
 
     /// The reason's word.
@@ -43,6 +47,7 @@ impl Recheck {
             Recheck::EnergyBalance => "energy_balance",
             Recheck::StiffMotor => "stiff_motor",
             Recheck::Cancellation => "cancellation",
+            Recheck::Traced => "traced",
         }
     }
 }

@@ -2,6 +2,7 @@
 //! section 6), and the one conversion from a lane's end state to them,
 //! used by both backends.
 
+pub use super::outcome::{Contact, Drive, Hold};
 pub use super::path::{Recheck, RowPath};
 use super::NY;
 use crate::model::{agma_upper, efficiency, motion, mu_at, FrictionTable, Lane, Mode};
@@ -66,58 +67,6 @@ impl Status {
     }
 }
 
-/// Final contact state of a lane.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Contact {
-    /// a-a: the worm pushes the wheel.
-    Aa,
-    /// b-b: the wheel pushes the worm.
-    Bb,
-    /// At rest, held by static friction.
-    Stick,
-}
-
-impl Contact {
-    /// Every final contact, in the order the tables list them.
-    pub const ALL: [Contact; 3] = [Contact::Aa, Contact::Bb, Contact::Stick];
-
-    /// The word of the results table.
-    pub fn name(self) -> &'static str {
-        match self {
-            Contact::Aa => "aa",
-            Contact::Bb => "bb",
-            Contact::Stick => "stick",
-        }
-    }
-}
-
-/// What became of the load of a lane whose motor is cut before t_end
-/// (docs/model.md section 10, "Does it hold?"): the `hold` column.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Hold {
-    /// At rest and stuck: the drive holds the load with the motor off.
-    Held,
-    /// Sliding with the motor off and not slowing down: the load
-    /// back-drives the gear and friction does not stop it.
-    RunsAway,
-    /// Sliding with the motor off and slowing down: not decided yet.
-    Coasting,
-}
-
-impl Hold {
-    /// Every outcome, in the order the tables list them.
-    pub const ALL: [Hold; 3] = [Hold::Held, Hold::RunsAway, Hold::Coasting];
-
-    /// The word of the results table.
-    pub fn name(self) -> &'static str {
-        match self {
-            Hold::Held => "held",
-            Hold::RunsAway => "runs_away",
-            Hold::Coasting => "coasting",
-        }
-    }
-}
-
 /// What a lane reports (docs/model.md section 6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaneResult {
@@ -153,9 +102,16 @@ pub struct LaneResult {
     pub eta_inverse_ss: f64,
     /// ρs − γ, deg (> 0: statically self-locking).
     pub lock_margin_deg: f64,
+    /// tan γ / tan(γ + ρs): the starting (breakaway) direct efficiency.
+    pub eta_direct_start: f64,
+    /// tan(γ − ρs) / tan γ: the starting back-driving efficiency.
+    pub eta_inverse_start: f64,
     /// What became of the load, for a lane whose motor is cut before
     /// t_end; None otherwise.
     pub hold: Option<Hold>,
+    /// What the motor achieved, for a lane whose motor runs to the end
+    /// (and drives: not a `constant` motor with f1 = 0); None otherwise.
+    pub drive: Option<Drive>,
     /// Where the lane stopped, s: t_end, or up to t_max for a lane that
     /// ran on while coasting (every `_end` value and integral is taken here).
     pub t_stop: f64,
@@ -212,7 +168,10 @@ impl LaneResult {
         eta_direct_ss: f64::NAN,
         eta_inverse_ss: f64::NAN,
         lock_margin_deg: f64::NAN,
+        eta_direct_start: f64::NAN,
+        eta_inverse_start: f64::NAN,
         hold: None,
+        drive: None,
         t_stop: f64::NAN,
         n1_end: f64::NAN,
         n2_end: f64::NAN,
@@ -222,20 +181,25 @@ impl LaneResult {
 
 /// Section 10's efficiencies and margin from a lane's energies and final
 /// speed: (eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss,
-/// lock_margin_deg).
-pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end: f64) -> [f64; 5] {
+/// lock_margin_deg, eta_direct_start, eta_inverse_start).
+pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end: f64) -> [f64; 7] {
     let [w1_in, w1_out, w2_in, w2_out] = *flow;
     let fed = 1e-6 * (w1_in + w2_in);
     let ratio = |out: f64, inp: f64| if inp > fed { out / inp } else { f64::NAN };
     // Steady values at the final sliding speed (at rest: the start-up value).
     let g = lane.tan_g.atan();
     let rho = mu_at(lane, tables, v_end.abs() * lane.inv_cos_g).atan();
+    // The static friction angle ρs = atan(μs / cos αn) (`mu_s` holds the
+    // division): breakaway from rest, and the static lock margin.
+    let rho_s = lane.mu_s.atan();
     [
         ratio(w2_out, w1_in),
         ratio(w1_out, w2_in),
         lane.tan_g / (g + rho).tan(),
         (g - rho).tan() / lane.tan_g,
-        (lane.mu_s.atan() - g).to_degrees(),
+        (rho_s - g).to_degrees(),
+        lane.tan_g / (g + rho_s).tan(),
+        (g - rho_s).tan() / lane.tan_g,
     ]
 }
 
@@ -295,7 +259,8 @@ impl EndState {
                 Hold::Coasting
             }
         });
-        let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg] =
+        let drive = if ok { self.drive(lane) } else { None };
+        let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg, eta_direct_start, eta_inverse_start] =
             engineering(lane, tables, &self.flow, v);
         LaneResult {
             status: self.status,
@@ -326,13 +291,41 @@ impl EndState {
             eta_direct_ss,
             eta_inverse_ss,
             lock_margin_deg,
+            eta_direct_start,
+            eta_inverse_start,
             hold,
+            drive,
             t_stop: self.t,
             // NaN radii (no geometry) give NaN speeds: empty cells.
             n1_end: rpm(v, lane.r1),
             n2_end: rpm(v * lane.tan_g, lane.r2),
             path: RowPath::Cpu,
         }
+    }
+}
+
+impl EndState {
+    /// What the motor achieved, for a lane whose motor runs to the end
+    /// and drives (docs/model.md section 10): stalled at rest, else runs
+    /// or is back-driven by the direction of motion against the motor's.
+    fn drive(&self, lane: &Lane) -> Option<Drive> {
+        let d = lane.motor_direction().filter(|_| !lane.motor_cut())?;
+        if self.stuck {
+            return Some(Drive::Stalled);
+        }
+        // The direction of motion; at an exact zero speed the direction
+        // the lane was sliding in.
+        let v = self.y[1];
+        let s = if v != 0.0 {
+            v.signum()
+        } else {
+            self.dir as f64
+        };
+        Some(if s == d {
+            Drive::Runs
+        } else {
+            Drive::BackDriven
+        })
     }
 }
 

@@ -2,9 +2,10 @@
 //! time, from the dense output of the same integration that gives its row
 //! of results (the same `prepare`, `try_step` and `finish_step`; only rows
 //! are taken on the way). Rows come every `dt` from 0 to where the lane
-//! stops (t_end, or up to t_max for a lane that runs on) and, at
-//! every event, twice with the same t: the state just before it (old mode)
-//! and just after it (new mode).
+//! stops (t_end, or up to t_max for a lane that runs on), one at the stop
+//! itself when `dt` does not divide it (so the trace ends at the state of
+//! the lane's row), and, at every event, twice with the same t: the state
+//! just before it (old mode) and just after it (new mode).
 
 use super::automaton::{init, LaneState};
 use super::events::dense_v;
@@ -81,14 +82,21 @@ fn dense_x(x0: f64, h: f64, r: &[f64; 5], th: f64) -> f64 {
 }
 
 /// Runs one lane to its end exactly as `simulate` does, handing `out` a
-/// row at every multiple of `dt` up to t_end and two at every event.
+/// row at every multiple of `dt` up to where it stops, one at the stop,
+/// and two at every event.
 pub fn simulate_traced(
     lane: &Lane,
     tables: &[FrictionTable],
     set: &Settings,
     dt: f64,
-    out: &mut dyn FnMut(&TraceRow),
+    sink: &mut dyn FnMut(&TraceRow),
 ) -> LaneResult {
+    // The time of the last row handed on: the trace ends at the stop.
+    let last_t = std::cell::Cell::new(f64::NEG_INFINITY);
+    let mut out = |r: &TraceRow| {
+        last_t.set(r.t);
+        sink(r)
+    };
     let mut st = init(lane, tables);
     // Rows up to t_end, or up to t_max for a lane that runs on (the run
     // ends where the lane stops, and so do its rows).
@@ -144,6 +152,11 @@ pub fn simulate_traced(
                 k += 1;
             }
         }
+    }
+    if last_t.get() < st.t {
+        // dt does not divide the stop time: a row at the stop, the
+        // state the lane's row reports.
+        out(&row(lane, tables, &st, st.t, st.y[0], st.y[1]));
     }
     st.end_state().result(lane, tables)
 }

@@ -86,6 +86,19 @@ impl Lane {
         self.motor_off < self.t_end
     }
 
+    /// The direction the motor drives body 1 (+1 or −1): +x1 for `kloss`,
+    /// the sign of `f1` for `constant`; None for a constant motor with
+    /// f1 = 0 (no motor). docs/model.md section 10, "Does the motor drive it?".
+    #[inline]
+    pub fn motor_direction(&self) -> Option<f64> {
+        match self.motor {
+            MOTOR_KLOSS => Some(1.0),
+            _ if self.f1 > 0.0 => Some(1.0),
+            _ if self.f1 < 0.0 => Some(-1.0),
+            _ => None,
+        }
+    }
+
     /// Derives a lane's constants from validated parameters.
     pub fn new(p: &Params, tables: &[FrictionTable]) -> Lane {
         let g = p.get(Num::GammaDeg).to_radians();

@@ -77,9 +77,24 @@ fn committed_text(done: &[PathBuf]) -> String {
     )
 }
 
-/// Whether a file name is one of our temporary names.
-pub fn is_partial_name(name: &str) -> bool {
-    name.starts_with('.') && name.ends_with(".partial")
+/// Whether a file name is one of our temporary names,
+/// `.NAME.PID-N.partial` for one of the files `ours` names: a user's file
+/// that merely looks like one (`.notes.partial`) is not ours to remove.
+pub fn is_partial_name(name: &str, ours: &[&str]) -> bool {
+    let Some(mid) = name
+        .strip_prefix('.')
+        .and_then(|n| n.strip_suffix(".partial"))
+    else {
+        return false;
+    };
+    let Some((file, tag)) = mid.rsplit_once('.') else {
+        return false;
+    };
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let tagged = tag
+        .split_once('-')
+        .is_some_and(|(p, n)| digits(p) && digits(n));
+    tagged && ours.contains(&file)
 }
 
 /// The writer of an [`AtomicFile`]: its file, hashed on the way when
@@ -269,5 +284,27 @@ pub fn pause_for_tests(point: &str) {
         .and_then(|m| m.parse::<u64>().ok());
     if let Some(ms) = ms {
         std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_partial_name;
+
+    #[test]
+    fn only_our_temporary_names_are_partial() {
+        let ours = ["lanes.csv", ".tswm.files"];
+        assert!(is_partial_name(".lanes.csv.123-0.partial", &ours));
+        assert!(is_partial_name("..tswm.files.9-17.partial", &ours));
+        for theirs in [
+            ".mine.partial",
+            ".notes.partial",
+            ".lanes.csv.partial",
+            ".lanes.csv.x-1.partial",
+            ".other.csv.1-2.partial",
+            "lanes.csv.1-2.partial",
+        ] {
+            assert!(!is_partial_name(theirs, &ours), "{theirs}");
+        }
     }
 }

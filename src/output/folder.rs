@@ -52,6 +52,19 @@ pub mod names {
         REPORT,
         MANIFEST,
     ];
+    /// Every file tswm writes in an output folder under a temporary name
+    /// first: the results and the marker.
+    pub const WRITTEN: [&str; 9] = [
+        LANES_CSV,
+        LANES_PARQUET,
+        SUMMARY,
+        SENSITIVITY,
+        TRACES,
+        RESOLVED,
+        REPORT,
+        MANIFEST,
+        MARKER,
+    ];
 }
 
 /// Name of the lock file inside an output folder.
@@ -169,7 +182,7 @@ impl OutDir {
             let name = e.file_name().to_string_lossy().into_owned();
             let ours = name == names::LOCK
                 || name == names::MARKER
-                || is_partial_name(&name)
+                || is_partial_name(&name, &names::WRITTEN)
                 || (self.earlier.contains(&name) && e.path().is_file());
             if !ours {
                 out.push(name);
@@ -241,7 +254,7 @@ impl OutDir {
     fn remove_stale_partials(&self) -> Result<()> {
         let entries = std::fs::read_dir(&self.path).map_err(|e| Error::io(&self.path, e))?;
         for e in entries.flatten() {
-            if is_partial_name(&e.file_name().to_string_lossy()) {
+            if is_partial_name(&e.file_name().to_string_lossy(), &names::WRITTEN) {
                 let _ = std::fs::remove_file(e.path());
             }
         }

@@ -2,8 +2,11 @@
 //! came from and how they ran, above the sweep with every lane's source
 //! spelled out.
 
+use std::path::Path;
+
+use crate::error::{Error, Result};
 use crate::input::lanes::Source;
-use crate::input::sweep::TraceSpec;
+use crate::input::sweep::{Sweep, TraceSpec};
 
 /// A string as a one-line TOML basic string (quoted, every control
 /// character, quote and backslash escaped; the serializer would choose a
@@ -44,8 +47,7 @@ pub fn provenance(
     let from = match source {
         Source::Sweep { .. } => "# every lane follows from this file\n".to_string(),
         Source::Table { path, .. } => format!(
-            "# every lane follows from the lane table {} ({} rows) over the [base] and \
-             [friction_table] below\n",
+            "{TABLE_LINE}{} ({} rows) over the [base] and [friction_table] below\n",
             toml_string(&path.display().to_string()),
             source.lane_count()
         ),
@@ -72,6 +74,34 @@ pub fn provenance(
         source.lane_count(),
         time_line(seconds, run),
     )
+}
+
+/// How the header of a lane table's `sweep.resolved.toml` names the table.
+pub const TABLE_LINE: &str = "# every lane follows from the lane table ";
+
+/// Whether a `sweep.resolved.toml` is a lane table's: its body is the
+/// `[base]` the table's rows run over, not the run's lanes.
+pub fn from_lane_table(text: &str) -> bool {
+    text.lines()
+        .take_while(|l| l.starts_with('#'))
+        .any(|l| l.starts_with(TABLE_LINE))
+}
+
+/// Reads a run's `sweep.resolved.toml` (text `text`, at `path`): its
+/// sweep and the lane count its header states. A lane table's sweep is
+/// read as what it is, the base of the header's lanes, so its `[trace]`
+/// lanes are checked against the run's lanes.
+pub fn read_resolved(path: &Path, text: &str) -> Result<(Sweep, u64)> {
+    let stated = stated_lanes(text).ok_or_else(|| {
+        Error::input(
+            path,
+            None,
+            None,
+            "its header states no lane count (`# lanes: N`); not written by this tswm version",
+        )
+    })?;
+    let lanes = from_lane_table(text).then_some(stated);
+    Ok((Sweep::parse_with_lanes(path, text, lanes)?, stated))
 }
 
 /// How `sweep.resolved.toml` begins its line of the run's lane count.
@@ -102,6 +132,18 @@ pub fn time_line(seconds: f64, lanes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_lane_tables_resolved_sweep_reads_its_traces_against_its_rows() {
+        let text = format!(
+            "# tswm 0.1.0 resolved sweep\n{TABLE_LINE}\"t.csv\" (5 rows) over the [base] and \
+             [friction_table] below\n{LANES_LINE}5\n[base]\nf2 = 1.0\n\n[trace]\ndt = 0.1\nlanes = [4]\n"
+        );
+        let (s, n) = read_resolved(Path::new("r.toml"), &text).unwrap();
+        assert_eq!((s.trace.unwrap().lanes, n), (vec![4], 5));
+        let over = text.replace("lanes = [4]", "lanes = [5]");
+        assert!(read_resolved(Path::new("r.toml"), &over).is_err());
+    }
 
     #[test]
     fn toml_strings_stay_on_one_line_and_read_back() {

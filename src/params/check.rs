@@ -58,7 +58,11 @@ pub fn check(
         (None, Fallback::SameAs(q)) => num[q as usize],
         (None, Fallback::Never | Fallback::NotSet) => return Ok(f64::NAN),
         (None, Fallback::Required) => {
-            return Err(err(format!("is required by {}", def.owner.law())))
+            return Err(err(format!(
+                "is required by {}: give it a value (beside an axis over laws, the lanes of \
+                 the other laws leave it out)",
+                def.owner.law()
+            )))
         }
     };
     // Only an error needs the words (this runs for every lane).

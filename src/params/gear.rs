@@ -189,12 +189,53 @@ pub(super) fn to_wedge(
         });
         from[wedge as usize] = Some((gear.name(), formula));
     }
+    // A quantity given twice or in part is said first; then what is
+    // missing.
+    if !r1.is_nan() {
+        drive_complete(given, motor)?;
+    }
     Ok(Converted {
         num: out,
         r1,
         r2,
         from,
     })
+}
+
+/// A drive given in gear terms is given whole: its inertias (j1 and j2,
+/// or m1 and m2) and its motor (a Kloss motor's n_sync, n_crit and t_crit
+/// or v_sync, v_crit and f_crit; a constant motor's t1 or f1, which its
+/// own row requires), unless the motor is cut from the start. The wedge's
+/// defaults are the paper's drive (586 kg, 10,275 kg, a 3.35 m/s motor):
+/// taken silently, they would be another drive's numbers.
+fn drive_complete(given: &Given, motor: MotorKind) -> Result<(), ParamError> {
+    let set = |p: Num| given[p as usize].is_some();
+    for (gear, wedge, unit) in [(Num::J1, Num::M1, "worm"), (Num::J2, Num::M2, "wheel")] {
+        if !set(gear) && !set(wedge) {
+            return Err(bad(
+                gear.name(),
+                format!(
+                    "is missing: a drive in gear terms needs the inertia on the {unit} shaft, {} \
+                     in kg m^2 (or {} in kg); the defaults are the paper's drive, not yours",
+                    gear.name(),
+                    wedge.name()
+                ),
+            ));
+        }
+    }
+    let cut_at_start = given[Num::MotorOff as usize] == Some(0.0);
+    let wedge_kloss = [Num::VSync, Num::VCrit, Num::FCrit];
+    let any_motor = KLOSS.iter().chain(&wedge_kloss).any(|&p| set(p));
+    if motor == MotorKind::Kloss && !any_motor && !cut_at_start {
+        return Err(bad(
+            "motor",
+            "is missing: a drive in gear terms needs its motor: n_sync, n_crit and t_crit (a Kloss \
+             motor), or motor = \"constant\" with t1; the defaults are the paper's 3.35 m/s motor, \
+             not yours"
+                .into(),
+        ));
+    }
+    Ok(())
 }
 
 /// A Kloss motor in gear terms is given whole: n_sync, n_crit and t_crit.

@@ -10,29 +10,7 @@ use crate::params::Param;
 /// longer axes are binned.
 pub(super) const LINE_POINTS: u64 = 1000;
 
-/// Index `i` of `len` into `bins` bins.
-pub(super) fn bin(i: u64, len: u64, bins: u64) -> usize {
-    if len <= bins {
-        i as usize
-    } else {
-        (i as u128 * bins as u128 / len as u128) as usize
-    }
-}
-
-/// The axis value shown for each bin (its first grid value).
-pub(super) fn bin_values(a: &Axis, bins: u64) -> Vec<f64> {
-    let len = a.len();
-    let n = len.min(bins);
-    (0..n)
-        .map(|b| {
-            a.value(if len <= bins {
-                b
-            } else {
-                (b as u128 * len as u128).div_ceil(bins as u128) as u64
-            })
-        })
-        .collect()
-}
+pub(super) use super::bins::{bin, bin_values, Positions};
 
 /// A grid value as a panel's name or a table cell: the word of an axis
 /// over laws or tables, else the number, short.
@@ -51,7 +29,8 @@ pub struct Panel {
     pub(super) ny: usize,
     pub(super) sums: Vec<Vec<f64>>,
     pub(super) counts: Vec<Vec<u32>>,
-    pub(super) contact: Vec<[u32; 3]>,
+    /// Finished lanes per outcome (`outcome::OUTCOMES`).
+    pub(super) outcome: Vec<[u32; super::outcome::N]>,
     pub(super) lock: Vec<(f64, u32)>,
 }
 
@@ -65,17 +44,27 @@ impl Panel {
             .collect()
     }
 
-    /// The most frequent final contact per cell (3: no finished lane).
-    pub fn contact_cells(&self) -> Vec<usize> {
-        self.contact
+    /// The most frequent outcome per cell (`outcome::N`: no finished
+    /// lane); ties go to the outcome listed first.
+    pub fn outcome_cells(&self) -> Vec<usize> {
+        let n = super::outcome::N;
+        self.outcome
             .iter()
             .map(|c| {
                 if c.iter().all(|&k| k == 0) {
-                    3
+                    n
                 } else {
-                    (0..3).max_by_key(|&i| (c[i], 3 - i)).unwrap_or(3)
+                    (0..n).max_by_key(|&i| (c[i], n - i)).unwrap_or(n)
                 }
             })
+            .collect()
+    }
+
+    /// Per cell, whether any of its finished lanes is stalled.
+    pub fn stalled_cells(&self) -> Vec<bool> {
+        self.outcome
+            .iter()
+            .map(|c| c[super::outcome::STALLED] > 0)
             .collect()
     }
 
@@ -197,6 +186,8 @@ pub struct MapData {
     lens: Vec<u64>,
     idx: Vec<u64>,
     cells: u64,
+    /// Where x's and y's values sit along the map's axes.
+    pos: (Positions, Positions),
 }
 
 impl MapData {
@@ -235,7 +226,7 @@ impl MapData {
                 ny: ys.len(),
                 sums: vec![vec![0.0; n]; results],
                 counts: vec![vec![0; n]; results],
-                contact: vec![[0; 3]; n],
+                outcome: vec![[0; super::outcome::N]; n],
                 lock: vec![(0.0, 0); n],
             })
             .collect();
@@ -252,17 +243,26 @@ impl MapData {
             idx: vec![0; lens.len()],
             lens,
             cells,
+            pos: (Positions::of(ax), Positions::of(ay)),
         }
     }
 
-    /// Adds a lane of grid point `point`: its plotted results, its final
-    /// contact (finished lanes) and lock margin.
-    pub fn add(&mut self, point: u64, vals: &[f64], contact: Option<usize>, lock: f64) {
+    /// Adds a lane of grid point `point`: its plotted results, its
+    /// outcome (finished lanes) and lock margin.
+    pub fn add(&mut self, point: u64, vals: &[f64], outcome: Option<usize>, lock: f64) {
         axis_indices(&self.lens, point, &mut self.idx);
         let p = panel_of(&self.lens, &self.idx, &[self.ix, self.iy]);
         let (cx, cy) = (
-            bin(self.idx[self.ix], self.lens[self.ix], self.cells),
-            bin(self.idx[self.iy], self.lens[self.iy], self.cells),
+            bin(
+                self.pos.0.at(self.idx[self.ix]),
+                self.lens[self.ix],
+                self.cells,
+            ),
+            bin(
+                self.pos.1.at(self.idx[self.iy]),
+                self.lens[self.iy],
+                self.cells,
+            ),
         );
         let Some(panel) = self.panels.get_mut(p as usize) else {
             return;
@@ -274,8 +274,8 @@ impl MapData {
                 panel.counts[r][cell] += 1;
             }
         }
-        if let Some(k) = contact {
-            panel.contact[cell][k] += 1;
+        if let Some(k) = outcome {
+            panel.outcome[cell][k] += 1;
         }
         if lock.is_finite() {
             panel.lock[cell].0 += lock;

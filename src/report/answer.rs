@@ -1,5 +1,6 @@
-//! What the report says first: lanes whose question is not answered yet,
-//! and the answer to the sweep's design requirement.
+//! What the report says first: what the run found (its outcomes and the
+//! ranges of its main results), lanes whose question is not answered
+//! yet, and the answer to the sweep's design requirement.
 
 use plotters::chart::SeriesLabelPosition;
 
@@ -10,7 +11,116 @@ use super::percent;
 use super::plots::{self, Axis};
 use super::require::{RequireData, Verdict};
 use super::scan::{Folder, LINE_POINTS};
+use crate::input::sweep::Sweep;
 use crate::params::Param;
+
+/// The first section: what the run found, in sentences: its size, its
+/// outcomes (stalled and coasting lanes named as such), and the range of
+/// each plotted result with where its ends lie.
+pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
+    page.section("What was found");
+    let shape = if sweep.axes.is_empty() {
+        String::new()
+    } else {
+        let axes: Vec<String> = sweep
+            .axes
+            .iter()
+            .map(|a| format!("{} {}", a.len(), a.param.name()))
+            .collect();
+        format!(
+            ": a grid of {}{}",
+            axes.join(" x "),
+            if f.samples > 1 {
+                format!(", {} sampled lanes a grid point", f.samples)
+            } else {
+                String::new()
+            }
+        )
+    };
+    let ok = f.by_status.iter().find(|s| s.0 == "ok").map_or(0, |s| s.1);
+    let mut s = format!(
+        "{}{shape}. {} finished",
+        super::lanes_text(f.lanes).trim_end_matches('.'),
+        if ok == f.lanes && f.lanes > 1 {
+            "All".to_string()
+        } else {
+            format!("{ok} of them")
+        }
+    );
+    let shown = super::outcome::present(&f.by_outcome);
+    if ok > 0 {
+        let parts: Vec<String> = shown
+            .iter()
+            .map(|&k| format!("{} {}", super::outcome::OUTCOMES[k].0, f.by_outcome[k]))
+            .collect();
+        s.push_str(&format!(": {}.", parts.join(", ")));
+    } else {
+        s.push('.');
+    }
+    page.answer(&s);
+    let stalled = f.by_outcome[super::outcome::STALLED];
+    if stalled > 0 {
+        page.warning(&format!(
+            "{stalled} of {ok} finished lane{} {} stalled: at rest and stuck with the motor on, the \
+             motor cannot start (or keep moving) the load. They have not \"held\" anything; their \
+             steady (_ss) values are start-up values, not a running point.",
+            super::plural(ok),
+            if stalled == 1 { "is" } else { "are" }
+        ));
+    }
+    if f.unfinished_total > 0 {
+        page.warning(&format!(
+            "{} could not be finished (their status is not ok; listed under Outcomes): they have \
+             no results.",
+            super::lanes_text(f.unfinished_total).trim_end_matches('.')
+        ));
+    }
+    ranges(page, f, sweep);
+}
+
+/// The lowest and highest value of each plotted result, and where.
+fn ranges(page: &mut Page, f: &Folder, sweep: &Sweep) {
+    let at = |lane: u64| {
+        if sweep.axes.is_empty() {
+            format!("lane {lane}")
+        } else {
+            super::aggregates::panel_short(sweep, &[], lane / f.samples.max(1))
+        }
+    };
+    let rows: Vec<Vec<String>> = f
+        .results
+        .iter()
+        .zip(&f.extremes)
+        .filter(|(_, e)| e.count > 0)
+        .map(|(c, e)| {
+            let mut note = String::new();
+            if crate::columns::is_inverse_efficiency(c.name) && e.at_most_zero > 0 {
+                note = format!("<= 0 (self-locking) in {} of {}", e.at_most_zero, e.count);
+            }
+            vec![
+                c.label(),
+                plots::tick(e.min.0),
+                at(e.min.1),
+                plots::tick(e.max.0),
+                at(e.max.1),
+                note,
+            ]
+        })
+        .collect();
+    if rows.is_empty() {
+        return;
+    }
+    let mut head = vec!["result (finished lanes)", "lowest", "at", "highest", "at"];
+    let mut rows = rows;
+    if rows.iter().any(|r| !r[5].is_empty()) {
+        head.push("");
+    } else {
+        rows.iter_mut().for_each(|r| {
+            r.pop();
+        });
+    }
+    page.table(&head, &rows);
+}
 
 /// At the top: lanes whose question is not answered yet (still coasting
 /// when their run ended), with what to do.
@@ -37,10 +147,12 @@ pub(super) fn undecided(page: &mut Page, f: &Folder) {
         )
     };
     page.warning(&format!(
-        "{coasting} of {} lanes whose motor is cut were still coasting (sliding, slowing down) when \
+        "{coasting} of {} lane{} whose motor is cut {} still coasting (sliding, slowing down) when \
          their run ended: whether they hold the load is not decided, and their final contact is not \
          an answer to it. To decide them, {what}.",
-        f.hold_lanes
+        f.hold_lanes,
+        super::plural(f.hold_lanes),
+        if coasting == 1 { "was" } else { "were" }
     ));
 }
 
@@ -158,6 +270,7 @@ type Judged = (f64, f64, f64, Option<Verdict>);
 fn whole_run(r: &RequireData) -> String {
     let (share, lo, _, v) = r.judge(r.counts[0][0]);
     let (k, n) = r.counts[0][0];
+    let (_, _, hi, _) = r.judge(r.counts[0][0]);
     let verdict = match v {
         Some(Verdict::Met) => "met",
         Some(Verdict::NotMet) => "not met",
@@ -165,12 +278,22 @@ fn whole_run(r: &RequireData) -> String {
         None => "not decided: no lanes",
     };
     if r.exact {
-        format!("{verdict} ({k} of {n} lanes, {}).", percent(share))
-    } else {
         format!(
-            "{verdict} ({k} of {n} lanes, {}; lower bound {}).",
-            percent(share),
-            percent(lo)
+            "{verdict} ({k} of {n} lane{}, {}).",
+            super::plural(n),
+            percent(share)
+        )
+    } else {
+        // The bound that decides: the lower for met, the upper for not met.
+        let bounds = match v {
+            Some(Verdict::Met) => format!("lower bound {}", percent(lo)),
+            Some(Verdict::NotMet) => format!("upper bound {}", percent(hi)),
+            _ => format!("bounds {} to {}", percent(lo), percent(hi)),
+        };
+        format!(
+            "{verdict} ({k} of {n} lane{}, {}; {bounds}).",
+            super::plural(n),
+            percent(share)
         )
     }
 }

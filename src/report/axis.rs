@@ -218,6 +218,60 @@ fn significant(v: f64, digits: usize) -> String {
     }
 }
 
+/// Round ticks along grid values evenly spaced on a linear or a log
+/// scale, at their fractional positions (value i at position i): the
+/// values a person reads off an axis, not the grid's 0.1019. Empty for
+/// other values (lists), which are labelled as they are.
+pub fn round_ticks(values: &[f64], max_labels: usize) -> Vec<(f64, String)> {
+    let n = values.len();
+    if n < 3 || values.iter().any(|v| !v.is_finite()) {
+        return Vec::new();
+    }
+    let (v0, vn) = (values[0], values[n - 1]);
+    let even = |f: &dyn Fn(f64) -> f64| {
+        let (a, b) = (f(v0), f(vn));
+        let step = (b - a) / (n - 1) as f64;
+        let tol = 1e-9 * a.abs().max(b.abs()).max(step.abs());
+        step != 0.0
+            && values
+                .iter()
+                .enumerate()
+                .all(|(i, &v)| (f(v) - (a + i as f64 * step)).abs() <= tol)
+    };
+    let (lo, hi) = (v0.min(vn), v0.max(vn));
+    let mut ticks: Vec<(f64, f64)> = Vec::new();
+    if even(&|v| v) {
+        let step = (vn - v0) / (n - 1) as f64;
+        let t = nice_ticks(lo, hi);
+        let d = if t.len() >= 2 { t[1] - t[0] } else { hi - lo };
+        return t
+            .into_iter()
+            .map(|t| ((t - v0) / step, number(t, d)))
+            .collect();
+    } else if lo > 0.0 && even(&|v: f64| v.ln()) {
+        let lstep = (vn.ln() - v0.ln()) / (n - 1) as f64;
+        let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        for mults in [&[1.0, 2.0, 5.0][..], &[1.0][..]] {
+            ticks.clear();
+            for k in k0..=k1 {
+                for &m in mults {
+                    let t = m * 10f64.powi(k);
+                    if t >= lo * (1.0 - 1e-9) && t <= hi * (1.0 + 1e-9) {
+                        ticks.push((t, (t.ln() - v0.ln()) / lstep));
+                    }
+                }
+            }
+            if ticks.len() <= max_labels {
+                break;
+            }
+        }
+    }
+    if ticks.len() < 2 {
+        return Vec::new();
+    }
+    ticks.into_iter().map(|(t, p)| (p, number(t, t))).collect()
+}
+
 /// The colour of `v` on a viridis scale over [lo, hi] (plotted units);
 /// grey for no value. Normalised in f64 before plotters sees it: its
 /// colour map divides in f32, where a narrow or huge span is 0 or

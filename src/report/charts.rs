@@ -159,6 +159,17 @@ pub fn points_chart(
         root.fill(&WHITE).map_err(err)?;
         let mut c = chart(&root, title, x, y, true)?;
         let n = series.len().max(1) as f64;
+        // Series side by side within a category only where two of them
+        // have a point there; exclusive series (met, not met) sit on
+        // their ticks.
+        let len = series.iter().map(|s| s.values.len()).max().unwrap_or(0);
+        let overlap = (0..len).any(|i| {
+            series
+                .iter()
+                .filter(|s| s.values.get(i).is_some_and(|v| v.0.is_finite()))
+                .count()
+                > 1
+        });
         if let Some((v, name)) = level {
             let (x0, x1) = x.ends();
             let v = y.map(v);
@@ -170,7 +181,7 @@ pub fn points_chart(
         for (k, s) in series.iter().enumerate() {
             let col = s.colour.unwrap_or(PALETTE[k % PALETTE.len()]);
             // Side by side within a category.
-            let dx = if n > 1.0 {
+            let dx = if n > 1.0 && overlap {
                 (k as f64 - (n - 1.0) / 2.0) * 0.6 / n
             } else {
                 0.0

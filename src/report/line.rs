@@ -3,7 +3,8 @@
 //! line and a requirement's answer share.
 
 use super::aggregates::{
-    axis_indices, bin, bin_values, panel_label, panel_of, panel_values, Band, LINE_POINTS,
+    axis_indices, bin, bin_values, panel_label, panel_of, panel_values, Band, Positions,
+    LINE_POINTS,
 };
 use crate::input::sweep::{Axis, AxisValues, Sweep};
 use crate::params::Param;
@@ -32,6 +33,8 @@ pub struct XAxis {
     pub binned: bool,
     /// Log-spaced.
     pub log: bool,
+    /// Where each grid value sits along the axis (lists sorted).
+    pub(super) pos: Positions,
 }
 
 impl XAxis {
@@ -49,6 +52,7 @@ impl XAxis {
             },
             binned: words.is_none() && a.len() > cap,
             log: matches!(a.values, AxisValues::Range { log: true, .. }),
+            pos: Positions::of(a),
             words,
         }
     }
@@ -65,10 +69,7 @@ impl XAxis {
     pub fn categories(&self) -> super::plots::Axis {
         let label = super::param_label(self.param);
         match &self.words {
-            Some(w) => super::plots::Axis::Cat {
-                label,
-                names: w.clone(),
-            },
+            Some(w) => super::plots::Axis::words(&label, w.clone()),
             None => super::plots::Axis::grid(&label, &self.xs),
         }
     }
@@ -93,7 +94,8 @@ pub struct LinePanel {
     pub values: String,
     /// Per result, per point: sum, count, min, max.
     pub(super) acc: Vec<Vec<(f64, u32, f64, f64)>>,
-    pub(super) contact: Vec<[u32; 3]>,
+    /// Finished lanes per outcome (`outcome::OUTCOMES`), per point.
+    pub(super) outcome: Vec<[u32; super::outcome::N]>,
     /// Whether shares get Wilson intervals.
     independent: bool,
 }
@@ -116,7 +118,7 @@ impl LineData {
                 label: panel_label(sweep, &[iaxis], p),
                 values: panel_values(sweep, &[iaxis], p),
                 acc: vec![vec![(0.0, 0, f64::INFINITY, f64::NEG_INFINITY); n]; results],
-                contact: vec![[0; 3]; n],
+                outcome: vec![[0; super::outcome::N]; n],
                 independent: sweep.independent_lanes(),
             })
             .collect();
@@ -136,12 +138,12 @@ impl LineData {
     }
 
     /// Adds a lane of grid point `point`: its plotted results and, for a
-    /// finished lane, its final contact.
-    pub fn add(&mut self, point: u64, vals: &[f64], contact: Option<usize>) {
+    /// finished lane, its outcome.
+    pub fn add(&mut self, point: u64, vals: &[f64], outcome: Option<usize>) {
         axis_indices(&self.lens, point, &mut self.idx);
         let p = panel_of(&self.lens, &self.idx, &[self.iaxis]);
         let (i, len) = (self.idx[self.iaxis], self.lens[self.iaxis]);
-        let b = bin(i, len, LINE_POINTS).min(self.x.xs.len().saturating_sub(1));
+        let b = bin(self.x.pos.at(i), len, LINE_POINTS).min(self.x.xs.len().saturating_sub(1));
         let Some(panel) = self.panels.get_mut(p as usize) else {
             return;
         };
@@ -154,8 +156,8 @@ impl LineData {
                 a.3 = a.3.max(v);
             }
         }
-        if let Some(k) = contact {
-            panel.contact[b][k] += 1;
+        if let Some(k) = outcome {
+            panel.outcome[b][k] += 1;
         }
     }
 }
@@ -189,32 +191,56 @@ impl LinePanel {
             .collect()
     }
 
-    /// Per point of `x`: axis value, finished lanes, held share and its
-    /// interval, a-a and b-b shares.
-    pub fn contact_rows(&self, x: &XAxis) -> Vec<Vec<String>> {
+    /// Whether shares get Wilson intervals.
+    pub fn independent(&self) -> bool {
+        self.independent
+    }
+
+    /// Finished lanes per outcome over the whole panel.
+    pub fn outcome_totals(&self) -> [u64; super::outcome::N] {
+        let mut t = [0u64; super::outcome::N];
+        for c in &self.outcome {
+            for (a, &k) in t.iter_mut().zip(c) {
+                *a += k as u64;
+            }
+        }
+        t
+    }
+
+    /// Per point of `x`: axis value, finished lanes, then for each
+    /// outcome of `shown` its share with its interval (where the lanes
+    /// are independent draws).
+    pub fn outcome_rows(&self, x: &XAxis, shown: &[usize]) -> Vec<Vec<String>> {
         let pct = super::percent;
-        self.contact
+        self.outcome
             .iter()
             .enumerate()
             .map(|(i, c)| {
                 let n: u32 = c.iter().sum();
-                let share = |k: u32| pct(k as f64 / n as f64);
-                let (lo, hi) = super::interval(c[0] as u64, n as u64, self.independent);
-                vec![
-                    x.text(i),
-                    n.to_string(),
-                    share(c[0]),
-                    format!("{} to {}", pct(lo), pct(hi)),
-                    share(c[1]),
-                    share(c[2]),
-                ]
+                let mut row = vec![x.text(i), n.to_string()];
+                for &k in shown {
+                    let (lo, hi) = super::interval(c[k] as u64, n as u64, self.independent);
+                    row.push(if n == 0 {
+                        "-".into()
+                    } else if lo.is_nan() {
+                        pct(c[k] as f64 / n as f64)
+                    } else {
+                        format!(
+                            "{} ({} to {})",
+                            pct(c[k] as f64 / n as f64),
+                            pct(lo),
+                            pct(hi)
+                        )
+                    });
+                }
+                row
             })
             .collect()
     }
 
-    /// Share of finished lanes with final contact `i`, per point.
-    pub fn contact_share(&self, i: usize) -> Vec<(f64, f64, f64)> {
-        self.contact
+    /// Share of finished lanes with outcome `i`, per point.
+    pub fn outcome_share(&self, i: usize) -> Vec<(f64, f64, f64)> {
+        self.outcome
             .iter()
             .map(|c| {
                 let n: u32 = c.iter().sum();

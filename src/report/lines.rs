@@ -1,15 +1,16 @@
 //! The report's section of results along one grid axis: a panel per
 //! value of the other axes (an axis of laws or tables gets panels, never
-//! a line), each with its results and final contacts as points (a few
-//! values, or words) or lines.
+//! a line), each with its results and outcomes (runs, stalled, held, ...)
+//! as points (a few values, or words) or lines.
 
 use plotters::chart::SeriesLabelPosition;
 
 use super::charts::{line_chart, points_chart, x_axis, Curve, Series};
 use super::html::Page;
 use super::line::{LineData, LinePanel};
-use super::plots::{self, Axis};
-use super::scan::{Folder, CONTACT_NAMES};
+use super::outcome::{self, OUTCOMES};
+use super::plots::Axis;
+use super::scan::Folder;
 use super::sections::efficiency_note;
 use super::{param_label, FEW};
 
@@ -42,10 +43,10 @@ pub(super) fn lines(page: &mut Page, f: &Folder) {
         let mut figs: Vec<_> = (0..f.results.len())
             .map(|r| result_along(f, l, p, r, few))
             .collect();
-        figs.push(contact_along(f, l, p, few));
+        figs.push(outcome_along(f, l, p, few));
         page.figures(figs);
         if f.study {
-            contact_table(page, l, p);
+            outcome_table(page, l, p);
         }
     }
 }
@@ -112,26 +113,29 @@ fn side_by_side(page: &mut Page, f: &Folder, l: &LineData, few: bool) {
     page.figures(figs);
 }
 
-/// A study's final contacts along the axis, with their intervals.
-fn contact_table(page: &mut Page, l: &LineData, p: &LinePanel) {
-    page.heading(&format!("Final contact against {}", l.x.param.name()));
-    page.note(
-        "The probability of each final contact over each grid point's sampled lanes, with its \
-         95 % Wilson interval. Held (stick) means the drive holds its load at the end of the run.",
-    );
-    let rows = p.contact_rows(&l.x);
+/// A study's outcomes along the axis, with their intervals.
+fn outcome_table(page: &mut Page, l: &LineData, p: &LinePanel) {
+    page.heading(&format!("Outcome against {}", l.x.param.name()));
+    page.note(if p.independent() {
+        "The probability of each outcome over each grid point's sampled lanes, with its 95 % \
+         Wilson interval. Held: at rest with the motor cut (the drive holds its load); stalled: \
+         at rest with the motor on (it cannot start or keep moving the load)."
+    } else {
+        "The share of each outcome over each grid point's lanes (no interval: the lanes of a \
+         sensitivity design are not independent draws). Held: at rest with the motor cut; \
+         stalled: at rest with the motor on."
+    });
+    let shown = outcome::present(&p.outcome_totals());
+    let rows = p.outcome_rows(&l.x, &shown);
     let unit = match l.x.param {
         crate::params::Param::Num(n) => n.def().unit,
         _ => "",
     };
-    let head = [
+    let mut head = vec![
         crate::columns::label(l.x.param.name(), "", unit),
         "finished lanes".into(),
-        "held".into(),
-        "held, 95 % interval".into(),
-        "a-a".into(),
-        "b-b".into(),
     ];
+    head.extend(shown.iter().map(|&k| OUTCOMES[k].0.to_string()));
     let head: Vec<&str> = head.iter().map(|s| s.as_str()).collect();
     page.table(&head, &rows);
 }
@@ -181,18 +185,23 @@ fn result_along(
     line_chart(c.quantity, &x, l.x.log, &c.label(), &curves, &[])
 }
 
-/// The share of each final contact along the one grid axis.
-fn contact_along(f: &Folder, l: &LineData, p: &LinePanel, few: bool) -> Result<String, String> {
+/// The share of each outcome along the one grid axis (those that occur).
+fn outcome_along(f: &Folder, l: &LineData, p: &LinePanel, few: bool) -> Result<String, String> {
+    let shown = outcome::present(&p.outcome_totals());
+    // One outcome draws no legend: the title names it.
+    let title = match shown.as_slice() {
+        [k] => format!("outcome: {}", OUTCOMES[*k].0),
+        _ => "outcome".to_string(),
+    };
     if few {
-        let series: Vec<Series> = CONTACT_NAMES
+        let series: Vec<Series> = shown
             .iter()
-            .enumerate()
-            .map(|(i, c)| Series {
-                name: c.1,
+            .map(|&i| Series {
+                name: OUTCOMES[i].0,
                 // One lane a point without a study: its share is 0 or 1,
                 // and an interval would say nothing.
                 values: p
-                    .contact_share(i)
+                    .outcome_share(i)
                     .into_iter()
                     .map(|v| {
                         if f.study {
@@ -202,11 +211,11 @@ fn contact_along(f: &Folder, l: &LineData, p: &LinePanel, few: bool) -> Result<S
                         }
                     })
                     .collect(),
-                colour: Some(plots::CONTACT_COLOURS[i]),
+                colour: Some(OUTCOMES[i].1),
             })
             .collect();
         return points_chart(
-            "final contact",
+            &title,
             &l.x.categories(),
             &Axis::fixed("share of finished lanes", 0.0, 1.0),
             &series,
@@ -214,29 +223,21 @@ fn contact_along(f: &Folder, l: &LineData, p: &LinePanel, few: bool) -> Result<S
             SeriesLabelPosition::UpperRight,
         );
     }
-    let curves: Vec<Curve> = CONTACT_NAMES
+    let curves: Vec<Curve> = shown
         .iter()
-        .enumerate()
-        .map(|(i, c)| Curve {
-            name: c.1,
+        .map(|&i| Curve {
+            name: OUTCOMES[i].0,
             points: l
                 .xs()
                 .iter()
-                .zip(p.contact_share(i))
+                .zip(p.outcome_share(i))
                 .filter(|(_, s)| s.0.is_finite())
                 .map(|(x, s)| (*x, s.0))
                 .collect(),
             band: Vec::new(),
-            colour: Some(plots::CONTACT_COLOURS[i]),
+            colour: Some(OUTCOMES[i].1),
         })
         .collect();
     let x = x_axis(&param_label(l.x.param), &curves, &[], l.x.log);
-    line_chart(
-        "final contact",
-        &x,
-        l.x.log,
-        "share of finished lanes",
-        &curves,
-        &[],
-    )
+    line_chart(&title, &x, l.x.log, "share of finished lanes", &curves, &[])
 }

@@ -8,11 +8,15 @@
 mod aggregates;
 mod answer;
 pub mod axis;
+mod bins;
 mod cells;
 pub mod charts;
+mod extremes;
 pub mod html;
 mod line;
 mod lines;
+pub mod map_plots;
+mod outcome;
 pub mod plots;
 mod require;
 mod scan;
@@ -25,7 +29,6 @@ mod trace_rows;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::input::sweep::Sweep;
 use crate::output::names::{REPORT, RESOLVED, SENSITIVITY, SUMMARY, TRACES};
 use crate::output::{AtomicFile, OutDir};
 use crate::params::Param;
@@ -76,6 +79,20 @@ pub(crate) fn percent(x: f64) -> String {
     }
 }
 
+/// "1 lane", "435 lanes".
+pub(crate) fn lanes_text(n: u64) -> String {
+    format!("{n} lane{}.", plural(n))
+}
+
+/// "s" unless `n` is 1.
+pub(crate) fn plural(n: u64) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
 /// The 95 % Wilson interval of k/n where the lanes are independent
 /// draws; none (NaN) otherwise.
 pub(super) fn interval(k: u64, n: u64, independent: bool) -> (f64, f64) {
@@ -113,15 +130,7 @@ pub fn build(dir: &Path) -> Result<String> {
             ),
         )
     })?;
-    let sweep = Sweep::parse(&resolved_path, &text)?;
-    let stated = crate::output::provenance::stated_lanes(&text).ok_or_else(|| {
-        Error::input(
-            &resolved_path,
-            None,
-            None,
-            "its header states no lane count (`# lanes: N`); not written by this tswm version",
-        )
-    })?;
+    let (sweep, stated) = crate::output::provenance::read_resolved(&resolved_path, &text)?;
     let folder = Folder::read(dir, &sweep, stated)?;
     let spec = &sweep.report;
     let title = spec.title.clone().unwrap_or_else(|| {
@@ -135,19 +144,13 @@ pub fn build(dir: &Path) -> Result<String> {
         )
     });
     let mut page = Page::new(&title);
+    // Results first: what was found, what is not decided yet, the answer
+    // to the requirement; what was run comes last.
+    answer::findings(&mut page, &folder, &sweep);
     answer::undecided(&mut page, &folder);
     if let Some(r) = &folder.require {
         answer::requirement(&mut page, r);
     }
-
-    page.section("What was run");
-    let header: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
-    for l in &header {
-        page.note(l.trim_start_matches('#').trim());
-    }
-    page.note(&format!("Folder: {}", dir.display()));
-    page.heading(&format!("The resolved sweep ({RESOLVED})"));
-    page.pre(&text);
 
     sections::outcomes(&mut page, &folder);
     if folder.map.is_some() {
@@ -165,6 +168,15 @@ pub fn build(dir: &Path) -> Result<String> {
     if !folder.traces.is_empty() {
         sections::traces(&mut page, &folder);
     }
+    page.section("What was run");
+    let header: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
+    for l in &header {
+        page.note(l.trim_start_matches('#').trim());
+    }
+    page.note(&format!("Folder: {}", dir.display()));
+    page.heading(&format!("The resolved sweep ({RESOLVED})"));
+    page.pre(&text);
+
     page.section("About this page");
     page.note(&format!(
         "Written by tswm from the files of its output folder: {} (one row per lane), {SUMMARY} \
@@ -172,9 +184,12 @@ pub fn build(dir: &Path) -> Result<String> {
          (traced lanes) and {RESOLVED}. Efficiencies are energy-averaged \
          over each lane's run: eta_direct = w2_out / w1_in (worm drives wheel), eta_inverse = \
          w1_out / w2_in (wheel drives worm); the _ss values are the steady efficiencies at the \
-         final sliding speed; lock_margin_deg = atan(mu_s) - gamma > 0 means the drive holds its \
-         load at rest with the motor off; hold says what became of the load of a lane whose motor \
-         is cut. Grey cells have no value (the lane did not finish, or the efficiency is \
+         final sliding speed (for a stalled lane, at rest with the motor on, the start-up values), \
+         the _start values the starting (breakaway) efficiencies with static friction; \
+         lock_margin_deg = atan(mu_s / cos alpha_n) - gamma > 0 means the drive holds its load at \
+         rest with the motor off; drive says what the motor achieved (runs, stalled, back_driven) \
+         in a lane whose motor runs to the end, hold what became of the load of a lane whose \
+         motor is cut. Grey cells have no value (the lane did not finish, or the efficiency is \
          undefined).",
         folder.table
     ));

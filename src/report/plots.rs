@@ -8,14 +8,14 @@
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::prelude::*;
 
-use super::axis::{colour, value_labels, Range};
+use super::axis::{value_labels, Range};
 
 /// Width and height of one figure, px.
 pub const SIZE: (u32, u32) = (560, 400);
 
 /// Plotters' drawing errors carry backend types; the report only needs
 /// to say that a figure could not be drawn.
-type Drawn = Result<(), String>;
+pub(super) type Drawn = Result<(), String>;
 
 pub(super) fn err<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
@@ -41,8 +41,14 @@ const MAX_LABELS: usize = 8;
 pub enum Axis {
     /// Numbers on a linear scale (values in the range's plotted units).
     Num { label: String, range: Range },
-    /// Categories at positions 0, 1, ..., labelled with their names.
-    Cat { label: String, names: Vec<String> },
+    /// Categories at positions 0, 1, ..., labelled with their names, or
+    /// at `ticks` (position, label) where given: round values along a
+    /// grid range too long to label each value.
+    Cat {
+        label: String,
+        names: Vec<String>,
+        ticks: Vec<(f64, String)>,
+    },
 }
 
 impl Axis {
@@ -62,11 +68,27 @@ impl Axis {
         }
     }
 
-    /// Categories named by grid values (labels that tell them apart).
+    /// Categories named by grid values (labels that tell them apart);
+    /// more values than are labelled one by one, evenly spaced on a
+    /// linear or log scale, get ticks at round values between them.
     pub fn grid(label: &str, values: &[f64]) -> Axis {
         Axis::Cat {
             label: label.to_string(),
             names: value_labels(values),
+            ticks: if values.len() > MAX_LABELS {
+                super::axis::round_ticks(values, MAX_LABELS)
+            } else {
+                Vec::new()
+            },
+        }
+    }
+
+    /// Categories named by words.
+    pub fn words(label: &str, names: Vec<String>) -> Axis {
+        Axis::Cat {
+            label: label.to_string(),
+            names,
+            ticks: Vec::new(),
         }
     }
 
@@ -88,6 +110,7 @@ impl Axis {
     pub(super) fn key_points(&self) -> Vec<f64> {
         match self {
             Axis::Num { range, .. } => range.ticks.clone(),
+            Axis::Cat { ticks, .. } if !ticks.is_empty() => ticks.iter().map(|t| t.0).collect(),
             Axis::Cat { names, .. } => {
                 let every = names.len().div_ceil(MAX_LABELS).max(1);
                 (0..names.len()).step_by(every).map(|i| i as f64).collect()
@@ -98,6 +121,11 @@ impl Axis {
     pub(super) fn label_of(&self, v: f64) -> String {
         match self {
             Axis::Num { range, .. } => range.tick_label(v),
+            Axis::Cat { ticks, .. } if !ticks.is_empty() => ticks
+                .iter()
+                .find(|t| (t.0 - v).abs() < 1e-9)
+                .map(|t| t.1.clone())
+                .unwrap_or_default(),
             Axis::Cat { names, .. } => {
                 let i = v.round();
                 if i >= 0.0 && (i - v).abs() < 1e-9 {
@@ -210,155 +238,4 @@ pub(super) fn chart<'a, 'b>(
         .draw()
         .map_err(err)?;
     Ok(c)
-}
-
-/// A heat map over two grid axes: `cells[iy * nx + ix]`, a colour bar
-/// named `value_name`, and an optional line in cell coordinates (cell
-/// (ix, iy) centred on (ix, iy)).
-pub fn heat_map(
-    title: &str,
-    x: &Axis,
-    y: &Axis,
-    cells: &[f64],
-    value_name: &str,
-    line: Option<&[(f64, f64)]>,
-) -> Result<String, String> {
-    let range = Range::of(cells.iter().copied(), 0.0);
-    let (nx, ny) = (count(x), count(y));
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (map, bar) = root.split_horizontally(SIZE.0 - 118);
-        let mut chart = chart(&map, title, x, y, false)?;
-        chart
-            .draw_series(
-                (0..ny)
-                    .flat_map(|iy| (0..nx).map(move |ix| (ix, iy)))
-                    .map(|(ix, iy)| {
-                        let (cx, cy) = (ix as f64, iy as f64);
-                        let v = cells.get(iy * nx + ix).copied().unwrap_or(f64::NAN);
-                        Rectangle::new(
-                            [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
-                            colour(range.map(v), range.lo, range.hi).filled(),
-                        )
-                    }),
-            )
-            .map_err(err)?;
-        // The line is named in the page's text: a legend box would hide
-        // cells.
-        if let Some(pts) = line.filter(|p| p.len() >= 2) {
-            chart
-                .draw_series(LineSeries::new(pts.iter().copied(), RED.stroke_width(2)))
-                .map_err(err)?;
-        }
-        colour_bar(&bar, value_name, &range)?;
-        root.present().map_err(err)?;
-    }
-    Ok(inline(svg))
-}
-
-fn count(a: &Axis) -> usize {
-    match a {
-        Axis::Cat { names, .. } => names.len(),
-        Axis::Num { .. } => 0,
-    }
-}
-
-fn colour_bar(
-    area: &DrawingArea<SVGBackend, plotters::coord::Shift>,
-    name: &str,
-    range: &Range,
-) -> Drawn {
-    let y = Axis::Num {
-        label: String::new(),
-        range: range.clone(),
-    };
-    let mut c = ChartBuilder::on(area)
-        .margin_top(34)
-        .margin_bottom(50)
-        .margin_right(25)
-        .y_label_area_size(55)
-        .caption(range.label(name), ("sans-serif", 11))
-        .build_cartesian_2d(Coord::bare(0.0, 1.0), y.coord())
-        .map_err(err)?;
-    let fy = |v: &f64| y.label_of(*v);
-    c.configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_label_style(("sans-serif", 12))
-        .y_label_formatter(&fy)
-        .draw()
-        .map_err(err)?;
-    let steps = 64;
-    let (lo, hi) = (range.lo, range.hi);
-    c.draw_series((0..steps).map(|i| {
-        let f = |k: usize| lo + (0.5 * hi - 0.5 * lo) * 2.0 * k as f64 / steps as f64;
-        let (a, b) = (f(i), f(i + 1));
-        // From x = 0.4: the tick labels left of the axis keep clear of it.
-        Rectangle::new(
-            [(0.4, a), (1.0, b)],
-            colour(0.5 * a + 0.5 * b, lo, hi).filled(),
-        )
-    }))
-    .map_err(err)?;
-    Ok(())
-}
-
-/// Colours of the final contacts (held, a-a, b-b) and "no result".
-pub const CONTACT_COLOURS: [RGBColor; 4] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(200, 200, 200),
-];
-
-/// A map of categories over two grid axes (`cells` hold an index into
-/// `names`, or `names.len()` for none) with a legend.
-pub fn category_map(
-    title: &str,
-    x: &Axis,
-    y: &Axis,
-    cells: &[usize],
-    names: &[&str],
-) -> Result<String, String> {
-    let (nx, ny) = (count(x), count(y));
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (map, _legend) = root.split_horizontally(SIZE.0 - 118);
-        let mut chart = chart(&map, title, x, y, false)?;
-        chart
-            .draw_series(
-                (0..ny)
-                    .flat_map(|iy| (0..nx).map(move |ix| (ix, iy)))
-                    .map(|(ix, iy)| {
-                        let (cx, cy) = (ix as f64, iy as f64);
-                        let k = cells.get(iy * nx + ix).copied().unwrap_or(names.len());
-                        Rectangle::new(
-                            [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
-                            CONTACT_COLOURS[k.min(CONTACT_COLOURS.len() - 1)].filled(),
-                        )
-                    }),
-            )
-            .map_err(err)?;
-        for (i, name) in names.iter().enumerate() {
-            let y = 50 + 22 * i as i32;
-            let x = SIZE.0 as i32 - 112;
-            root.draw(&Rectangle::new(
-                [(x, y), (x + 14, y + 14)],
-                CONTACT_COLOURS[i].filled(),
-            ))
-            .map_err(err)?;
-            root.draw(&Text::new(
-                name.to_string(),
-                (x + 20, y + 1),
-                ("sans-serif", 13),
-            ))
-            .map_err(err)?;
-        }
-        root.present().map_err(err)?;
-    }
-    Ok(inline(svg))
 }

@@ -98,7 +98,13 @@ impl RequireData {
             let i = self.iaxis;
             (
                 panel_of(&self.lens, &self.idx, &[i]),
-                bin(self.idx[i], self.lens[i], self.cap),
+                bin(
+                    self.x
+                        .as_ref()
+                        .map_or(self.idx[i], |x| x.pos.at(self.idx[i])),
+                    self.lens[i],
+                    self.cap,
+                ),
             )
         };
         if let Some(c) = self.counts.get_mut(p as usize).and_then(|v| v.get_mut(b)) {

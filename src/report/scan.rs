@@ -12,7 +12,7 @@
 use std::path::Path;
 
 use crate::columns::{results, Column, Summary};
-use crate::columns::{CONTACT_END, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
+use crate::columns::{CONTACT_END, DRIVE, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::output::table::{columns, Cell, RowReader};
@@ -20,14 +20,16 @@ use crate::params::{Num, Param};
 
 pub(super) use super::aggregates::LINE_POINTS;
 pub use super::aggregates::{GroupData, MapData};
-pub(super) use super::cells::{bad_row, column, num, open_csv, text};
+pub(super) use super::cells::{bad_row, check_row, column, num, open_csv, text};
+pub use super::extremes::Extreme;
 pub use super::line::LineData;
 pub use super::require::RequireData;
 pub use super::trace::TraceData;
 
 /// Final contacts as `lanes.csv` spells them, with the words the report
-/// uses; the order of the maps' colours.
-pub const CONTACT_NAMES: [(&str, &str); 3] = [("stick", "held"), ("aa", "a-a"), ("bb", "b-b")];
+/// uses. `stick` is "at rest": held if the motor is cut, stalled if it
+/// runs (the outcome says which).
+pub const CONTACT_NAMES: [(&str, &str); 3] = [("stick", "at rest"), ("aa", "a-a"), ("bb", "b-b")];
 
 /// Most cells along one axis of a map, and points along a line; longer
 /// axes are binned.
@@ -52,17 +54,32 @@ pub struct Folder {
     pub by_hold: Vec<(&'static str, u64)>,
     /// Lanes whose motor is cut before t_end (those with a `hold`).
     pub hold_lanes: u64,
+    /// Lanes per `drive` word (runs, stalled, back_driven).
+    pub by_drive: Vec<(&'static str, u64)>,
+    /// Lanes whose motor runs to the end (those with a `drive`).
+    pub drive_lanes: u64,
+    /// Finished lanes per outcome (`outcome::OUTCOMES`).
+    pub by_outcome: [u64; super::outcome::N],
     /// The largest t_end and t_max among lanes still coasting.
     pub coasting_t_end: f64,
     pub coasting_t_max: f64,
+    /// Per plotted result: the smallest and largest value over the
+    /// finished lanes, with the lanes they came from.
+    pub extremes: Vec<Extreme>,
+    /// Lanes a grid point (the samples of a study; 1 without).
+    pub samples: u64,
     pub unfinished: Vec<Vec<String>>,
     pub unfinished_total: u64,
     /// Parameters listed for unfinished lanes: the grid's and the sampled.
     pub shown_params: Vec<Param>,
     pub results: Vec<&'static Column>,
     pub study: bool,
-    /// Whether shares get Wilson intervals (see `Sweep::independent_lanes`).
+    /// Whether the lanes are independent draws (see `Sweep::independent_lanes`).
     pub independent: bool,
+    /// Whether shares get Wilson intervals: the lanes are sampled (a
+    /// `[sampling]` study) and independent. A grid or a lane table samples
+    /// nothing, and its shares are exact.
+    pub sampled: bool,
     pub map: Option<MapData>,
     pub line: Option<LineData>,
     pub groups: Vec<GroupData>,
@@ -85,14 +102,15 @@ struct Cols {
     status: usize,
     contact: usize,
     hold: usize,
+    drive: usize,
     lock: usize,
     t_end: usize,
     t_max: usize,
     results: Vec<usize>,
     shown: Vec<usize>,
     require: Option<usize>,
-    /// Word columns: position and allowed words ("" allowed where noted).
-    words: Vec<(usize, &'static str, Vec<&'static str>)>,
+    /// Word columns.
+    words: Vec<super::cells::WordCol>,
 }
 
 impl Folder {
@@ -124,14 +142,20 @@ impl Folder {
             by_contact: [0; 3],
             by_hold: word_counts(HOLD),
             hold_lanes: 0,
+            by_drive: word_counts(DRIVE),
+            drive_lanes: 0,
+            by_outcome: [0; super::outcome::N],
             coasting_t_end: f64::NAN,
             coasting_t_max: f64::NAN,
+            extremes: vec![Extreme::default(); spec.results().len()],
+            samples: sweep.study.as_ref().map_or(1, |s| s.n),
             unfinished: Vec::new(),
             unfinished_total: 0,
             shown_params,
             results,
             study,
             independent: sweep.independent_lanes(),
+            sampled: study && sweep.independent_lanes(),
             map: None,
             line: None,
             groups: Vec::new(),
@@ -168,13 +192,17 @@ impl Folder {
         let word_cols = results()
             .iter()
             .filter(|r| matches!(r.summary, Summary::Shares(..)))
-            .map(|r| Ok((c(r.name)?, r.name, words_of(r))))
+            .map(|r| {
+                let maybe = matches!(r.summary, Summary::Shares(_, crate::columns::Of::Given));
+                Ok((c(r.name)?, r.name, words_of(r), maybe))
+            })
             .collect::<Result<Vec<_>>>()?;
         Ok(Cols {
             lane: c(LANE)?,
             status: c(STATUS)?,
             contact: c(CONTACT_END)?,
             hold: c(HOLD)?,
+            drive: c(DRIVE)?,
             lock: c(LOCK_MARGIN_DEG)?,
             t_end: c(Num::TEnd.name())?,
             t_max: c(Num::TMax.name())?,
@@ -220,27 +248,32 @@ impl Folder {
         let mut vals = vec![0.0; cols.results.len()];
         while rd.read_cells(&mut rec, &kinds, &mut cells)? {
             let lane = self.lanes;
-            check_row(&path, lane, stated, &cells, &rec, &cols)?;
+            check_row(&path, lane, stated, &cells, &rec, cols.lane, &cols.words)?;
             self.lanes += 1;
             if traced_lanes.binary_search(&lane).is_ok() {
                 let (te, tm) = (cells[cols.t_end].number(), cells[cols.t_max].number());
                 traced.push((lane, if tm.is_finite() { tm.max(te) } else { te }));
             }
-            let (ok, contact) = self.count_outcomes(lane, &cells, &rec, &cols);
+            let (ok, outcome) = self.count_outcomes(lane, &cells, &rec, &cols);
             for (v, &i) in vals.iter_mut().zip(&cols.results) {
                 *v = cells[i].number();
+            }
+            if ok {
+                for (e, &v) in self.extremes.iter_mut().zip(&vals) {
+                    e.add(lane, v);
+                }
             }
             let point = lane / samples;
             if let (Some(r), Some(i)) = (self.require.as_mut(), cols.require) {
                 let passes = r.req.passes(&cells[i]);
                 r.add(point, passes);
             }
-            let contact = if ok { contact } else { None };
+            let outcome = if ok { outcome } else { None };
             if let Some(m) = self.map.as_mut() {
-                m.add(point, &vals, contact, cells[cols.lock].number());
+                m.add(point, &vals, outcome, cells[cols.lock].number());
             }
             if let Some(l) = self.line.as_mut() {
-                l.add(point, &vals, contact);
+                l.add(point, &vals, outcome);
             }
             if self.study {
                 let g = if sweep.axes.is_empty() {
@@ -268,8 +301,9 @@ impl Folder {
         Ok(traced)
     }
 
-    /// Counts a lane's status, hold and final contact, and lists it when
-    /// it did not finish; whether it is ok, and its contact's index.
+    /// Counts a lane's status, hold, drive, final contact and outcome, and
+    /// lists it when it did not finish; whether it is ok, and its
+    /// outcome's index (`outcome::OUTCOMES`).
     fn count_outcomes(
         &mut self,
         lane: u64,
@@ -296,9 +330,16 @@ impl Folder {
                 }
             }
         }
-        let contact = CONTACT_NAMES
-            .iter()
-            .position(|c| c.0 == cells[cols.contact].word());
+        let drive = cells[cols.drive].word();
+        if !drive.is_empty() {
+            self.drive_lanes += 1;
+            if let Some(e) = self.by_drive.iter_mut().find(|e| e.0 == drive) {
+                e.1 += 1;
+            }
+        }
+        let contact_word = cells[cols.contact].word();
+        let contact = CONTACT_NAMES.iter().position(|c| c.0 == contact_word);
+        let outcome = super::outcome::of(contact_word, hold, drive);
         if !ok {
             self.unfinished_total += 1;
             if self.unfinished.len() < UNFINISHED_SHOWN {
@@ -306,62 +347,12 @@ impl Folder {
                 r.extend(cols.shown.iter().map(|&i| text(rec, i)));
                 self.unfinished.push(r);
             }
-        } else if let Some(k) = contact {
-            self.by_contact[k] += 1;
+        } else {
+            if let Some(k) = contact {
+                self.by_contact[k] += 1;
+            }
+            self.by_outcome[outcome] += 1;
         }
-        (ok, contact)
+        (ok, Some(outcome))
     }
-}
-
-/// Checks row `lane` of a results table: its lane is its row, within the
-/// run's `stated` lanes, and every word column holds one of its words.
-fn check_row(
-    path: &Path,
-    lane: u64,
-    stated: u64,
-    cells: &[Cell],
-    rec: &csv::ByteRecord,
-    cols: &Cols,
-) -> Result<()> {
-    let at = || Some(format!("row {}", lane + 1));
-    if cells[cols.lane] != Cell::I(lane) {
-        return Err(Error::input(
-            path,
-            at(),
-            Some(LANE),
-            format!(
-                "is {}, expected {lane}: a table's rows are its lanes 0, 1, 2, ... in order; \
-                 not a table tswm wrote",
-                text(rec, cols.lane)
-            ),
-        ));
-    }
-    if lane >= stated {
-        return Err(Error::input(
-            path,
-            at(),
-            Some(LANE),
-            format!(
-                "lane {lane} is not in the run: its sweep.resolved.toml states {stated} lanes; \
-                 the table belongs to another run"
-            ),
-        ));
-    }
-    for (i, name, words) in &cols.words {
-        let w = cells[*i].word();
-        // `hold` is empty for a lane whose motor runs to the end.
-        if !(words.contains(&w) || (w.is_empty() && *name == HOLD)) {
-            return Err(Error::input(
-                path,
-                at(),
-                Some(name),
-                format!(
-                    "`{}` is not one of {}; not a tswm table",
-                    crate::error::shown(w, 40),
-                    words.join(", ")
-                ),
-            ));
-        }
-    }
-    Ok(())
 }

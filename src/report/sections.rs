@@ -3,16 +3,39 @@
 
 use super::charts::{histogram, line_chart, tornado, x_axis, Curve};
 use super::html::Page;
-use super::plots::{category_map, heat_map, Axis};
+use super::map_plots::{category_map, heat_map, HeatMarks};
+use super::outcome::{self, OUTCOMES};
+use super::plots::Axis;
 use super::scan::{Folder, CONTACT_NAMES};
 use super::{param_label, share_cells};
 use crate::columns::Column;
-use crate::columns::{HOLD, LANE, STATUS};
+use crate::columns::{DRIVE, HOLD, LANE, STATUS};
 use crate::output::names::{SUMMARY, TRACES};
+
+/// A table of word counts out of `n` lanes: word, lanes, share, and the
+/// 95 % Wilson interval where the lanes are sampled.
+fn share_table(page: &mut Page, f: &Folder, head: &str, counts: &[(String, u64)], n: u64) {
+    let rows: Vec<Vec<String>> = counts
+        .iter()
+        .map(|(w, k)| {
+            let [a, b, c] = share_cells(*k, n, f.sampled);
+            let mut r = vec![w.clone(), a, b];
+            if f.sampled {
+                r.push(c);
+            }
+            r
+        })
+        .collect();
+    let mut h = vec![head, "lanes", "share"];
+    if f.sampled {
+        h.push("95 % interval (Wilson)");
+    }
+    page.table(&h, &rows);
+}
 
 pub(super) fn outcomes(page: &mut Page, f: &Folder) {
     page.section("Outcomes");
-    page.note(&format!("{} lanes.", f.lanes));
+    page.note(&super::lanes_text(f.lanes));
     if !f.independent {
         page.note(
             "No intervals: the lanes of a sensitivity design are not independent draws (a row \
@@ -20,46 +43,42 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
              show. The shares are those of the design's lanes; for a share with an interval, run \
              a [sampling] study.",
         );
+    } else if !f.sampled {
+        page.note(
+            "No intervals: the run samples nothing (every lane is a grid point or a row of a lane \
+             table), so each share is exact for these lanes.",
+        );
     }
-    let rows: Vec<Vec<String>> = f
+    let status: Vec<(String, u64)> = f
         .by_status
         .iter()
         .filter(|(s, k)| *k > 0 || *s == "ok")
-        .map(|&(s, k)| {
-            let [a, b, c] = share_cells(k, f.lanes, f.independent);
-            vec![s.to_string(), a, b, c]
-        })
+        .map(|&(s, k)| (s.to_string(), k))
         .collect();
-    page.table(&[STATUS, "lanes", "share", "95 % interval (Wilson)"], &rows);
+    share_table(page, f, STATUS, &status, f.lanes);
     let ok = f.by_status.iter().find(|s| s.0 == "ok").map_or(0, |s| s.1);
-    let rows: Vec<Vec<String>> = CONTACT_NAMES
+    let contact: Vec<(String, u64)> = CONTACT_NAMES
         .iter()
         .enumerate()
-        .map(|(i, (name, meaning))| {
-            let [a, b, c] = share_cells(f.by_contact[i], ok, f.independent);
-            vec![format!("{name} ({meaning})"), a, b, c]
-        })
+        .map(|(i, (name, meaning))| (format!("{name} ({meaning})"), f.by_contact[i]))
         .collect();
-    page.table(
-        &[
-            "final contact (finished lanes)",
-            "lanes",
-            "share",
-            "95 % interval (Wilson)",
-        ],
-        &rows,
-    );
+    share_table(page, f, "final contact (finished lanes)", &contact, ok);
+    let words = |v: &[(&str, u64)]| -> Vec<(String, u64)> {
+        v.iter().map(|(w, k)| (w.to_string(), *k)).collect()
+    };
+    if f.drive_lanes > 0 {
+        page.heading("Does the motor drive it? (lanes whose motor runs to the end)");
+        share_table(page, f, DRIVE, &words(&f.by_drive), f.drive_lanes);
+        page.note(
+            "runs: sliding in the motor's direction; stalled: at rest and stuck with the motor on, \
+             the motor cannot start (or keep moving) the load, and the lane's steady (_ss) values \
+             are start-up values, not a running point; back_driven: sliding against the motor, \
+             the load drives the worm backwards.",
+        );
+    }
     if f.hold_lanes > 0 {
         page.heading("Does it hold? (lanes whose motor is cut)");
-        let rows: Vec<Vec<String>> = f
-            .by_hold
-            .iter()
-            .map(|(w, k)| {
-                let [a, b, c] = share_cells(*k, f.hold_lanes, f.independent);
-                vec![w.to_string(), a, b, c]
-            })
-            .collect();
-        page.table(&[HOLD, "lanes", "share", "95 % interval (Wilson)"], &rows);
+        share_table(page, f, HOLD, &words(&f.by_hold), f.hold_lanes);
         page.note(
             "held: at rest and stuck with the motor off; runs_away: sliding and not slowing down, \
              the load back-drives the gear; coasting: still sliding and slowing down when the run \
@@ -100,8 +119,8 @@ pub(super) fn maps(page: &mut Page, f: &Folder) {
     page.section("Maps");
     page.note(&format!(
         "Each cell is one grid point{} over {} and {}. The red line is the static self-locking \
-         limit (lock_margin_deg = 0, i.e. gamma = atan(mu_s)): where the map crosses it the drive \
-         starts to hold its load with the motor off.{}",
+         limit (lock_margin_deg = 0, i.e. gamma = atan(mu_s / cos alpha_n)): where the map \
+         crosses it the drive starts to hold its load with the motor off.{}",
         if f.study {
             " (the mean over its sampled lanes)"
         } else {
@@ -123,31 +142,76 @@ pub(super) fn maps(page: &mut Page, f: &Folder) {
             m.panel_total
         ));
     }
+    map_notes(page, f);
     let (x, y) = (
         Axis::grid(&param_label(m.x), &m.xs),
         Axis::grid(&param_label(m.y), &m.ys),
     );
     for p in &m.panels {
+        map_panel(page, f, p, &x, &y);
+    }
+}
+
+/// What the marks of the maps mean: struck-through stalled cells, and
+/// inverse efficiencies <= 0.
+fn map_notes(page: &mut Page, f: &Folder) {
+    let stalled = f.by_outcome[outcome::STALLED];
+    let steady = f.results.iter().any(|c| c.name.ends_with("_ss"));
+    if stalled > 0 && steady {
+        page.note(&format!(
+            "Struck-through cells (a diagonal) hold stalled lanes ({stalled} in all): at rest with \
+             the motor on, so their steady (_ss) values are start-up values, not a running point."
+        ));
+    }
+    if f.results
+        .iter()
+        .any(|c| crate::columns::is_inverse_efficiency(c.name))
+    {
+        page.note(
+            "Dark grey cells of an inverse efficiency are <= 0: the drive is self-locking there \
+             (the wheel cannot drive the worm); the colour scale spans the other cells.",
+        );
+    }
+}
+
+/// One panel of the maps: a heat map per result, and the outcome map.
+fn map_panel(page: &mut Page, f: &Folder, p: &super::aggregates::Panel, x: &Axis, y: &Axis) {
+    {
         page.heading(&p.label);
         let mut figs = Vec::new();
         let line = p.lock_line();
+        let struck = p.stalled_cells();
         for (r, c) in f.results.iter().enumerate() {
+            let marks = HeatMarks {
+                line: Some(&line),
+                struck: c.name.ends_with("_ss").then_some((&struck[..], "stalled")),
+                at_most_zero: crate::columns::is_inverse_efficiency(c.name)
+                    .then_some("self-locking"),
+            };
             figs.push(heat_map(
                 c.quantity,
                 &x,
                 &y,
                 &p.means(r),
                 &crate::columns::label(c.name, "", c.unit),
-                Some(&line),
+                marks,
             ));
         }
-        let names: Vec<&str> = CONTACT_NAMES.iter().map(|c| c.1).collect();
+        let cells = p.outcome_cells();
+        let mut seen = [0u64; outcome::N];
+        for &k in &cells {
+            if k < outcome::N {
+                seen[k] += 1;
+            }
+        }
         figs.push(category_map(
-            "final contact (most lanes)",
+            "outcome (most lanes)",
             &x,
             &y,
-            &p.contact_cells(),
-            &names,
+            &cells,
+            &OUTCOMES,
+            outcome::NONE_COLOUR,
+            &outcome::present(&seen),
         ));
         page.figures(figs);
     }
@@ -157,7 +221,7 @@ pub(super) fn study(page: &mut Page, f: &Folder) {
     page.section("Tolerance study");
     page.note(&format!(
         "Per grid point (or the whole study): the quantiles of each result from summary.csv, the \
-         probability of each final contact and hold{}, histograms with the empirical CDF, and the \
+         probability of each final contact, drive and hold{}, histograms with the empirical CDF, and the \
          Spearman rank correlation of each sampled input with the result (a tornado: the longer \
          the bar, the more that tolerance moves the result).",
         if f.independent {

@@ -200,10 +200,7 @@ fn reading(result: &str, inputs: &[String], rows: &[Row], base: u64) -> String {
 
 /// Bars of S1 and ST per input with their intervals as whiskers.
 fn bars(title: &str, inputs: &[String], rows: &[Row]) -> std::result::Result<String, String> {
-    let x = Axis::Cat {
-        label: "input".into(),
-        names: inputs.to_vec(),
-    };
+    let x = Axis::words("input", inputs.to_vec());
     let vals = rows.iter().flat_map(|r| r.v).filter(|v| v.is_finite());
     let y = Axis::numeric("Sobol' index", vals.chain([0.0, 1.0]));
     let mut svg = String::new();

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::aggregates::GroupData;
 use super::scan::{bad_row, column, num, open_csv, text, Folder, BINS, CONTACT_NAMES};
-use crate::columns::{CONTACT_END, HOLD};
+use crate::columns::{CONTACT_END, DRIVE, HOLD};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::output::names::SUMMARY;
@@ -89,7 +89,7 @@ impl Folder {
                 row.extend(cols.stats.iter().map(|&i| short(&text(rec, i))));
                 self.groups[g].quantile_rows.push(row);
             }
-            k if k == CONTACT_END.as_bytes() || k == HOLD.as_bytes() => {
+            k if k == CONTACT_END.as_bytes() || k == HOLD.as_bytes() || k == DRIVE.as_bytes() => {
                 let word = CONTACT_NAMES
                     .iter()
                     .find(|c| c.0 == nm)
@@ -101,12 +101,20 @@ impl Folder {
                     num(path, rec, cols.lo, "ci95_low")?,
                     num(path, rec, cols.hi, "ci95_high")?,
                 );
-                self.groups[g].contact_rows.push(vec![
-                    format!("{kind} = {word}"),
-                    text(rec, cols.count),
-                    pct(s),
-                    format!("{} to {}", pct(l), pct(h)),
-                ]);
+                // A word column no lane of the group has (no lane's motor
+                // runs, say) has no share to show.
+                if s.is_finite() {
+                    self.groups[g].contact_rows.push(vec![
+                        format!("{kind} = {word}"),
+                        text(rec, cols.count),
+                        pct(s),
+                        if l.is_nan() {
+                            "-".into()
+                        } else {
+                            format!("{} to {}", pct(l), pct(h))
+                        },
+                    ]);
+                }
             }
             b"spearman" => {
                 let r = num(path, rec, cols.rho, "rho")?;

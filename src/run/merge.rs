@@ -16,7 +16,6 @@ use super::verify::{check_shards, refused, Part};
 use crate::columns::LANE;
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
-use crate::input::sweep::Sweep;
 use crate::output::csv_lines::CsvLines;
 use crate::output::digest::file_digest;
 use crate::output::names::{RESOLVED, SUMMARY, TRACES};
@@ -84,7 +83,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     // Verified (read_part): whole and UTF-8.
     let resolved =
         std::fs::read_to_string(&resolved_path).map_err(|e| Error::io(&resolved_path, e))?;
-    let sweep = Sweep::parse(&resolved_path, &resolved)?;
+    let (sweep, _) = crate::output::provenance::read_resolved(&resolved_path, &resolved)?;
     let source = Source::Sweep {
         sweep,
         file: resolved_path.clone(),

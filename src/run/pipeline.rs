@@ -24,22 +24,6 @@ pub trait Sink: Send {
     fn finish(self) -> Result<Self::Output>;
 }
 
-fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {
-    let bar = if show {
-        indicatif::ProgressBar::with_draw_target(
-            Some(total),
-            indicatif::ProgressDrawTarget::stderr(),
-        )
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} lanes, {per_sec}, eta {eta}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar
-}
-
 /// A chunk on its way: its first lane, its lanes and their results.
 type Batch = (u64, Vec<Params>, Vec<LaneResult>);
 
@@ -64,7 +48,7 @@ pub fn pipeline_range<S: Sink>(
     mut sink: S,
 ) -> Result<S::Output> {
     let tables = source.friction_tables().tables.clone();
-    let bar = progress_bar(progress, end - start);
+    let bar = crate::progress::bar(progress, end - start, "");
     let chunk = backend.chunk_lanes().max(1);
     let mut reader = source.reader_range(start, end)?;
 

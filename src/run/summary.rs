@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::integrator::{Contact, Hold, LaneResult, RowPath, Status};
+use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, Status};
 use crate::params::{Num, Params};
 
 /// Counts for the end-of-run summary.
@@ -23,6 +23,8 @@ pub struct Summary {
     pub by_path: BTreeMap<RowPath, u64>,
     /// Lanes whose motor is cut, by what became of the load.
     pub by_hold: BTreeMap<Hold, u64>,
+    /// Lanes whose motor runs to the end, by what the motor achieved.
+    pub by_drive: BTreeMap<Drive, u64>,
     /// The largest t_end of a lane still coasting, and whether one had a
     /// t_max.
     pub coasting_t_end: f64,
@@ -45,7 +47,23 @@ impl Summary {
                 self.coasting_with_t_max |= !p.get(Num::TMax).is_nan();
             }
         }
+        if let Some(d) = r.drive {
+            *self.by_drive.entry(d).or_default() += 1;
+        }
         *self.by_path.entry(r.path).or_default() += 1;
+    }
+
+    /// "; drive: runs N, stalled N" for runs whose motors run to the end.
+    fn drive_note(&self) -> String {
+        if self.by_drive.is_empty() {
+            return String::new();
+        }
+        let list: Vec<String> = self
+            .by_drive
+            .iter()
+            .map(|(d, n)| format!("{} {n}", d.name()))
+            .collect();
+        format!("; drive: {}", list.join(", "))
     }
 
     /// "; hold: held N, runs_away N" for runs whose motors are cut, and
@@ -62,7 +80,8 @@ impl Summary {
         let mut s = format!("; hold: {}", list.join(", "));
         if let Some(&n) = self.by_hold.get(&Hold::Coasting) {
             s.push_str(&format!(
-                "; {n} lanes still coasting when their run ended: whether they hold is not decided ({})",
+                "; {n} lane{} still coasting when their run ended: whether they hold is not decided ({})",
+                if n == 1 { "" } else { "s" },
                 if self.coasting_with_t_max {
                     "set t_max in [base], or raise it".to_string()
                 } else {
@@ -91,7 +110,7 @@ impl Summary {
         let count = |p: RowPath| self.by_path.get(&p).copied().unwrap_or(0);
         let refined = count(RowPath::Refined);
         let refined_note = if refined > 0 {
-            format!("; {refined} lanes refined (run again at a tenth of the tolerance: their error estimate was over the bound)")
+            format!("; {refined} lane{} refined (run again at a tenth of the tolerance: their error estimate was over the bound)", if refined == 1 { "" } else { "s" })
         } else {
             String::new()
         };
@@ -124,12 +143,14 @@ impl Summary {
             .map(|(c, n)| format!("{} {n}", c.name()))
             .collect();
         format!(
-            "tswm: {} lanes in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}{}; wrote {}",
+            "tswm: {} lane{} in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}{}{}; wrote {}",
             self.lanes,
+            if self.lanes == 1 { "" } else { "s" },
             self.seconds,
             self.lanes as f64 / self.seconds.max(1e-9),
             status.join(", "),
             if contact.is_empty() { "-".into() } else { contact.join(", ") },
+            self.drive_note(),
             self.hold_note(),
             self.recompute_note(),
             self.sensitivity_seconds.map_or(String::new(), |s| format!(

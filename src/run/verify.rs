@@ -11,7 +11,6 @@ use std::path::{Path, PathBuf};
 
 use super::shard::{sweep_hash, Manifest, Shard, MANIFEST};
 use crate::error::{Error, Result};
-use crate::input::sweep::Sweep;
 use crate::output::names::{RESOLVED, TRACES};
 
 /// A shard folder with its manifest.
@@ -121,7 +120,7 @@ fn check_resolved_and_traces(dir: &Path, m: &Manifest) -> Result<()> {
             format!("its {RESOLVED} does not hash to the sweep hash its manifest records"),
         ));
     }
-    let sweep = Sweep::parse(&path, &text)?;
+    let (sweep, _) = crate::output::provenance::read_resolved(&path, &text)?;
     let traced = sweep.trace.as_ref().is_some_and(|t| {
         t.lanes
             .iter()

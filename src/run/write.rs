@@ -14,7 +14,7 @@ use crate::input::lanes::Source;
 use crate::input::sweep::TraceSpec;
 use crate::integrator::batch::settings_for;
 use crate::integrator::trace::simulate_traced;
-use crate::integrator::{LaneResult, Settings};
+use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
 use crate::output::names::{SUMMARY, TRACES};
 use crate::output::table::{row_cells, Cell, Format, LanesWriter};
@@ -50,7 +50,11 @@ struct Tracer {
 }
 
 impl Tracer {
-    fn chunk(&mut self, first: u64, params: &[Params]) -> Result<()> {
+    /// Traces the traced lanes of the chunk of `params` from lane `first`;
+    /// a traced lane's row that came from the GPU becomes the f64 row of
+    /// the integration its trace is taken from (`cpu:traced`), so a row
+    /// and its trace are one integration on every backend.
+    fn chunk(&mut self, first: u64, params: &[Params], results: &mut [LaneResult]) -> Result<()> {
         let end = first + params.len() as u64;
         while let Some(&lane) = self.spec.lanes.get(self.next) {
             if lane >= end {
@@ -61,13 +65,20 @@ impl Tracer {
             let (out, tables) = (&mut self.out, &self.tables);
             // The settings the lane's f64 row comes from, refined or not.
             let set = settings_for(&l, tables, &self.settings);
-            simulate_traced(&l, tables, &set, self.spec.dt, &mut |row| {
+            let r = simulate_traced(&l, tables, &set, self.spec.dt, &mut |row| {
                 if failed.is_none() {
                     failed = out.write(lane, row).err();
                 }
             });
             if let Some(e) = failed {
                 return Err(e);
+            }
+            let row = &mut results[(lane - first) as usize];
+            if row.path == RowPath::Gpu {
+                *row = LaneResult {
+                    path: RowPath::Recomputed(Recheck::Traced),
+                    ..r
+                };
             }
             self.next += 1;
         }
@@ -78,6 +89,21 @@ impl Tracer {
 impl Sink for TableSink {
     type Output = Written;
     fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+        // Traced lanes first: a GPU row of one is replaced by its trace's.
+        let mut traced_rows;
+        let results = match self.traces.as_mut() {
+            Some(t)
+                if t.spec
+                    .lanes
+                    .iter()
+                    .any(|&l| (first..first + params.len() as u64).contains(&l)) =>
+            {
+                traced_rows = results.to_vec();
+                t.chunk(first, params, &mut traced_rows)?;
+                &traced_rows[..]
+            }
+            _ => results,
+        };
         self.table
             .write_lanes(&self.pool, first, params, results, &mut self.cells)?;
         for (i, (p, r)) in params.iter().zip(results).enumerate() {
@@ -87,9 +113,6 @@ impl Sink for TableSink {
                 s.add_row(lane, &self.cells)?;
             }
             self.summary.add(p, r);
-        }
-        if let Some(t) = self.traces.as_mut() {
-            t.chunk(first, params)?;
         }
         Ok(())
     }

@@ -18,6 +18,10 @@ pub struct Grouping {
     pub inputs: Vec<Num>,
     /// A sensitivity design, for `sensitivity.csv`.
     pub sensitivity: Option<Design>,
+    /// Whether the lanes are sampled (a `[sampling]` study), so that a
+    /// share has a Wilson interval; a grid or a lane table samples
+    /// nothing, and a sensitivity design's lanes are not independent.
+    pub sampled: bool,
 }
 
 impl Grouping {
@@ -47,13 +51,16 @@ impl Grouping {
                         per_group: st.n,
                         axes: sweep.axes.clone(),
                         inputs,
+                        sampled: sensitivity.is_none(),
                         sensitivity,
                     },
-                    _ => Grouping {
+                    Some(_) => Grouping {
                         inputs,
+                        sampled: sensitivity.is_none(),
                         sensitivity,
                         ..Grouping::default()
                     },
+                    None => Grouping::default(),
                 }
             }
             Source::Table { .. } => Grouping::default(),

@@ -321,12 +321,13 @@ impl Stats {
             .collect();
         for (column, sh) in word_columns.iter().zip(&g.shares) {
             for (word, &k) in sh.words.iter().zip(&sh.counts) {
-                // No interval where the lanes are not independent draws
-                // (a sensitivity design's row groups).
-                let (lo, hi) = if self.grouping.sensitivity.is_some() {
-                    (f64::NAN, f64::NAN)
-                } else {
+                // An interval only where the lanes are sampled: none for a
+                // grid or a lane table (the share is exact) or a
+                // sensitivity design (its row groups are not independent).
+                let (lo, hi) = if self.grouping.sampled {
                     wilson(k, sh.total)
+                } else {
+                    (f64::NAN, f64::NAN)
                 };
                 let mut cells = Cells::default();
                 cells.0[10] = num(k as f64 / sh.total as f64);

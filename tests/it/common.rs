@@ -8,7 +8,7 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The docs/model.md fixtures (a copy of `../shared/fixtures`, kept identical).
+/// The docs/model.md fixtures (reference cases; `SHA256SUMS` pins them).
 pub fn fixture(name: &str) -> PathBuf {
     root().join("tests/fixtures").join(name)
 }
@@ -25,6 +25,13 @@ pub const RUN_FILES: [&str; 7] = [
     "sweep.resolved.toml",
     "traces.csv",
 ];
+
+/// Writes `text` to `dir/name`; its path.
+pub fn file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
 
 /// Runs the `tswm` binary.
 pub fn tswm(args: &[&str], cwd: &Path) -> Output {

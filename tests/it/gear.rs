@@ -199,6 +199,9 @@ fn refused(sweep: &str, lanes: Option<&str>, want: &[&str]) {
 }
 
 const CATALOGUE: &str = "d1 = 0.064\nz1 = 1\nz2 = 40\nm_x = 0.0064\n";
+/// The rest of a drive in gear terms beside [`CATALOGUE`]: the wheel's
+/// inertia and the motor (the worm's inertia left to each test).
+const WHEEL_AND_MOTOR: &str = "j2 = 168\nn_sync = 1000\nn_crit = 600\nt_crit = 140\n";
 
 #[test]
 fn an_inertia_given_both_ways_is_refused() {
@@ -329,7 +332,7 @@ fn tooth_counts_must_be_whole() {
 #[test]
 fn a_converted_value_out_of_range_names_the_gear_term() {
     refused(
-        &format!("[base]\n{CATALOGUE}j1 = 1e-9\n"),
+        &format!("[base]\n{CATALOGUE}{WHEEL_AND_MOTOR}j1 = 1e-9\n"),
         None,
         &[
             "s.toml",
@@ -339,7 +342,7 @@ fn a_converted_value_out_of_range_names_the_gear_term() {
         ],
     );
     refused(
-        "[base]\nd1 = 0.01\nz1 = 20\nz2 = 40\nm_x = 0.01\n",
+        &format!("[base]\nd1 = 0.01\nz1 = 20\nz2 = 40\nm_x = 0.01\nj1 = 0.6\n{WHEEL_AND_MOTOR}"),
         None,
         &[
             "s.toml",
@@ -355,7 +358,7 @@ fn a_converted_value_out_of_range_names_the_gear_term() {
 fn a_tolerance_on_a_gear_term_moves_the_wedge_per_lane() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = format!(
-        "[base]\n{CATALOGUE}j1 = 0.6\nj2 = 168\nt2 = -300\nt_end = 0.5\n\
+        "[base]\n{CATALOGUE}j1 = 0.6\n{WHEEL_AND_MOTOR}t2 = -300\nt_end = 0.5\n\
          [sampling]\nmethod = \"monte_carlo\"\nn = 40\nseed = 5\n\
          [[tolerance]]\nparam = \"m_x\"\ndist = \"uniform\"\ntol = 0.0002\n\
          [[tolerance]]\nparam = \"d1\"\ndist = \"normal\"\ntol_rel = 0.01\n\
@@ -402,4 +405,53 @@ fn a_tolerance_on_a_gear_term_moves_the_wedge_per_lane() {
     let (_, h2, rows2) = run_ok(&cpu(&["run", "s.toml", "--out", "o"]), &again);
     assert_eq!(h, h2);
     assert_eq!(rows, rows2);
+}
+
+/// A drive in gear terms without its inertias or its motor would run on
+/// the paper's masses and motor (586 kg, 10,275 kg, a 3.35 m/s Kloss
+/// motor): refused, naming what is missing, in a sweep file and a lane
+/// table alike; with the motor cut from the start no motor is needed.
+#[test]
+fn a_drive_in_gear_terms_without_inertias_or_a_motor_is_refused() {
+    refused(
+        &format!("[base]\n{CATALOGUE}t2 = -300\n"),
+        None,
+        &[
+            "s.toml",
+            "lane 0",
+            "j1",
+            "is missing",
+            "inertia on the worm shaft",
+        ],
+    );
+    refused(
+        &format!("[base]\n{CATALOGUE}j1 = 0.6\nt2 = -300\n"),
+        None,
+        &["s.toml", "j2", "is missing", "(or m2 in kg)"],
+    );
+    refused(
+        &format!("[base]\n{CATALOGUE}j1 = 0.6\nj2 = 168\nt2 = -300\n"),
+        None,
+        &["s.toml", "motor", "is missing", "n_sync, n_crit and t_crit"],
+    );
+    refused(
+        "[base]\nt2 = -300\n",
+        Some("d1,z1,z2,m_x,m1,m2\n0.064,1,40,0.0064,586,10275\n"),
+        &["l.csv", "row 1", "motor", "is missing"],
+    );
+    // Complete in wedge terms for the inertias, in gear terms for the
+    // motor; or the motor cut from the start.
+    for extra in [
+        "m1 = 586\nm2 = 10275\nn_sync = 1000\nn_crit = 600\nt_crit = 140\n",
+        "j1 = 0.6\nj2 = 168\nmotor_off = 0\nt_max = 5\n",
+        "j1 = 0.6\nj2 = 168\nmotor = \"constant\"\nt1 = 20\n",
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("s.toml"),
+            format!("[base]\n{CATALOGUE}t2 = -300\n{extra}"),
+        )
+        .unwrap();
+        run_ok(&cpu(&["run", "s.toml", "--out", "o"]), dir.path());
+    }
 }

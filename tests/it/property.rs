@@ -10,27 +10,29 @@
 
 use std::path::Path;
 
+use crate::common::{cpu, tswm};
+
 use tswm::backend::Choice;
 use tswm::cli::LanesArgs;
 use tswm::commands::run::{run, RunArgs};
 
 /// A fixed generator (xorshift): the same sweeps on every run.
-struct Gen(u64);
+pub(crate) struct Gen(pub(crate) u64);
 
 impl Gen {
-    fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 ^= self.0 << 13;
         self.0 ^= self.0 >> 7;
         self.0 ^= self.0 << 17;
         self.0
     }
-    fn below(&mut self, n: u64) -> u64 {
+    pub(crate) fn below(&mut self, n: u64) -> u64 {
         self.next() % n
     }
-    fn unit(&mut self) -> f64 {
+    pub(crate) fn unit(&mut self) -> f64 {
         (self.next() >> 11) as f64 / (1u64 << 53) as f64
     }
-    fn pick<'a, T>(&mut self, v: &'a [T]) -> &'a T {
+    pub(crate) fn pick<'a, T>(&mut self, v: &'a [T]) -> &'a T {
         &v[self.below(v.len() as u64) as usize]
     }
 }
@@ -87,7 +89,9 @@ fn random_sweep(g: &mut Gen) -> (String, u64) {
         _ => {}
     }
     if gear {
-        s += "d1 = 0.064\nz1 = 1\nz2 = 40\nm_x = 0.0064\nj1 = 0.6\nj2 = 168\nt2 = 300\n";
+        // A drive in gear terms is given whole (its motor too).
+        s += "d1 = 0.064\nz1 = 1\nz2 = 40\nm_x = 0.0064\nj1 = 0.6\nj2 = 168\nt2 = 300\n\
+              n_sync = 1000\nn_crit = 600\nt_crit = 140\n";
     }
     if g.below(3) == 0 {
         s += &format!("motor_off = {}\n", t_end * g.unit());
@@ -271,5 +275,99 @@ fn five_hundred_random_sweeps_get_their_reports() {
         let page = tswm::report::build(&out).unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
         assert!(!page.contains("figure not drawn"), "case {case}\n{text}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+/// A random sweep with axes over laws, motors and tables, whose `[base]`
+/// sets parameters owned by several of the laws.
+fn random_word_sweep(g: &mut Gen) -> String {
+    let mut s = String::from("[base]\nt_end = 0.05\n");
+    let laws = ["paper", "coulomb", "table", "agma"];
+    let mut on: Vec<&str> = laws.iter().copied().filter(|_| g.below(2) == 0).collect();
+    if on.is_empty() {
+        on.push(*g.pick(&laws));
+    }
+    let has = |l: &str| on.contains(&l);
+    if has("coulomb") {
+        s += &format!("mu = {}\n", 0.01 + 0.2 * g.unit());
+        if g.below(2) == 0 {
+            s += "mu_static = 0.25\n";
+        }
+    }
+    if has("paper") && g.below(2) == 0 {
+        s += &format!("fric_c = {}\n", 0.1 + 0.1 * g.unit());
+    }
+    if (has("coulomb") || has("table") || has("agma")) && g.below(2) == 0 {
+        s += &format!("alpha_n_deg = {}\n", 30.0 * g.unit());
+    }
+    let motors = g.below(3);
+    if motors > 0 {
+        s += &format!("f1 = {}\n", 500.0 + 3000.0 * g.unit());
+        if motors == 2 && g.below(2) == 0 {
+            s += "v_sync = 3.0\n";
+        }
+    }
+    s += &format!(
+        "gamma_deg = {}\nf2 = {}\n",
+        2.0 + 30.0 * g.unit(),
+        -8000.0 + 16000.0 * g.unit()
+    );
+    let list = |w: &[&str]| {
+        w.iter()
+            .map(|x| format!("\"{x}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if on.len() > 1 || g.below(2) == 0 {
+        s += &format!("[[grid]]\nparam = \"friction\"\nvalues = [{}]\n", list(&on));
+    } else {
+        s += &format!("friction = \"{}\"\n", on[0]);
+    }
+    if motors == 2 {
+        s += "[[grid]]\nparam = \"motor\"\nvalues = [\"constant\", \"kloss\"]\n";
+    } else if motors == 1 {
+        s = s.replacen("[base]\n", "[base]\nmotor = \"constant\"\n", 1);
+    }
+    if has("table") {
+        s += "[[grid]]\nparam = \"friction_table\"\nvalues = [\"bronze\", \"iron\"]\n";
+        s += "[friction_table.bronze]\nvs = [0.0, 1.0]\nmu = [0.1, 0.05]\n";
+        s += "[friction_table.iron]\nvs = [0.0, 1.0]\nmu = [0.16, 0.08]\n";
+    }
+    s
+}
+
+/// Word axes over laws and motors run, each lane taking the parameters
+/// its own law uses, and a run's `sweep.resolved.toml` always runs again
+/// to the same lanes, byte for byte.
+#[test]
+fn sweeps_with_word_axes_run_and_their_resolved_sweeps_give_the_same_lanes() {
+    let mut g = Gen(0x9E37_79B9_7F4A_7C15);
+    let dir = tempfile::tempdir().unwrap();
+    for case in 0..80 {
+        let text = random_word_sweep(&mut g);
+        let d = dir.path().join(format!("c{case}"));
+        std::fs::create_dir(&d).unwrap();
+        std::fs::write(d.join("s.toml"), &text).unwrap();
+        let out = tswm(&cpu(&["run", "s.toml", "--out", "o", "--no-report"]), &d);
+        assert!(
+            out.status.success(),
+            "case {case}: {}\n{text}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let again = tswm(
+            &cpu(&["run", "o/sweep.resolved.toml", "--out", "o2", "--no-report"]),
+            &d,
+        );
+        assert!(
+            again.status.success(),
+            "case {case}: the resolved sweep: {}\n{}",
+            String::from_utf8_lossy(&again.stderr),
+            std::fs::read_to_string(d.join("o/sweep.resolved.toml")).unwrap()
+        );
+        assert_eq!(
+            std::fs::read(d.join("o/lanes.csv")).unwrap(),
+            std::fs::read(d.join("o2/lanes.csv")).unwrap(),
+            "case {case}:\n{text}"
+        );
     }
 }

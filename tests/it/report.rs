@@ -201,19 +201,19 @@ fn every_shipped_sweep_gets_a_self_contained_report_that_renders() {
         let want: &[&str] = match name {
             "paper" => &["Traces", "contact reactions", "force transfer function"],
             "efficiency_map" => &[
+                "What was found",
                 "Maps",
-                "eta_direct",
-                "final contact (most lanes)",
+                "eta_direct_ss",
+                "outcome (most lanes)",
                 "static self-locking",
+                "stalled",
+                "Struck-through cells",
+                "&lt;= 0: self-locking",
             ],
             "tolerance" => &["Tolerance study", "what moves eta_direct", "empirical CDF"],
             "million" => &["Results against f2", "1000000 lanes"],
             "heterogeneous" => &["Tolerance study", "empirical CDF", "200000 lanes"],
-            _ => &[
-                "Final contact against gamma_deg",
-                "held, 95 % interval",
-                "Self-locking",
-            ],
+            _ => &["Outcome against gamma_deg", ">held<", "Requirement"],
         };
         for w in want {
             assert!(html.contains(w), "{name}: no `{w}`");

@@ -328,14 +328,16 @@ fn assert_same_values(parquet: &Path, csv: &Path) {
     for (i, (p, c)) in prows.iter().zip(&crows).enumerate() {
         for (j, (pv, cv)) in p.iter().zip(c).enumerate() {
             let ty = &cols[j].1;
+            // An empty cell is a null in every column, words included.
+            assert_eq!(
+                pv.is_none(),
+                cv.is_empty(),
+                "row {i} {}: {pv:?} vs `{cv}`",
+                cols[j].0
+            );
             match pv {
                 None => {
-                    assert!(
-                        cv.is_empty(),
-                        "row {i} {}: null but csv has {cv}",
-                        cols[j].0
-                    );
-                    assert!(ty.starts_with("DOUBLE"), "{} is nullable", cols[j].0);
+                    assert!(!ty.starts_with("INT64"), "{} is never empty", cols[j].0);
                 }
                 Some(v) if ty.starts_with("DOUBLE") => {
                     let (a, b): (f64, f64) = (v.parse().unwrap(), cv.parse().unwrap());
@@ -354,6 +356,69 @@ fn assert_same_values(parquet: &Path, csv: &Path) {
         ty("status").starts_with("BYTE_ARRAYString"),
         "{}",
         ty("status")
+    );
+}
+
+/// pyarrow, an independent reader, sees a null exactly where `lanes.csv`
+/// has an empty cell, column by column, words (`hold`, `drive`,
+/// `friction_table`, `t_first_switch`, ...) included.
+#[test]
+fn pyarrow_null_counts_are_the_csvs_empty_cells() {
+    const NEEDS: crate::reference::Needs = crate::reference::Needs {
+        modules: "pyarrow",
+        vars: &["TSWM_PYTHON"],
+        install: "pip install pyarrow, or set TSWM_PYTHON",
+    };
+    let Some(py) = crate::reference::python_for(&NEEDS, "pyarrow's null counts") else {
+        return;
+    };
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    // Motors cut and not (hold and drive each empty somewhere), switches
+    // and none, a friction table named on some lanes only.
+    fs::write(
+        dir.join("s.toml"),
+        "[base]\nt_end = 1.5\n[[grid]]\nparam = \"f2\"\nvalues = [-30000.0, -4774.0, 4774.0]\n\
+         [[grid]]\nparam = \"motor_off\"\nvalues = [0.5, 5.0]\n\
+         [[grid]]\nparam = \"friction\"\nvalues = [\"paper\", \"table\"]\n\
+         [friction_table.bronze]\nvs = [0.0, 1.0]\nmu = [0.1, 0.05]\n",
+    )
+    .unwrap();
+    ok(&cpu(&["run", "s.toml", "--no-report", "--out", "c"]), dir);
+    ok(
+        &cpu(&[
+            "run",
+            "s.toml",
+            "--no-report",
+            "--format",
+            "parquet",
+            "--out",
+            "p",
+        ]),
+        dir,
+    );
+    let script = r#"
+import csv, sys
+import pyarrow.parquet as pq
+t = pq.read_table("p/lanes.parquet")
+rows = list(csv.reader(open("c/lanes.csv")))
+head, rows = rows[0], rows[1:]
+assert t.column_names == head, (t.column_names, head)
+assert t.num_rows == len(rows)
+for j, name in enumerate(head):
+    empty = sum(1 for r in rows if r[j] == "")
+    assert t.column(name).null_count == empty, (name, t.column(name).null_count, empty)
+print("ok", sum(t.column(n).null_count for n in head))
+"#;
+    let out = std::process::Command::new(&py)
+        .args(["-c", script])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
     );
 }
 

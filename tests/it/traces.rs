@@ -123,3 +123,140 @@ fn traces_csv_from_the_command_line() {
         "an earlier run's traces do not stay"
     );
 }
+
+/// A trace whose interval does not divide the stop time ends with a row
+/// at the stop: the state the lane's row reports.
+#[test]
+fn a_trace_ends_at_the_lanes_stop() {
+    for (lane, dt) in [(0usize, 0.3), (1, 0.7), (2, 0.45), (4, 0.6)] {
+        let (rows, r, _) = traced(lane, dt);
+        let last = rows.last().unwrap();
+        assert_eq!(last.t, r.t_stop, "lane {lane}");
+        assert_eq!(last.x1, r.x1_end, "lane {lane}");
+        assert_eq!(last.v1, r.v1_end, "lane {lane}");
+        assert_eq!(last.contact, r.contact_end, "lane {lane}");
+        // Rows in time order, the samples on multiples of dt before it.
+        assert!(rows.windows(2).all(|w| w[0].t <= w[1].t), "lane {lane}");
+    }
+}
+
+/// The traces of a lane table: `--trace` with and without `--trace-dt`,
+/// `[trace]` in a sweep file beside the table, the report rebuilt from
+/// the folder, and shards of a traced lane table merged.
+#[test]
+fn lane_tables_are_traced_reported_and_sharded() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = fixture("paper_lanes.csv");
+    let table = table.to_str().unwrap();
+    let lanes_of = |d: &str| -> Vec<String> {
+        let (h, rows) = read_csv(&dir.path().join(d).join("traces.csv"));
+        let mut v: Vec<String> = rows
+            .iter()
+            .map(|r| col(&h, r, "lane").to_string())
+            .collect();
+        v.dedup();
+        v
+    };
+    // With an interval, and without one (about a thousand rows a lane:
+    // lane 2 runs 5 s, so 5 ms).
+    for (out, extra) in [("a", vec!["--trace-dt", "0.01"]), ("b", vec![])] {
+        let mut args = vec!["run", "--lanes", table, "--trace", "2,4", "--out", out];
+        args.extend(extra);
+        let o = tswm(&cpu(&args), dir.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(dir.path().join(out).join("report.html").exists());
+        assert_eq!(lanes_of(out), ["2", "4"]);
+        let o = tswm(&["report", out], dir.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let (h, rows) = read_csv(&dir.path().join("b/traces.csv"));
+    let ts: Vec<f64> = rows
+        .iter()
+        .filter(|r| col(&h, r, "lane") == "4")
+        .map(|r| col(&h, r, "t").parse().unwrap())
+        .collect();
+    assert_eq!((ts[1], *ts.last().unwrap()), (0.005, 2.0));
+    // [trace] in a sweep file beside the table: row indices of the table.
+    file(dir.path(), "t.toml", "[trace]\nlanes = [1, 3]\ndt = 0.05\n");
+    let o = tswm(
+        &cpu(&["run", "--lanes", table, "t.toml", "--out", "c"]),
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(lanes_of("c"), ["1", "3"]);
+    // ... and a row index past the table is refused, naming the file.
+    file(dir.path(), "u.toml", "[trace]\nlanes = [5]\ndt = 0.05\n");
+    rejected(
+        &cpu(&["run", "--lanes", table, "u.toml", "--out", "d"]),
+        dir.path(),
+        &["u.toml", "trace", "lane 5 is not in the run", "0 to 4"],
+    );
+    // Shards of the traced table merge into the unsharded run's folder.
+    for k in 0..2 {
+        let s = format!("{k}/2");
+        let o = format!("s{k}");
+        let out = tswm(
+            &cpu(&[
+                "run",
+                "--lanes",
+                table,
+                "--trace",
+                "2,4",
+                "--trace-dt",
+                "0.01",
+                "--shard",
+                &s,
+                "--out",
+                &o,
+            ]),
+            dir.path(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let o = tswm(&["merge", "s0", "s1", "--out", "m"], dir.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["lanes.csv", "traces.csv"] {
+        assert_eq!(
+            std::fs::read(dir.path().join("m").join(f)).unwrap(),
+            std::fs::read(dir.path().join("a").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    assert!(dir.path().join("m/report.html").exists());
+}
+
+/// On the GPU a traced lane's row comes from the integration its trace is
+/// taken from: the f64 row, marked `cpu:traced`, equal to the CPU run's.
+#[test]
+fn a_traced_lanes_row_and_trace_are_one_integration_on_the_gpu() {
+    quiet_mesa();
+    if tswm::backend::gpu::adapters().is_empty() {
+        skipped("traced rows on the GPU", "no GPU adapter");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = root().join("sweeps/paper.toml");
+    let s = sweep.to_str().unwrap();
+    run_ok(&cpu(&["run", s, "--out", "o"]), dir.path());
+    let out = tswm(&["run", s, "--out", "g", "--backend", "gpu"], dir.path());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (h, c) = read_csv(&dir.path().join("o/lanes.csv"));
+    let (_, g) = read_csv(&dir.path().join("g/lanes.csv"));
+    let path = h.iter().position(|x| x == "path").unwrap();
+    for (a, b) in c.iter().zip(&g) {
+        assert_eq!(b[path], "cpu:traced");
+        assert_eq!(a[..path], b[..path], "the row is the CPU's");
+    }
+    assert_eq!(
+        std::fs::read(dir.path().join("o/traces.csv")).unwrap(),
+        std::fs::read(dir.path().join("g/traces.csv")).unwrap()
+    );
+}

@@ -9,13 +9,6 @@ use std::time::{Duration, Instant};
 
 use crate::common::*;
 
-/// Writes `text` to `dir/name`; its path.
-fn file(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
-
 /// Runs the sweep `text` on the CPU into `dir/o` and returns the report.
 fn report_of(dir: &Path, text: &str) -> String {
     file(dir, "s.toml", text);
@@ -569,8 +562,8 @@ fn axes_name_the_quantity_and_its_unit() {
         "[base]\nt_end = 0.3\n[[grid]]\nparam = \"gamma_deg\"\nfrom = 3.0\nto = 20.0\nn = 12\n",
     );
     for want in [
-        "friction heat, w_friction (J)",
-        "direct efficiency (worm drives)",
+        "running direct efficiency, eta_direct_ss",
+        "static lock margin, lock_margin_deg (deg)",
         "lead angle, gamma_deg (deg)",
     ] {
         assert!(html.contains(want), "no `{want}`");
@@ -599,6 +592,35 @@ fn heat_map_ticks_name_cell_centres() {
             (2.0, "10".to_string())
         ]
     );
+}
+
+/// Grid values along a range too long to label one by one get ticks at
+/// round values, at their fractional positions (the grid's 0.1019 is no
+/// tick); lists and short ranges are labelled value by value.
+#[test]
+fn long_grid_axes_get_round_ticks() {
+    use tswm::report::plots::Axis;
+    let log: Vec<f64> = (0..15)
+        .map(|i| (0.01f64.ln() + (0.15f64.ln() - 0.01f64.ln()) * i as f64 / 14.0).exp())
+        .collect();
+    let ticks = Axis::grid("mu", &log).ticks();
+    let labels: Vec<&str> = ticks.iter().map(|t| t.1.as_str()).collect();
+    assert_eq!(labels, ["0.01", "0.02", "0.05", "0.1"]);
+    let step = (0.15f64.ln() - 0.01f64.ln()) / 14.0;
+    for (p, l) in &ticks {
+        let v: f64 = l.parse().unwrap();
+        assert!(
+            (p - (v.ln() - 0.01f64.ln()) / step).abs() < 1e-9,
+            "{l} at {p}"
+        );
+    }
+    let lin: Vec<f64> = (0..29).map(|i| 2.0 + i as f64).collect();
+    let ticks = Axis::grid("gamma", &lin).ticks();
+    assert_eq!(ticks.first(), Some(&(3.0, "5".to_string())));
+    assert!(ticks
+        .iter()
+        .all(|(p, l)| *p == l.parse::<f64>().unwrap() - 2.0));
+    assert!(ticks.len() >= 2 && ticks.len() <= 8);
 }
 
 /// Shards of a small traced sweep in `dir/s0`, `dir/s1` (the format
@@ -776,5 +798,129 @@ fn a_hundred_random_same_size_corruptions_are_refused() {
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The page opens with what was found and ends with what was run; its
+/// lock-limit sentence names the line as drawn (atan(mu_s / cos alpha_n)).
+#[test]
+fn the_report_opens_with_the_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let html = report_of(
+        dir.path(),
+        "[base]\nt_end = 0.3\nfriction = \"coulomb\"\nmu = 0.05\nalpha_n_deg = 20\n\
+         [[grid]]\nparam = \"gamma_deg\"\nvalues = [3, 10, 20]\n\
+         [[grid]]\nparam = \"mu\"\nvalues = [0.02, 0.1]\n",
+    );
+    let (found, outcomes, run) = (
+        html.find("What was found").unwrap(),
+        html.find("<h2>Outcomes").unwrap(),
+        html.find("What was run").unwrap(),
+    );
+    assert!(
+        found < outcomes && outcomes < run,
+        "{found} {outcomes} {run}"
+    );
+    // Before the resolved sweep's dump, the first screen states results.
+    assert!(html[..outcomes].contains("running direct efficiency"));
+    assert!(html.contains("gamma = atan(mu_s / cos alpha_n)"));
+    assert!(!html.contains("gamma = atan(mu_s))"));
+}
+
+/// A list of values is drawn in ascending order, whatever the list's.
+#[test]
+fn a_categorical_numeric_axis_is_sorted() {
+    let dir = tempfile::tempdir().unwrap();
+    let html = report_of(
+        dir.path(),
+        "[base]\nt_end = 0.3\n[[grid]]\nparam = \"f2\"\nvalues = [4774.0, -4774.0, 0.0]\n",
+    );
+    let sec = &html[html.find("Results against f2").unwrap()..];
+    let at = |v: &str| sec.find(&format!(">\n{v}\n<")).unwrap();
+    assert!(at("-4774") < at("0") && at("0") < at("4774"));
+}
+
+/// Shares of lanes that are not sampled (a grid, a lane table) are exact:
+/// no Wilson interval in the report or in summary.csv; a study's have one.
+#[test]
+fn no_interval_where_nothing_is_sampled() {
+    let dir = tempfile::tempdir().unwrap();
+    let html = report_of(
+        dir.path(),
+        "[base]\nt_end = 0.3\n[[grid]]\nparam = \"f2\"\nvalues = [-30000.0, 0.0, 4774.0]\n",
+    );
+    let out = &html[html.find("<h2>Outcomes").unwrap()..];
+    assert!(!out.contains("Wilson"), "an interval for a grid's shares");
+    let (h, rows) = read_csv(&dir.path().join("o/summary.csv"));
+    for r in rows.iter().filter(|r| col(&h, r, "kind") != "number") {
+        assert_eq!(col(&h, r, "ci95_low"), "", "{r:?}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let html = report_of(
+        dir.path(),
+        "[base]\nt_end = 0.3\n[sampling]\nmethod = \"monte_carlo\"\nn = 20\nseed = 1\n\
+         [[tolerance]]\nparam = \"f2\"\ndist = \"uniform\"\ntol = 100.0\n",
+    );
+    assert!(html[html.find("<h2>Outcomes").unwrap()..].contains("95 % interval (Wilson)"));
+    let (h, rows) = read_csv(&dir.path().join("o/summary.csv"));
+    let drive = rows.iter().find(|r| col(&h, r, "kind") == "drive").unwrap();
+    assert_ne!(col(&h, drive, "ci95_low"), "");
+}
+
+/// A requirement not met is said with the bound that decides it: the
+/// upper one.
+#[test]
+fn not_met_quotes_the_upper_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let html = report_of(
+        dir.path(),
+        "[base]\nt_end = 0.3\n[sampling]\nmethod = \"monte_carlo\"\nn = 40\nseed = 1\n\
+         [[tolerance]]\nparam = \"f2\"\ndist = \"uniform\"\ntol = 100.0\n\
+         [report]\nrequire = \"contact_end = stick\"\nat_least = 0.9\n",
+    );
+    assert!(
+        html.contains("not met (0 of 40 lanes, 0.00 %; upper bound"),
+        "no upper bound"
+    );
+}
+
+/// Exclusive series (met, not met) sit on their category's tick; only
+/// series that share a category are set side by side.
+#[test]
+fn points_of_exclusive_series_sit_on_their_ticks() {
+    use tswm::report::charts::{points_chart, Series};
+    use tswm::report::plots::Axis;
+    let x = Axis::grid("x", &[1.0, 2.0, 3.0]);
+    let y = Axis::fixed("share", 0.0, 1.0);
+    let nan = (f64::NAN, f64::NAN, f64::NAN);
+    let met = Series {
+        name: "met",
+        values: vec![(1.0, 1.0, 1.0), nan, nan],
+        colour: None,
+    };
+    let not = Series {
+        name: "not met",
+        values: vec![nan, (0.2, 0.1, 0.3), (0.0, 0.0, 0.1)],
+        colour: None,
+    };
+    let svg = points_chart(
+        "t",
+        &x,
+        &y,
+        &[met, not],
+        None,
+        plotters::chart::SeriesLabelPosition::UpperRight,
+    )
+    .unwrap();
+    // The circles' x are three evenly spaced positions: the ticks.
+    let cx: Vec<f64> = svg
+        .split("<circle cx=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap().parse().unwrap())
+        .collect();
+    let cx: Vec<f64> = cx[..3].to_vec();
+    assert!(
+        ((cx[1] - cx[0]) - (cx[2] - cx[1])).abs() <= 1.0,
+        "points off their ticks: {cx:?}"
     );
 }

@@ -10,6 +10,7 @@ use std::path::Path;
 
 use crate::error::Error;
 use crate::input::sampling::Dist;
+use crate::params::Param;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -157,4 +158,31 @@ pub(super) fn line_of(text: &str, pos: usize) -> String {
         "line {}",
         text[..pos.min(text.len())].matches('\n').count() + 1
     )
+}
+
+/// The line of each parameter the file sets: `[base]` keys, grid axes,
+/// tolerances (a later entry of the same name does not replace an earlier).
+pub(super) fn key_lines(text: &str, file: &SweepFile) -> Vec<(&'static str, usize)> {
+    let line = |pos: usize| text[..pos.min(text.len())].matches('\n').count() + 1;
+    let mut out: Vec<(&'static str, usize)> = Vec::new();
+    let spans = file
+        .base
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.span().start))
+        .chain(file.grid.iter().map(|a| {
+            let p = &a.get_ref().param;
+            (p.get_ref().as_str(), p.span().start)
+        }))
+        .chain(file.tolerance.iter().map(|t| {
+            let p = &t.get_ref().param;
+            (p.get_ref().as_str(), p.span().start)
+        }));
+    for (name, pos) in spans {
+        if let Some(p) = Param::from_name(name) {
+            if !out.iter().any(|(n, _)| *n == p.name()) {
+                out.push((p.name(), line(pos)));
+            }
+        }
+    }
+    out
 }

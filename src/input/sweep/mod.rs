@@ -14,10 +14,12 @@
 mod axes;
 mod design;
 mod file;
+mod laws;
 mod parse;
 pub mod require;
 mod resolved;
 mod study;
+mod text;
 
 use crate::input::sampling::Uniforms;
 use crate::model::FrictionTables;
@@ -25,6 +27,7 @@ use crate::params::{Param, Spec};
 
 pub use design::{Sensitivity, Study, Tolerance};
 pub use file::{Method, MAX_SEED};
+pub(crate) use text::read_text;
 
 /// One grid axis: a parameter and its values (numbers, or the words of a
 /// law selector or a friction table's name).
@@ -239,6 +242,7 @@ impl Sweep {
         if let Some(st) = &self.study {
             st.draw(k, &mut spec, u);
         }
+        self.keep_own_law_params(&mut spec);
         spec
     }
 

@@ -8,67 +8,30 @@ use std::path::Path;
 use toml::Spanned;
 
 use super::axes::parse_axes;
-use super::file::{line_of, At, ReportDef, SweepFile, TableDef};
+use super::file::{key_lines, At, ReportDef, SweepFile, TableDef};
 use super::study::parse_study;
+use super::text::{read_text, suggest_in, toml_error};
 use super::{Axis, AxisValues, Sweep};
 use crate::error::{did_you_mean, Error, Result};
 use crate::model::{FrictionTable, FrictionTables, MAX_TABLES};
 use crate::params::{Param, Spec, TableName};
 
-/// The TOML reader's error on one line; a duplicate key is named.
-fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error {
-    let at = e.span().map(|s| line_of(text, s.start));
-    let msg = e.message().trim().replace('\n', " ");
-    if msg.starts_with("duplicate key") {
-        let key = e
-            .span()
-            .and_then(|s| text.get(s))
-            .map(|k| k.trim().trim_matches(['"', '\'']))
-            .unwrap_or("");
-        return Error::input(
-            path,
-            at,
-            Some(key),
-            "duplicate key; each key may appear once in its table",
-        );
-    }
-    Error::input(path, at, None, suggest_in(&msg))
-}
-
-/// The TOML reader's "unknown field `x`, expected one of `a`, `b`" (or
-/// "unknown variant"), with a "did you mean" for a near miss.
-fn suggest_in(msg: &str) -> String {
-    for kind in ["unknown field `", "unknown variant `"] {
-        let Some(rest) = msg.split(kind).nth(1) else {
-            continue;
-        };
-        let Some((name, tail)) = rest.split_once('`') else {
-            continue;
-        };
-        let candidates: Vec<&str> = tail.split('`').skip(1).step_by(2).collect();
-        let hint = did_you_mean(name, candidates.iter().copied());
-        if !hint.is_empty() {
-            return msg.replacen(
-                &format!("{kind}{name}`"),
-                &format!("{kind}{name}`{hint}"),
-                1,
-            );
-        }
-    }
-    msg.to_string()
-}
-
 impl Sweep {
     /// Reads and validates a sweep file.
     pub fn from_file(path: &Path) -> Result<Sweep> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::input(path, None, None, format!("cannot read the sweep file: {e}"))
-        })?;
-        Sweep::parse(path, &text)
+        Sweep::parse(path, &read_text(path)?)
     }
 
     /// Parses sweep-file text; `path` names it in errors.
     pub fn parse(path: &Path, text: &str) -> Result<Sweep> {
+        Sweep::parse_with_lanes(path, text, None)
+    }
+
+    /// Parses sweep-file text whose lanes come from elsewhere: `lanes`
+    /// is the run's lane count (a lane table's rows) that `[trace]` lanes
+    /// are checked against, instead of the sweep's own (one lane, its
+    /// `[base]`). None: the sweep's own.
+    pub fn parse_with_lanes(path: &Path, text: &str, lanes: Option<u64>) -> Result<Sweep> {
         let file: SweepFile = toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         let at = At { path, text };
         let base = parse_base(&at, &file.base)?;
@@ -88,9 +51,12 @@ impl Sweep {
             report: Default::default(),
             key_lines: key_lines(text, &file),
         };
-        let total = sweep
-            .lane_count_checked()
-            .map_err(|m| Error::input(path, None, None, m))?;
+        let total = match lanes {
+            Some(n) => n,
+            None => sweep
+                .lane_count_checked()
+                .map_err(|m| Error::input(path, None, None, m))?,
+        };
         if let Some(t) = &file.trace {
             let d = t.get_ref();
             sweep.trace = Some(
@@ -117,33 +83,6 @@ impl Sweep {
         }
         Ok(sweep)
     }
-}
-
-/// The line of each parameter the file sets: `[base]` keys, grid axes,
-/// tolerances (a later entry of the same name does not replace an earlier).
-fn key_lines(text: &str, file: &SweepFile) -> Vec<(&'static str, usize)> {
-    let line = |pos: usize| text[..pos.min(text.len())].matches('\n').count() + 1;
-    let mut out: Vec<(&'static str, usize)> = Vec::new();
-    let spans = file
-        .base
-        .iter()
-        .map(|(k, v)| (k.as_str(), v.span().start))
-        .chain(file.grid.iter().map(|a| {
-            let p = &a.get_ref().param;
-            (p.get_ref().as_str(), p.span().start)
-        }))
-        .chain(file.tolerance.iter().map(|t| {
-            let p = &t.get_ref().param;
-            (p.get_ref().as_str(), p.span().start)
-        }));
-    for (name, pos) in spans {
-        if let Some(p) = Param::from_name(name) {
-            if !out.iter().any(|(n, _)| *n == p.name()) {
-                out.push((p.name(), line(pos)));
-            }
-        }
-    }
-    out
 }
 
 /// The friction tables: one unnamed `[friction_table]` (keys `vs`, `mu`),
@@ -233,8 +172,19 @@ fn check_table_names(
     for (a, def) in axes.iter().zip(&file.grid) {
         if let (Param::FrictionTable, AxisValues::Words(w)) = (a.param, &a.values) {
             if let Some(n) = w.iter().find(|n| !known(n)) {
+                // The line of the word itself, inside the `values` list.
+                let list = def
+                    .get_ref()
+                    .values
+                    .as_ref()
+                    .map_or(def.span(), |v| v.span());
+                let word = at
+                    .text
+                    .get(list.clone())
+                    .and_then(|t| t.find(&format!("\"{n}\"")).or(t.find(&format!("'{n}'"))))
+                    .map_or(list.start, |i| list.start + i);
                 return Err(at.bad(
-                    def.span(),
+                    word..word,
                     "friction_table",
                     format!(
                         "`{n}` is not a friction table of the sweep; allowed: {}",

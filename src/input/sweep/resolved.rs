@@ -69,12 +69,45 @@ impl Sweep {
                 .is_some_and(|s| s.params.iter().any(|t| gear(Param::Num(t.param))))
     }
 
-    /// The base as set, plus the defaults of the laws it chooses; not
+    /// The laws a lane may have: the base's, or the words of an axis over
+    /// laws.
+    fn laws(&self) -> Vec<(MotorKind, FrictionKind)> {
+        let words = |p: Param| {
+            self.axes
+                .iter()
+                .find_map(|a| match (&a.values, a.param == p) {
+                    (AxisValues::Words(w), true) => Some(w.clone()),
+                    _ => None,
+                })
+        };
+        let motors: Vec<MotorKind> = match words(Param::Motor) {
+            Some(w) => MotorKind::ALL
+                .into_iter()
+                .filter(|m| w.iter().any(|x| x == m.name()))
+                .collect(),
+            None => vec![self.base.motor.unwrap_or(MotorKind::Kloss)],
+        };
+        let frictions: Vec<FrictionKind> = match words(Param::Friction) {
+            Some(w) => FrictionKind::ALL
+                .into_iter()
+                .filter(|f| w.iter().any(|x| x == f.name()))
+                .collect(),
+            None => vec![self.base.friction.unwrap_or(FrictionKind::Paper)],
+        };
+        motors
+            .iter()
+            .flat_map(|&m| frictions.iter().map(move |&f| (m, f)))
+            .collect()
+    }
+
+    /// The base as set, plus the defaults of the laws its lanes may have
+    /// (each lane takes those its own law uses: `Sweep::lane_spec`); not
     /// validated, since axes and samples may supply what it lacks.
     fn base_toml(&self) -> toml::Table {
         let mut base = toml::Table::new();
         let motor = self.base.motor.unwrap_or(MotorKind::Kloss);
         let friction = self.base.friction.unwrap_or(FrictionKind::Paper);
+        let laws = self.laws();
         base.insert("motor".into(), motor.name().into());
         base.insert("friction".into(), friction.name().into());
         if let Some(t) = self.base.friction_table {
@@ -84,7 +117,7 @@ impl Sweep {
         // its gear form it would give one quantity twice.
         let gear_terms = self.uses_gear_terms();
         for n in Num::ALL {
-            let law_default = n.def().owner.applies(motor, friction)
+            let law_default = laws.iter().any(|&(m, f)| n.def().owner.applies(m, f))
                 && !(gear_terms && crate::params::gear::has_gear_form(n));
             let v =
                 self.base.num[n as usize].or(if law_default { n.default_value() } else { None });

@@ -1,5 +1,5 @@
-//! `lanes.parquet`: the results table as typed columns (DOUBLE nullable,
-//! INT64, UTF-8), Snappy-compressed, written a row group at a time with
+//! `lanes.parquet`: the results table as typed columns (DOUBLE and UTF-8
+//! nullable: an empty cell is a null; INT64), Snappy-compressed, written a row group at a time with
 //! each group's columns encoded in parallel.
 
 use std::path::{Path, PathBuf};
@@ -26,7 +26,8 @@ const ROW_GROUP: usize = 1 << 16;
 enum Buffer {
     Float(Vec<f64>, Vec<i16>),
     Int(Vec<i64>),
-    Text(Vec<ByteArray>),
+    /// Words, and their definition levels (0: an empty cell, a null).
+    Text(Vec<ByteArray>, Vec<i16>),
 }
 
 /// Encodes one column of a row group into memory; the buffers are left
@@ -54,10 +55,14 @@ fn encode_column(
                 get_typed_column_writer_mut::<Int64Type>(&mut col).write_batch(v, None, None)?;
                 v.clear();
             }
-            Buffer::Text(v) => {
-                get_typed_column_writer_mut::<ByteArrayType>(&mut col)
-                    .write_batch(v, None, None)?;
+            Buffer::Text(v, def) => {
+                get_typed_column_writer_mut::<ByteArrayType>(&mut col).write_batch(
+                    v,
+                    Some(def),
+                    None,
+                )?;
                 v.clear();
+                def.clear();
             }
         }
         col.close()?
@@ -84,8 +89,10 @@ fn schema() -> Result<Type> {
                     .with_repetition(Repetition::OPTIONAL),
                 Kind::Int => Type::primitive_type_builder(name, Physical::INT64)
                     .with_repetition(Repetition::REQUIRED),
+                // An empty word (no `hold`, no table) is a null, as an
+                // empty number is.
                 Kind::Text => Type::primitive_type_builder(name, Physical::BYTE_ARRAY)
-                    .with_repetition(Repetition::REQUIRED)
+                    .with_repetition(Repetition::OPTIONAL)
                     .with_logical_type(Some(::parquet::basic::LogicalType::String)),
             };
             b.build().map(Arc::new)
@@ -122,7 +129,7 @@ impl ParquetLanes {
             .map(|(_, k)| match k {
                 Kind::Float => Buffer::Float(Vec::new(), Vec::new()),
                 Kind::Int => Buffer::Int(Vec::new()),
-                Kind::Text => Buffer::Text(Vec::new()),
+                Kind::Text => Buffer::Text(Vec::new(), Vec::new()),
             })
             .collect();
         Ok(ParquetLanes {
@@ -148,7 +155,14 @@ impl ParquetLanes {
                     }
                 }
                 (Buffer::Int(v), Cell::I(x)) => v.push(*x as i64),
-                (Buffer::Text(v), Cell::S(t)) => v.push(ByteArray::from(t.as_ref())),
+                (Buffer::Text(v, def), Cell::S(t)) => {
+                    if t.is_empty() {
+                        def.push(0);
+                    } else {
+                        def.push(1);
+                        v.push(ByteArray::from(t.as_ref()));
+                    }
+                }
                 _ => return Err(Error::Internal("a cell of the wrong kind".into())),
             }
         }
