@@ -78,9 +78,9 @@ fn committed_text(done: &[PathBuf]) -> String {
 }
 
 /// Whether a file name is one of our temporary names,
-/// `.NAME.PID-N.partial` for one of the files `ours` names: a user's file
-/// that merely looks like one (`.notes.partial`) is not ours to remove.
-pub fn is_partial_name(name: &str, ours: &[&str]) -> bool {
+/// `.NAME.PID-N.partial` for a file `ours` accepts: a user's file that
+/// merely looks like one (`.notes.partial`) is not ours to remove.
+pub fn is_partial_name(name: &str, ours: impl Fn(&str) -> bool) -> bool {
     let Some(mid) = name
         .strip_prefix('.')
         .and_then(|n| n.strip_suffix(".partial"))
@@ -94,7 +94,7 @@ pub fn is_partial_name(name: &str, ours: &[&str]) -> bool {
     let tagged = tag
         .split_once('-')
         .is_some_and(|(p, n)| digits(p) && digits(n));
-    tagged && ours.contains(&file)
+    tagged && ours(file)
 }
 
 /// The writer of an [`AtomicFile`]: its file, hashed on the way when
@@ -293,9 +293,9 @@ mod tests {
 
     #[test]
     fn only_our_temporary_names_are_partial() {
-        let ours = ["lanes.csv", ".tswm.files"];
-        assert!(is_partial_name(".lanes.csv.123-0.partial", &ours));
-        assert!(is_partial_name("..tswm.files.9-17.partial", &ours));
+        let ours = |f: &str| ["lanes.csv", ".tswm.files"].contains(&f);
+        assert!(is_partial_name(".lanes.csv.123-0.partial", ours));
+        assert!(is_partial_name("..tswm.files.9-17.partial", ours));
         for theirs in [
             ".mine.partial",
             ".notes.partial",
@@ -304,7 +304,7 @@ mod tests {
             ".other.csv.1-2.partial",
             "lanes.csv.1-2.partial",
         ] {
-            assert!(!is_partial_name(theirs, &ours), "{theirs}");
+            assert!(!is_partial_name(theirs, ours), "{theirs}");
         }
     }
 }

@@ -52,19 +52,12 @@ pub mod names {
         REPORT,
         MANIFEST,
     ];
-    /// Every file tswm writes in an output folder under a temporary name
-    /// first: the results and the marker.
-    pub const WRITTEN: [&str; 9] = [
-        LANES_CSV,
-        LANES_PARQUET,
-        SUMMARY,
-        SENSITIVITY,
-        TRACES,
-        RESOLVED,
-        REPORT,
-        MANIFEST,
-        MARKER,
-    ];
+
+    /// Whether tswm writes a file of this name in an output folder (under
+    /// a temporary name first): a result, or the marker.
+    pub fn written(name: &str) -> bool {
+        RESULTS.contains(&name) || name == MARKER
+    }
 }
 
 /// Name of the lock file inside an output folder.
@@ -182,7 +175,7 @@ impl OutDir {
             let name = e.file_name().to_string_lossy().into_owned();
             let ours = name == names::LOCK
                 || name == names::MARKER
-                || is_partial_name(&name, &names::WRITTEN)
+                || is_partial_name(&name, names::written)
                 || (self.earlier.contains(&name) && e.path().is_file());
             if !ours {
                 out.push(name);
@@ -254,7 +247,7 @@ impl OutDir {
     fn remove_stale_partials(&self) -> Result<()> {
         let entries = std::fs::read_dir(&self.path).map_err(|e| Error::io(&self.path, e))?;
         for e in entries.flatten() {
-            if is_partial_name(&e.file_name().to_string_lossy(), &names::WRITTEN) {
+            if is_partial_name(&e.file_name().to_string_lossy(), names::written) {
                 let _ = std::fs::remove_file(e.path());
             }
         }

@@ -42,22 +42,14 @@ pub fn heat_map(
         root.fill(&WHITE).map_err(err)?;
         let (map, bar) = root.split_horizontally(SIZE.0 - 118);
         let mut chart = chart(&map, title, x, y, false)?;
-        chart
-            .draw_series(
-                (0..ny)
-                    .flat_map(|iy| (0..nx).map(move |ix| (ix, iy)))
-                    .map(|(ix, iy)| {
-                        let (cx, cy) = (ix as f64, iy as f64);
-                        let v = cells.get(iy * nx + ix).copied().unwrap_or(f64::NAN);
-                        let c = if low(v) {
-                            AT_MOST_ZERO
-                        } else {
-                            colour(range.map(v), range.lo, range.hi)
-                        };
-                        Rectangle::new([(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)], c.filled())
-                    }),
-            )
-            .map_err(err)?;
+        fill_cells(&mut chart, nx, ny, |i| {
+            let v = cells.get(i).copied().unwrap_or(f64::NAN);
+            if low(v) {
+                AT_MOST_ZERO
+            } else {
+                colour(range.map(v), range.lo, range.hi)
+            }
+        })?;
         if let Some((struck, _)) = marks.struck {
             chart
                 .draw_series(
@@ -86,6 +78,30 @@ pub fn heat_map(
         root.present().map_err(err)?;
     }
     Ok(inline(svg))
+}
+
+/// Fills the nx × ny cells of a map (cell (ix, iy) centred on (ix, iy))
+/// with the colour of cell `iy * nx + ix`.
+fn fill_cells(
+    chart: &mut ChartContext<SVGBackend, Cartesian2d<Coord, Coord>>,
+    nx: usize,
+    ny: usize,
+    colour_of: impl Fn(usize) -> RGBColor,
+) -> Drawn {
+    chart
+        .draw_series(
+            (0..ny)
+                .flat_map(|iy| (0..nx).map(move |ix| (ix, iy)))
+                .map(|(ix, iy)| {
+                    let (cx, cy) = (ix as f64, iy as f64);
+                    Rectangle::new(
+                        [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
+                        colour_of(iy * nx + ix).filled(),
+                    )
+                }),
+        )
+        .map_err(err)?;
+    Ok(())
 }
 
 /// What the cells outside the colour scale mean, below the colour bar.
@@ -188,20 +204,10 @@ pub fn category_map(
         root.fill(&WHITE).map_err(err)?;
         let (map, _legend) = root.split_horizontally(SIZE.0 - 118);
         let mut chart = chart(&map, title, x, y, false)?;
-        chart
-            .draw_series(
-                (0..ny)
-                    .flat_map(|iy| (0..nx).map(move |ix| (ix, iy)))
-                    .map(|(ix, iy)| {
-                        let (cx, cy) = (ix as f64, iy as f64);
-                        let k = cells.get(iy * nx + ix).copied().unwrap_or(names.len());
-                        Rectangle::new(
-                            [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
-                            names.get(k).map_or(none, |n| n.1).filled(),
-                        )
-                    }),
-            )
-            .map_err(err)?;
+        fill_cells(&mut chart, nx, ny, |i| {
+            let k = cells.get(i).copied().unwrap_or(names.len());
+            names.get(k).map_or(none, |n| n.1)
+        })?;
         for (i, &k) in shown.iter().enumerate() {
             let Some((name, colour)) = names.get(k) else {
                 continue;
