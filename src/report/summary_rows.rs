@@ -90,37 +90,51 @@ impl Folder {
                 self.groups[g].quantile_rows.push(row);
             }
             k if k == CONTACT_END.as_bytes() || k == HOLD.as_bytes() || k == DRIVE.as_bytes() => {
-                let word = CONTACT_NAMES
-                    .iter()
-                    .find(|c| c.0 == nm)
-                    .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
-                let kind = text(rec, cols.kind);
-                let pct = super::percent;
-                let (s, l, h) = (
-                    num(path, rec, cols.share, "share")?,
-                    num(path, rec, cols.lo, "ci95_low")?,
-                    num(path, rec, cols.hi, "ci95_high")?,
-                );
-                // A word column no lane of the group has (no lane's motor
-                // runs, say) has no share to show.
-                if s.is_finite() {
-                    self.groups[g].contact_rows.push(vec![
-                        format!("{kind} = {word}"),
-                        text(rec, cols.count),
-                        pct(s),
-                        if l.is_nan() {
-                            "-".into()
-                        } else {
-                            format!("{} to {}", pct(l), pct(h))
-                        },
-                    ]);
-                }
+                self.share_row(path, rec, cols, g, nm)?;
             }
             b"spearman" => {
                 let r = num(path, rec, cols.rho, "rho")?;
                 self.groups[g].spearman.push((nm, text(rec, cols.input), r));
             }
             _ => {}
+        }
+        Ok(())
+    }
+
+    /// A share of a word column's word (`nm`) in group `g`, for the
+    /// outcome table; none for a column no lane of the group has.
+    fn share_row(
+        &mut self,
+        path: &Path,
+        rec: &csv::ByteRecord,
+        cols: &SummaryCols,
+        g: usize,
+        nm: String,
+    ) -> Result<()> {
+        let word = CONTACT_NAMES
+            .iter()
+            .find(|c| c.0 == nm)
+            .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
+        let kind = text(rec, cols.kind);
+        let pct = super::percent;
+        let (s, l, h) = (
+            num(path, rec, cols.share, "share")?,
+            num(path, rec, cols.lo, "ci95_low")?,
+            num(path, rec, cols.hi, "ci95_high")?,
+        );
+        // A word column no lane of the group has (no lane's motor
+        // runs, say) has no share to show.
+        if s.is_finite() {
+            self.groups[g].contact_rows.push(vec![
+                format!("{kind} = {word}"),
+                text(rec, cols.count),
+                pct(s),
+                if l.is_nan() {
+                    "-".into()
+                } else {
+                    format!("{} to {}", pct(l), pct(h))
+                },
+            ]);
         }
         Ok(())
     }
