@@ -6,9 +6,11 @@ use std::borrow::Cow;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
+use ::parquet::basic::Type as Physical;
+use ::parquet::column::reader::get_typed_column_reader;
+use ::parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
 use ::parquet::file::reader::FileReader;
 use ::parquet::file::serialized_reader::SerializedFileReader;
-use ::parquet::record::Field;
 
 use super::{Cell, Format, Kind};
 use crate::error::{Error, Result};
@@ -26,7 +28,138 @@ pub struct RowReader {
 
 enum Inner {
     Csv(csv::Reader<Hashing<File>>),
-    Parquet(parquet::record::reader::RowIter<'static>),
+    Parquet(ParquetRows),
+}
+
+/// A Parquet table read a row group at a time, column by column with the
+/// typed column readers (a row of `Field`s per lane costs an allocation a
+/// cell), then handed out row by row.
+struct ParquetRows {
+    file: SerializedFileReader<File>,
+    /// The next row group to read.
+    group: usize,
+    /// The current group's columns.
+    cols: Vec<Column>,
+    /// Rows of the current group, and the next one to hand out.
+    rows: usize,
+    next: usize,
+}
+
+/// One column of a row group: its values (present cells only), its
+/// definition levels (empty for a column that is never null) and the next
+/// value's index.
+enum Column {
+    Double(Vec<f64>, Vec<i16>, usize),
+    Long(Vec<i64>, Vec<i16>, usize),
+    Bytes(Vec<ByteArray>, Vec<i16>, usize),
+}
+
+impl ParquetRows {
+    /// Reads row group `self.group` into `self.cols`; false past the last.
+    fn load(&mut self) -> ::parquet::errors::Result<bool> {
+        if self.group >= self.file.num_row_groups() {
+            return Ok(false);
+        }
+        let rg = self.file.get_row_group(self.group)?;
+        let n = rg.metadata().num_rows() as usize;
+        self.cols.clear();
+        for i in 0..rg.num_columns() {
+            let descr = rg.metadata().column(i).column_descr_ptr();
+            let nullable = descr.max_def_level() > 0;
+            let mut def = Vec::new();
+            let col = rg.get_column_reader(i)?;
+            self.cols.push(match descr.physical_type() {
+                Physical::DOUBLE => {
+                    let mut v = Vec::with_capacity(n);
+                    get_typed_column_reader::<DoubleType>(col).read_records(
+                        n,
+                        nullable.then_some(&mut def),
+                        None,
+                        &mut v,
+                    )?;
+                    Column::Double(v, def, 0)
+                }
+                Physical::INT64 => {
+                    let mut v = Vec::with_capacity(n);
+                    get_typed_column_reader::<Int64Type>(col).read_records(
+                        n,
+                        nullable.then_some(&mut def),
+                        None,
+                        &mut v,
+                    )?;
+                    Column::Long(v, def, 0)
+                }
+                Physical::BYTE_ARRAY => {
+                    let mut v = Vec::with_capacity(n);
+                    get_typed_column_reader::<ByteArrayType>(col).read_records(
+                        n,
+                        nullable.then_some(&mut def),
+                        None,
+                        &mut v,
+                    )?;
+                    Column::Bytes(v, def, 0)
+                }
+                t => {
+                    return Err(::parquet::errors::ParquetError::General(format!(
+                        "column {} is {t}, which no tswm table has",
+                        descr.name()
+                    )))
+                }
+            });
+        }
+        self.group += 1;
+        self.rows = n;
+        self.next = 0;
+        Ok(true)
+    }
+
+    /// Writes the next row's cells into `rec` as `lanes.csv` spells them;
+    /// false at the end.
+    fn read(
+        &mut self,
+        rec: &mut csv::ByteRecord,
+        s: &mut String,
+    ) -> ::parquet::errors::Result<bool> {
+        while self.next == self.rows {
+            if !self.load()? {
+                return Ok(false);
+            }
+        }
+        let row = self.next;
+        self.next += 1;
+        rec.clear();
+        let short = || ::parquet::errors::ParquetError::General("a column ends early".into());
+        for c in &mut self.cols {
+            s.clear();
+            // A cell is present where its definition level is 1 (or the
+            // column is never null).
+            let present = |def: &Vec<i16>| def.is_empty() || def.get(row) == Some(&1);
+            match c {
+                Column::Double(v, def, k) => {
+                    if present(def) {
+                        push_f64(s, *v.get(*k).ok_or_else(short)?);
+                        *k += 1;
+                    }
+                }
+                Column::Long(v, def, k) => {
+                    if present(def) {
+                        use std::fmt::Write as _;
+                        let _ = write!(s, "{}", v.get(*k).ok_or_else(short)?);
+                        *k += 1;
+                    }
+                }
+                Column::Bytes(v, def, k) => {
+                    if present(def) {
+                        rec.push_field(v.get(*k).ok_or_else(short)?.data());
+                        *k += 1;
+                        continue;
+                    }
+                }
+            }
+            rec.push_field(s.as_bytes());
+        }
+        Ok(true)
+    }
 }
 
 impl RowReader {
@@ -67,7 +200,13 @@ impl RowReader {
                 Ok(RowReader {
                     path: path.into(),
                     header,
-                    inner: Inner::Parquet(rd.into_iter()),
+                    inner: Inner::Parquet(ParquetRows {
+                        file: rd,
+                        group: 0,
+                        cols: Vec::new(),
+                        rows: 0,
+                        next: 0,
+                    }),
                     rows: 0,
                 })
             }
@@ -156,39 +295,17 @@ impl RowReader {
                 let line = e.position().map(|p| format!("line {}", p.line()));
                 Error::input(path, line, None, format!("not a tswm table: {e}"))
             })?,
-            Inner::Parquet(it) => match it.next() {
-                None => false,
-                Some(row) => {
-                    let row = row.map_err(|e| {
-                        Error::input(
-                            path,
-                            Some(format!("row {}", self.rows + 1)),
-                            None,
-                            format!("not a tswm table: {e}"),
-                        )
-                    })?;
-                    rec.clear();
-                    let mut s = String::new();
-                    for (_, f) in row.get_column_iter() {
-                        s.clear();
-                        match f {
-                            Field::Null => {}
-                            Field::Double(v) => push_f64(&mut s, *v),
-                            Field::Long(v) => {
-                                use std::fmt::Write as _;
-                                let _ = write!(s, "{v}");
-                            }
-                            Field::Str(t) => s.push_str(t),
-                            other => {
-                                use std::fmt::Write as _;
-                                let _ = write!(s, "{other}");
-                            }
-                        }
-                        rec.push_field(s.as_bytes());
-                    }
-                    true
-                }
-            },
+            Inner::Parquet(p) => {
+                let mut s = String::new();
+                p.read(rec, &mut s).map_err(|e| {
+                    Error::input(
+                        path,
+                        Some(format!("row {}", self.rows + 1)),
+                        None,
+                        format!("not a tswm table: {e}"),
+                    )
+                })?
+            }
         };
         if more {
             self.rows += 1;
