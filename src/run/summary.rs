@@ -58,12 +58,7 @@ impl Summary {
         if self.by_drive.is_empty() {
             return String::new();
         }
-        let list: Vec<String> = self
-            .by_drive
-            .iter()
-            .map(|(d, n)| format!("{} {n}", d.name()))
-            .collect();
-        format!("; drive: {}", list.join(", "))
+        format!("; drive: {}", counts(&self.by_drive, |d| d.name()))
     }
 
     /// "; hold: held N, runs_away N" for runs whose motors are cut, and
@@ -72,12 +67,7 @@ impl Summary {
         if self.by_hold.is_empty() {
             return String::new();
         }
-        let list: Vec<String> = self
-            .by_hold
-            .iter()
-            .map(|(h, n)| format!("{} {n}", h.name()))
-            .collect();
-        let mut s = format!("; hold: {}", list.join(", "));
+        let mut s = format!("; hold: {}", counts(&self.by_hold, |h| h.name()));
         if let Some(&n) = self.by_hold.get(&Hold::Coasting) {
             s.push_str(&format!(
                 "; {n} lane{} still coasting when their run ended: whether they hold is not decided ({})",
@@ -132,24 +122,18 @@ impl Summary {
 
     /// The one-line summary.
     pub fn line(&self, backend: &str, out: &Path) -> String {
-        let status: Vec<String> = self
-            .by_status
-            .iter()
-            .map(|(s, n)| format!("{} {n}", s.name()))
-            .collect();
-        let contact: Vec<String> = self
-            .by_contact
-            .iter()
-            .map(|(c, n)| format!("{} {n}", c.name()))
-            .collect();
         format!(
             "tswm: {} lane{} in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}{}{}; wrote {}",
             self.lanes,
             if self.lanes == 1 { "" } else { "s" },
             self.seconds,
             self.lanes as f64 / self.seconds.max(1e-9),
-            status.join(", "),
-            if contact.is_empty() { "-".into() } else { contact.join(", ") },
+            counts(&self.by_status, |s| s.name()),
+            if self.by_contact.is_empty() {
+                "-".into()
+            } else {
+                counts(&self.by_contact, |c| c.name())
+            },
             self.drive_note(),
             self.hold_note(),
             self.recompute_note(),
@@ -160,4 +144,12 @@ impl Summary {
             out.display()
         )
     }
+}
+
+/// "word N, word N": the lanes per word of one column, in word order.
+fn counts<K: Copy>(by: &BTreeMap<K, u64>, name: impl Fn(K) -> &'static str) -> String {
+    by.iter()
+        .map(|(&k, n)| format!("{} {n}", name(k)))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

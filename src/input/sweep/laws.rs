@@ -17,35 +17,40 @@ impl Sweep {
             };
             let motor = spec.motor.unwrap_or(MotorKind::Kloss);
             let friction = spec.friction.unwrap_or(FrictionKind::Paper);
-            // The (motor, friction) of each word of the axis, the lane's
-            // other law held.
-            let laws: Vec<(MotorKind, FrictionKind)> = match a.param {
-                Param::Motor => MotorKind::ALL
-                    .into_iter()
-                    .filter(|m| words.iter().any(|w| w == m.name()))
-                    .map(|m| (m, friction))
-                    .collect(),
-                Param::Friction => FrictionKind::ALL
-                    .into_iter()
-                    .filter(|f| words.iter().any(|w| w == f.name()))
-                    .map(|f| (motor, f))
-                    .collect(),
-                _ => continue,
+            // Whether some word of the axis, the lane's other law held,
+            // satisfies `uses` (no allocation: this runs for every lane).
+            let some_word = |uses: &dyn Fn(MotorKind, FrictionKind) -> bool| match a.param {
+                Param::Motor => motors_on(words).any(|m| uses(m, friction)),
+                Param::Friction => frictions_on(words).any(|f| uses(motor, f)),
+                _ => false,
             };
             for n in crate::params::Num::ALL {
                 let owner = n.def().owner;
                 if spec.num[n as usize].is_some()
                     && !owner.applies(motor, friction)
-                    && laws.iter().any(|&(m, f)| owner.applies(m, f))
+                    && some_word(&|m, f| owner.applies(m, f))
                 {
                     spec.num[n as usize] = None;
                 }
             }
             let table = |f: FrictionKind| f == FrictionKind::Table;
-            if a.param == Param::Friction && !table(friction) && laws.iter().any(|&(_, f)| table(f))
-            {
+            if a.param == Param::Friction && !table(friction) && some_word(&|_, f| table(f)) {
                 spec.friction_table = None;
             }
         }
     }
+}
+
+/// The motor laws among an axis's words.
+pub(super) fn motors_on(words: &[String]) -> impl Iterator<Item = MotorKind> + '_ {
+    MotorKind::ALL
+        .into_iter()
+        .filter(|m| words.iter().any(|w| w == m.name()))
+}
+
+/// The friction laws among an axis's words.
+pub(super) fn frictions_on(words: &[String]) -> impl Iterator<Item = FrictionKind> + '_ {
+    FrictionKind::ALL
+        .into_iter()
+        .filter(|f| words.iter().any(|w| w == f.name()))
 }

@@ -81,17 +81,11 @@ impl Sweep {
                 })
         };
         let motors: Vec<MotorKind> = match words(Param::Motor) {
-            Some(w) => MotorKind::ALL
-                .into_iter()
-                .filter(|m| w.iter().any(|x| x == m.name()))
-                .collect(),
+            Some(w) => super::laws::motors_on(&w).collect(),
             None => vec![self.base.motor.unwrap_or(MotorKind::Kloss)],
         };
         let frictions: Vec<FrictionKind> = match words(Param::Friction) {
-            Some(w) => FrictionKind::ALL
-                .into_iter()
-                .filter(|f| w.iter().any(|x| x == f.name()))
-                .collect(),
+            Some(w) => super::laws::frictions_on(&w).collect(),
             None => vec![self.base.friction.unwrap_or(FrictionKind::Paper)],
         };
         motors

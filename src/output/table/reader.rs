@@ -54,6 +54,23 @@ enum Column {
     Bytes(Vec<ByteArray>, Vec<i16>, usize),
 }
 
+/// The `n` values of one column chunk, with their definition levels when
+/// the column may hold nulls (empty otherwise).
+fn read_column<T: ::parquet::data_type::DataType>(
+    col: ::parquet::column::reader::ColumnReader,
+    n: usize,
+    nullable: bool,
+) -> ::parquet::errors::Result<(Vec<T::T>, Vec<i16>)> {
+    let (mut v, mut def) = (Vec::with_capacity(n), Vec::new());
+    get_typed_column_reader::<T>(col).read_records(
+        n,
+        nullable.then_some(&mut def),
+        None,
+        &mut v,
+    )?;
+    Ok((v, def))
+}
+
 impl ParquetRows {
     /// Reads row group `self.group` into `self.cols`; false past the last.
     fn load(&mut self) -> ::parquet::errors::Result<bool> {
@@ -66,37 +83,18 @@ impl ParquetRows {
         for i in 0..rg.num_columns() {
             let descr = rg.metadata().column(i).column_descr_ptr();
             let nullable = descr.max_def_level() > 0;
-            let mut def = Vec::new();
             let col = rg.get_column_reader(i)?;
             self.cols.push(match descr.physical_type() {
                 Physical::DOUBLE => {
-                    let mut v = Vec::with_capacity(n);
-                    get_typed_column_reader::<DoubleType>(col).read_records(
-                        n,
-                        nullable.then_some(&mut def),
-                        None,
-                        &mut v,
-                    )?;
+                    let (v, def) = read_column::<DoubleType>(col, n, nullable)?;
                     Column::Double(v, def, 0)
                 }
                 Physical::INT64 => {
-                    let mut v = Vec::with_capacity(n);
-                    get_typed_column_reader::<Int64Type>(col).read_records(
-                        n,
-                        nullable.then_some(&mut def),
-                        None,
-                        &mut v,
-                    )?;
+                    let (v, def) = read_column::<Int64Type>(col, n, nullable)?;
                     Column::Long(v, def, 0)
                 }
                 Physical::BYTE_ARRAY => {
-                    let mut v = Vec::with_capacity(n);
-                    get_typed_column_reader::<ByteArrayType>(col).read_records(
-                        n,
-                        nullable.then_some(&mut def),
-                        None,
-                        &mut v,
-                    )?;
+                    let (v, def) = read_column::<ByteArrayType>(col, n, nullable)?;
                     Column::Bytes(v, def, 0)
                 }
                 t => {
