@@ -165,7 +165,7 @@ fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
         threads: 0,
         settings: Default::default(),
     };
-    let written = tswm::run::run(src, be, target, None, false).unwrap();
+    let written = tswm::run::run(src, be, target, None, None, false).unwrap();
     let mut files = vec![written.lanes];
     files.extend(written.stats);
     tswm::output::commit_together(files, &[]).unwrap();

@@ -165,11 +165,15 @@ pub fn run(a: RunArgs) -> Result<()> {
         threads: plan.threads,
         settings: plan.settings,
     };
+    let scan = (a.report && shard.is_none())
+        .then(|| report_scan(&plan.source, trace.as_ref(), be.as_ref(), &dir, a.format))
+        .flatten();
     let written = run::run(
         &plan.source,
         be.as_mut(),
         target,
         trace.as_ref(),
+        scan,
         a.progress,
     )?;
     let text = provenance::provenance(
@@ -203,24 +207,44 @@ pub fn run(a: RunArgs) -> Result<()> {
     if replaced {
         line.push_str("; replaced the earlier run's results there");
     }
-    if let Some(s) = &shard {
-        line.push_str(&format!(
+    match &shard {
+        Some(s) => line.push_str(&format!(
             "; shard {}/{} (lanes {} to {}) with {MANIFEST}",
             s.shard.k,
             s.shard.n,
             s.range.0,
             s.range.1.max(1) - 1
-        ));
-    } else if a.report {
-        let start = std::time::Instant::now();
-        crate::report::write(&mut dir)?;
-        line.push_str(&format!(
-            "; report.html in {:.2} s",
-            start.elapsed().as_secs_f64()
-        ));
+        )),
+        None if a.report => line.push_str(&write_report(&mut dir, written.scan)?),
+        None => {}
     }
     sayln!("{line}");
     Ok(())
+}
+
+/// Writes the report; "; report.html in 0.12 s" for the summary line.
+fn write_report(dir: &mut OutDir, scan: Option<crate::report::Scan>) -> Result<String> {
+    let start = std::time::Instant::now();
+    crate::report::write_with(dir, scan)?;
+    Ok(format!(
+        "; report.html in {:.2} s",
+        start.elapsed().as_secs_f64()
+    ))
+}
+
+/// The report's aggregates, gathered as the rows stream past, from the
+/// sweep the report will read back (the resolved sweep, its time still
+/// to come); None where the report reads the finished folder instead.
+fn report_scan(
+    source: &Source,
+    trace: Option<&TraceSpec>,
+    be: &dyn backend::Backend,
+    dir: &OutDir,
+    format: Format,
+) -> Option<crate::report::Scan> {
+    let text = provenance::provenance(source, trace, &be.name(), be.tolerance(), 0.0, None);
+    let (sweep, stated) = provenance::read_resolved(&dir.join(RESOLVED), &text).ok()?;
+    crate::report::scan_for(&sweep, format, stated)
 }
 
 /// A small file, whole, not yet committed (hashed when `hashed`).

@@ -1,7 +1,6 @@
 //! A CSV file written line by line under a temporary name, and the one
 //! spelling of a float cell.
 
-use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -67,9 +66,11 @@ impl CsvLines {
 }
 
 /// A float cell: empty for NaN (not applicable, or no such event), else
-/// the shortest text that reads back to the same f64.
+/// the shortest text that reads back to the same f64
+/// ([`super::float_text::push_f64`]).
 pub(crate) fn push_f64(s: &mut String, v: f64) {
-    if !v.is_nan() {
-        let _ = write!(s, "{v:?}");
-    }
+    let mut b = Vec::with_capacity(32);
+    super::float_text::push_f64(&mut b, v);
+    // The float text is ASCII.
+    s.push_str(std::str::from_utf8(&b).unwrap_or_default());
 }

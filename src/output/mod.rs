@@ -6,8 +6,10 @@
 //! the CSV line writer they share ([`csv_lines`]).
 
 pub mod atomic;
+pub mod batch;
 pub mod csv_lines;
 pub mod digest;
+pub mod float_text;
 pub mod folder;
 pub mod provenance;
 pub mod table;

@@ -86,27 +86,32 @@ impl Spec {
                 crate::error::shown(text, 40)
             ));
         }
-        let quoted = crate::error::shown(text, 40);
+        // Only an error needs the cell's words (this runs for every cell).
+        let quoted = || crate::error::shown(text, 40);
         match p {
             Param::Motor => {
                 self.motor = Some(parse_law(text).ok_or_else(|| {
-                    format!("`{quoted}` is not a motor law; allowed: kloss, constant")
+                    format!(
+                        "`{}` is not a motor law; allowed: kloss, constant",
+                        quoted()
+                    )
                 })?)
             }
             Param::Friction => {
                 self.friction = Some(parse_law(text).ok_or_else(|| {
                     let laws = FrictionKind::ALL.map(FrictionKind::name).join(", ");
-                    format!("`{quoted}` is not a friction law; allowed: {laws}")
+                    format!("`{}` is not a friction law; allowed: {laws}", quoted())
                 })?)
             }
             Param::FrictionTable => self.friction_table = Some(TableName::new(text)?),
             Param::Num(n) => {
                 let v: f64 = text
                     .parse()
-                    .map_err(|_| format!("`{quoted}` is not a number"))?;
+                    .map_err(|_| format!("`{}` is not a number", quoted()))?;
                 if !v.is_finite() {
                     return Err(format!(
-                        "`{quoted}` is not finite; a finite number is required"
+                        "`{}` is not finite; a finite number is required",
+                        quoted()
                     ));
                 }
                 self.set(n, v);

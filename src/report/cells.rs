@@ -4,9 +4,7 @@
 
 use std::path::Path;
 
-use crate::columns::LANE;
 use crate::error::{Error, Result};
-use crate::output::table::Cell;
 
 pub(super) fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>> {
     csv::Reader::from_path(path)
@@ -50,63 +48,4 @@ pub(super) fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> R
 
 pub(super) fn text(rec: &csv::ByteRecord, i: usize) -> String {
     String::from_utf8_lossy(rec.get(i).unwrap_or(b"")).into_owned()
-}
-
-/// Checks row `lane` of a results table: its lane is its row, within the
-/// run's `stated` lanes, and every word column holds one of its words.
-/// A word column: its position, name, allowed words, and whether an
-/// empty cell is allowed (a column of words given only for some lanes).
-pub(super) type WordCol = (usize, &'static str, Vec<&'static str>, bool);
-
-pub(super) fn check_row(
-    path: &Path,
-    lane: u64,
-    stated: u64,
-    cells: &[Cell],
-    rec: &csv::ByteRecord,
-    lane_col: usize,
-    word_cols: &[WordCol],
-) -> Result<()> {
-    let at = || Some(format!("row {}", lane + 1));
-    if cells[lane_col] != Cell::I(lane) {
-        return Err(Error::input(
-            path,
-            at(),
-            Some(LANE),
-            format!(
-                "is {}, expected {lane}: a table's rows are its lanes 0, 1, 2, ... in order; \
-                 not a table tswm wrote",
-                text(rec, lane_col)
-            ),
-        ));
-    }
-    if lane >= stated {
-        return Err(Error::input(
-            path,
-            at(),
-            Some(LANE),
-            format!(
-                "lane {lane} is not in the run: its sweep.resolved.toml states {stated} lanes; \
-                 the table belongs to another run"
-            ),
-        ));
-    }
-    for (i, name, words, maybe) in word_cols {
-        let w = cells[*i].word();
-        // `hold` is empty for a lane whose motor runs to the end, `drive`
-        // for one whose motor is cut.
-        if !(words.contains(&w) || (w.is_empty() && *maybe)) {
-            return Err(Error::input(
-                path,
-                at(),
-                Some(name),
-                format!(
-                    "`{}` is not one of {}; not a tswm table",
-                    crate::error::shown(w, 40),
-                    words.join(", ")
-                ),
-            ));
-        }
-    }
-    Ok(())
 }

@@ -22,6 +22,7 @@ mod require;
 mod scan;
 mod sections;
 mod sensitivity;
+mod stream;
 mod summary_rows;
 mod trace;
 mod trace_rows;
@@ -29,12 +30,15 @@ mod trace_rows;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::input::sweep::Sweep;
 use crate::output::names::{REPORT, RESOLVED, SENSITIVITY, SUMMARY, TRACES};
+use crate::output::table::Format;
 use crate::output::{AtomicFile, OutDir};
 use crate::params::Param;
 use crate::stats::wilson;
 use html::Page;
 use scan::Folder;
+pub use stream::Scan;
 
 /// A grid axis with at most this many values is drawn as points at its
 /// values (a category each), not as a line that would suggest values in
@@ -44,8 +48,15 @@ const FEW: usize = 8;
 /// Writes `DIR/report.html` from the run in the folder `dir` holds
 /// (locked), committed beside its other files.
 pub fn write(dir: &mut OutDir) -> Result<()> {
+    write_with(dir, None)
+}
+
+/// Writes `DIR/report.html` as [`write`] does, from the aggregates `scan`
+/// gathered while the run's rows streamed past when given (the same page,
+/// without reading the table back).
+pub fn write_with(dir: &mut OutDir, scan: Option<Scan>) -> Result<()> {
     crate::output::atomic::pause_for_tests("before-report");
-    let page = build(dir.path())?;
+    let page = build_with(dir.path(), scan)?;
     let path = dir.join(REPORT);
     let mut f = AtomicFile::create(&path)?;
     std::io::Write::write_all(f.writer(), page.as_bytes()).map_err(|e| Error::io(&path, e))?;
@@ -119,6 +130,20 @@ pub(super) fn share_cells(k: u64, n: u64, independent: bool) -> [String; 3] {
 
 /// The report of the run in `dir`, as HTML.
 pub fn build(dir: &Path) -> Result<String> {
+    build_with(dir, None)
+}
+
+/// The aggregates of a run's report, gathered while its rows stream past,
+/// for a run of `sweep` writing `format` and stating `stated` lanes; None
+/// where the report needs the finished folder first (a study's
+/// histograms).
+pub fn scan_for(sweep: &Sweep, format: Format, stated: u64) -> Option<Scan> {
+    Folder::streams(sweep)
+        .then(|| Scan::new(Folder::start(format.file_name(), sweep), sweep, stated))
+}
+
+/// The report of the run in `dir`, from `scan` when given.
+fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
     let resolved_path = dir.join(RESOLVED);
     let text = std::fs::read_to_string(&resolved_path).map_err(|e| {
         Error::input(
@@ -131,7 +156,10 @@ pub fn build(dir: &Path) -> Result<String> {
         )
     })?;
     let (sweep, stated) = crate::output::provenance::read_resolved(&resolved_path, &text)?;
-    let folder = Folder::read(dir, &sweep, stated)?;
+    let folder = match scan {
+        Some(s) => s.finish(dir, &dir.join(Format::of_folder(dir)?.file_name()))?,
+        None => Folder::read(dir, &sweep, stated)?,
+    };
     let spec = &sweep.report;
     let title = spec.title.clone().unwrap_or_else(|| {
         format!(

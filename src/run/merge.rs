@@ -21,6 +21,59 @@ use crate::output::digest::file_digest;
 use crate::output::names::{RESOLVED, SUMMARY, TRACES};
 use crate::output::provenance::{time_line, SHARD_LINE, TIME_LINE};
 use crate::output::table::{columns, Cell, Format, LanesWriter, RowReader};
+
+/// Rows the statistics of a merge take at a time.
+const MERGE_ROWS: usize = 8192;
+
+/// The statistics of a merge, fed rows a batch at a time as a run's are.
+struct Batched {
+    stats: Stats,
+    pool: rayon::ThreadPool,
+    rows: Vec<Cell>,
+    first: u64,
+}
+
+impl Batched {
+    fn new(stats: Stats) -> Result<Batched> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| Error::Internal(format!("merge threads: {e}")))?;
+        Ok(Batched {
+            stats,
+            pool,
+            rows: Vec::new(),
+            first: 0,
+        })
+    }
+
+    /// Adds lane `lane`'s row.
+    fn add(&mut self, lane: u64, cells: &[Cell]) -> Result<()> {
+        if self.rows.is_empty() {
+            self.first = lane;
+        }
+        self.rows.extend_from_slice(cells);
+        if self.rows.len() >= MERGE_ROWS * cells.len() {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<()> {
+        if !self.rows.is_empty() {
+            let b = crate::output::batch::from_cells(&self.rows)?;
+            let cols = crate::output::batch::typed(&b)?;
+            self.stats.add_batch(self.first, &cols, &self.pool)?;
+            self.rows.clear();
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<Stats> {
+        self.flush()?;
+        Ok(self.stats)
+    }
+}
 use crate::output::traces::TRACE_COLUMNS;
 use crate::output::{AtomicFile, OutDir};
 use crate::stats::{Grouping, Stats};
@@ -94,17 +147,19 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     let total = first.m.lanes_total;
 
     let mut table = LanesWriter::create(out_dir.path(), format, false)?;
-    let mut stats = Stats::create(&out_dir.join(SUMMARY), Grouping::of(&source))?;
+    let stats = Stats::create(&out_dir.join(SUMMARY), Grouping::of(&source))?;
     let kinds = columns();
     let mut rec = csv::ByteRecord::new();
     let mut cells: Vec<Cell> = Vec::with_capacity(kinds.len());
     let mut next = 0u64;
+    let mut batched = Batched::new(stats)?;
     for p in &parts {
         next = merge_part(p, &kinds, next, &mut rec, &mut cells, |row, rec, cells| {
             table.write_row(rec, cells)?;
-            stats.add_row(row, cells)
+            batched.add(row, cells)
         })?;
     }
+    let stats = batched.finish()?;
 
     let mut files = vec![merged_resolved(
         out_dir.path(),

@@ -38,15 +38,38 @@ pub fn pipeline<S: Sink>(
     pipeline_range(source, (0, source.lane_count()), backend, progress, sink)
 }
 
+/// Where a pipeline's time went, s: the backend integrating its chunks,
+/// and the sink consuming them (writing, for a run). Each stage runs on
+/// its own thread, so the larger sets the pace.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Busy {
+    /// In the backend.
+    pub integrating: f64,
+    /// In the sink.
+    pub sinking: f64,
+}
+
 /// Runs lanes `start..end` of `source` through `backend` into `sink`,
 /// chunk by chunk, in lane order.
 pub fn pipeline_range<S: Sink>(
+    source: &Source,
+    range: (u64, u64),
+    backend: &mut dyn Backend,
+    progress: bool,
+    sink: S,
+) -> Result<S::Output> {
+    pipeline_timed(source, range, backend, progress, sink).map(|o| o.0)
+}
+
+/// [`pipeline_range`], with the time each stage was busy.
+pub fn pipeline_timed<S: Sink>(
     source: &Source,
     (start, end): (u64, u64),
     backend: &mut dyn Backend,
     progress: bool,
     mut sink: S,
-) -> Result<S::Output> {
+) -> Result<(S::Output, Busy)> {
+    use std::time::Instant;
     let tables = source.friction_tables().tables.clone();
     let bar = crate::progress::bar(progress, end - start, "");
     let chunk = backend.chunk_lanes().max(1);
@@ -57,7 +80,8 @@ pub fn pipeline_range<S: Sink>(
     let (to_sink, from_backend) = std::sync::mpsc::sync_channel::<Batch>(IN_FLIGHT);
     let (recycle, recycled) = std::sync::mpsc::sync_channel::<Batch>(2 * IN_FLIGHT + 2);
 
-    let outcome = std::thread::scope(|scope| -> Result<S::Output> {
+    let mut busy = Busy::default();
+    let outcome = std::thread::scope(|scope| -> Result<(S::Output, f64)> {
         scope.spawn(move || {
             let mut first = start;
             loop {
@@ -76,12 +100,17 @@ pub fn pipeline_range<S: Sink>(
                 first += n;
             }
         });
-        let consumer = scope.spawn(move || -> Result<S::Output> {
+        let consumer = scope.spawn(move || -> Result<(S::Output, f64)> {
+            let mut busy = 0.0;
             for (first, params, results) in from_backend {
+                let t = Instant::now();
                 sink.chunk(first, &params, &results)?;
+                busy += t.elapsed().as_secs_f64();
                 let _ = recycle.send((0, params, results));
             }
-            sink.finish()
+            let t = Instant::now();
+            let out = sink.finish()?;
+            Ok((out, busy + t.elapsed().as_secs_f64()))
         });
         let mut failure = None;
         for batch in &from_producer {
@@ -92,10 +121,12 @@ pub fn pipeline_range<S: Sink>(
                     break;
                 }
             };
+            let t = Instant::now();
             if let Err(e) = backend.run_chunk(first, &params, &tables, &mut results) {
                 failure = Some(e);
                 break;
             }
+            busy.integrating += t.elapsed().as_secs_f64();
             let n = params.len() as u64;
             if to_sink.send((first, params, results)).is_err() {
                 break; // the sink failed; its error is reported below
@@ -114,5 +145,7 @@ pub fn pipeline_range<S: Sink>(
         }
     });
     bar.finish_and_clear();
-    outcome
+    let (out, sinking) = outcome?;
+    busy.sinking = sinking;
+    Ok((out, busy))
 }

@@ -3,6 +3,8 @@
 //! coasting.
 
 use std::collections::BTreeMap;
+
+use super::pipeline::Busy;
 use std::path::Path;
 
 use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, Status};
@@ -31,6 +33,8 @@ pub struct Summary {
     pub coasting_with_t_max: bool,
     /// Time spent on the sensitivity indices (a sensitivity design), s.
     pub sensitivity_seconds: Option<f64>,
+    /// Time the backend spent integrating and the writer writing, s.
+    pub busy: super::pipeline::Busy,
 }
 
 impl Summary {
@@ -51,6 +55,24 @@ impl Summary {
             *self.by_drive.entry(d).or_default() += 1;
         }
         *self.by_path.entry(r.path).or_default() += 1;
+    }
+
+    /// "; writing set the pace: ..." when the results took longer to
+    /// write than the lanes to integrate (the integrator waited on the
+    /// writer), with both times and the integration's own rate.
+    fn pace_note(&self) -> String {
+        let Busy {
+            integrating,
+            sinking,
+        } = self.busy;
+        if sinking <= integrating || integrating <= 0.0 {
+            return String::new();
+        }
+        format!(
+            "; writing set the pace: integration {integrating:.2} s ({:.0} lanes/s), \
+             writing {sinking:.2} s",
+            self.lanes as f64 / integrating
+        )
     }
 
     /// "; drive: runs N, stalled N" for runs whose motors run to the end.
@@ -123,11 +145,12 @@ impl Summary {
     /// The one-line summary.
     pub fn line(&self, backend: &str, out: &Path) -> String {
         format!(
-            "tswm: {} lane{} in {:.2} s ({:.0} lanes/s, {backend}); status: {}; contact_end: {}{}{}{}{}; wrote {}",
+            "tswm: {} lane{} in {:.2} s ({:.0} lanes/s, {backend}){}; status: {}; contact_end: {}{}{}{}{}; wrote {}",
             self.lanes,
             if self.lanes == 1 { "" } else { "s" },
             self.seconds,
             self.lanes as f64 / self.seconds.max(1e-9),
+            self.pace_note(),
             counts(&self.by_status, |s| s.name()),
             if self.by_contact.is_empty() {
                 "-".into()

@@ -3,10 +3,10 @@
 //! shard's statistics would be of part of a group), and the traced lanes
 //! run again with rows taken on the way into `traces.csv`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::pipeline::{pipeline_range, Sink};
+use super::pipeline::{pipeline_timed, Sink};
 use super::summary::Summary;
 use crate::backend::Backend;
 use crate::error::{Error, Result};
@@ -16,11 +16,13 @@ use crate::integrator::batch::settings_for;
 use crate::integrator::trace::simulate_traced;
 use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
+use crate::output::batch::typed;
 use crate::output::names::{SUMMARY, TRACES};
-use crate::output::table::{row_cells, Cell, Format, LanesWriter};
+use crate::output::table::{Format, LanesWriter};
 use crate::output::traces::TracesCsv;
 use crate::output::AtomicFile;
 use crate::params::Params;
+use crate::report::Scan;
 use crate::stats::{Grouping, Stats};
 
 /// The results table as a sink: rows streamed to `lanes.csv` (or
@@ -31,10 +33,11 @@ struct TableSink {
     table: LanesWriter,
     /// Formats the table's rows in parallel.
     pool: rayon::ThreadPool,
-    cells: Vec<Cell>,
     summary: Summary,
     stats: Option<Stats>,
     traces: Option<Tracer>,
+    /// The report's aggregates, and the table's path for its errors.
+    scan: Option<(Scan, PathBuf)>,
 }
 
 /// Traced lanes: run again on the f64 path with rows taken on the way
@@ -104,14 +107,15 @@ impl Sink for TableSink {
             }
             _ => results,
         };
-        self.table
-            .write_lanes(&self.pool, first, params, results, &mut self.cells)?;
-        for (i, (p, r)) in params.iter().zip(results).enumerate() {
-            if let Some(s) = self.stats.as_mut() {
-                let lane = first + i as u64;
-                row_cells(lane, p, r, &mut self.cells);
-                s.add_row(lane, &self.cells)?;
-            }
+        let batch = crate::output::batch::from_lanes(first, params, results, &self.pool)?;
+        self.table.write_batch(&self.pool, &batch)?;
+        if let Some((s, path)) = self.scan.as_mut() {
+            s.batch_of(path, &batch)?;
+        }
+        if let Some(s) = self.stats.as_mut() {
+            s.add_batch(first, &typed(&batch)?, &self.pool)?;
+        }
+        for (p, r) in params.iter().zip(results) {
             self.summary.add(p, r);
         }
         Ok(())
@@ -125,6 +129,7 @@ impl Sink for TableSink {
             lanes: self.table.into_file()?,
             stats,
             traces: self.traces.map(|t| t.out),
+            scan: self.scan.map(|s| s.0),
             summary: Summary {
                 sensitivity_seconds,
                 ..self.summary
@@ -144,6 +149,8 @@ pub struct Written {
     pub traces: Option<TracesCsv>,
     /// Counts for the summary line.
     pub summary: Summary,
+    /// The report's aggregates, when they were gathered on the way.
+    pub scan: Option<Scan>,
 }
 
 /// Where a run's table goes and which lanes it runs.
@@ -172,6 +179,7 @@ pub fn run(
     backend: &mut dyn Backend,
     target: Target<'_>,
     trace: Option<&TraceSpec>,
+    scan: Option<Scan>,
     progress: bool,
 ) -> Result<Written> {
     let start = Instant::now();
@@ -214,18 +222,19 @@ pub fn run(
         // records their SHA-256.
         table: LanesWriter::create(dir, target.format, target.range.is_some())?,
         pool,
-        cells: Vec::with_capacity(64),
         stats,
         summary: Summary::default(),
         traces,
+        scan: scan.map(|s| (s, dir.join(target.format.file_name()))),
     };
     let table = dir.join(target.format.file_name());
     // On failure the sink's partial files are dropped, and so removed.
-    let mut written =
-        pipeline_range(source, (first, end), backend, progress, sink).map_err(|e| match e {
+    let (mut written, busy) = pipeline_timed(source, (first, end), backend, progress, sink)
+        .map_err(|e| match e {
             Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", table.display())),
             e => e,
         })?;
     written.summary.seconds = start.elapsed().as_secs_f64();
+    written.summary.busy = busy;
     Ok(written)
 }

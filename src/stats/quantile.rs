@@ -37,6 +37,13 @@ pub struct Sketch {
     neg: BTreeMap<i32, u64>,
     zero: u64,
     n: u64,
+    /// The last bucket added to (its sign, positive when true, and index)
+    /// and the values added to it since it was last counted in its map:
+    /// a sweep's neighbouring lanes mostly share a bucket, and a count
+    /// here costs no map lookup.
+    run: Option<(bool, i32, u64)>,
+    /// The bits of the last value counted in `run`.
+    last: u64,
 }
 
 fn ln_gamma() -> f64 {
@@ -47,19 +54,39 @@ impl Sketch {
     /// Adds a finite value.
     pub fn add(&mut self, x: f64) {
         self.n += 1;
+        if let Some((_, _, c)) = self.run.as_mut().filter(|_| x.to_bits() == self.last) {
+            // The value just added again (a result a sweep leaves fixed):
+            // its bucket without the logarithm.
+            *c += 1;
+            return;
+        }
         let a = x.abs();
         if a < TINY {
             self.zero += 1;
             return;
         }
         let k = (a.ln() / ln_gamma()).ceil() as i32;
-        *if x > 0.0 {
-            &mut self.pos
-        } else {
-            &mut self.neg
+        let pos = x > 0.0;
+        match &mut self.run {
+            Some((p, j, c)) if *p == pos && *j == k => {
+                *c += 1;
+                self.last = x.to_bits();
+            }
+            run => {
+                let r = run.replace((pos, k, 1));
+                self.last = x.to_bits();
+                if let Some(r) = r {
+                    self.settle_run(r);
+                }
+            }
         }
-        .entry(k)
-        .or_default() += 1;
+    }
+
+    /// Counts a run of values of one bucket in its map.
+    fn settle_run(&mut self, (pos, k, c): (bool, i32, u64)) {
+        *if pos { &mut self.pos } else { &mut self.neg }
+            .entry(k)
+            .or_default() += c;
     }
 
     /// Values added.
@@ -74,6 +101,12 @@ impl Sketch {
     pub fn quantile(&self, q: f64) -> f64 {
         if self.n == 0 {
             return f64::NAN;
+        }
+        if let Some(r) = self.run {
+            let mut settled = self.clone();
+            settled.run = None;
+            settled.settle_run(r);
+            return settled.quantile(q);
         }
         let rank = (q * (self.n - 1) as f64).floor() as u64;
         let g = ln_gamma().exp();

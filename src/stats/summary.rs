@@ -4,11 +4,13 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::grouping::{grid_values, Grouping};
+mod add;
+
+use super::grouping::Grouping;
 use super::quantile::{self, Sketch, PROBS};
 use super::sensitivity::SensitivityCsv;
 use super::{spearman, wilson};
-use crate::columns::{number_columns, results, Cell, Of, Summary};
+use crate::columns::{number_columns, results, Of, Summary};
 use crate::error::Result;
 use crate::output::csv_lines::{push_f64, CsvLines};
 use crate::output::names::SENSITIVITY;
@@ -178,82 +180,6 @@ impl Stats {
             group: None,
             out,
         })
-    }
-
-    /// Adds lane `lane` from its row of the results table (every cell, in
-    /// `lanes_file::columns` order: parameters, then results). Lanes come
-    /// in order.
-    pub fn add_row(&mut self, lane: u64, row: &[Cell]) -> Result<()> {
-        let id = self.grouping.group_of(lane);
-        if self.group.as_ref().is_some_and(|g| g.id != id) {
-            let g = self.group.take().expect("checked");
-            self.write_group(g)?;
-        }
-        let (axes, inputs, layout) = (&self.grouping.axes, &self.grouping.inputs, &self.layout);
-        let g = self.group.get_or_insert_with(|| Group {
-            id,
-            axis_values: grid_values(axes, id),
-            lanes: 0,
-            cols: (0..layout.numbers.len())
-                .map(|_| Column::default())
-                .collect(),
-            shares: layout.words.iter().map(|w| w.1.clone()).collect(),
-            kept: vec![Vec::new(); layout.numbers.len() + inputs.len()],
-        });
-        g.lanes += 1;
-        let ok = row[layout.status].word() == "ok";
-        for ((i, _), sh) in layout.words.iter().zip(g.shares.iter_mut()) {
-            let word = row[*i].word();
-            let counted = match sh.of {
-                Of::All => true,
-                Of::Ok => ok,
-                Of::Given => !word.is_empty(),
-            };
-            if counted {
-                sh.total += 1;
-                if let Some(k) = sh.words.iter().position(|w| *w == word) {
-                    sh.counts[k] += 1;
-                }
-            }
-        }
-        for (v, &i) in self.values.iter_mut().zip(&layout.numbers) {
-            *v = row[i].number();
-        }
-        let values = &self.values;
-        let input = |n: Num| row[layout.params[n as usize]].number();
-        for (c, &x) in g.cols.iter_mut().zip(values) {
-            c.add(x);
-        }
-        if let Some(sn) = self.sensitivity.as_mut() {
-            let k = lane - id * self.grouping.per_group;
-            let cells = &self.word_cells;
-            let word = |name: &str| {
-                cells
-                    .iter()
-                    .find(|(n, _)| *n == name)
-                    .map_or("", |&(_, i)| row[i].word())
-            };
-            sn.add(id, k, values, word)?;
-        }
-        if g.kept[0].len() < EXACT_MAX {
-            let ins = inputs.iter().map(|&n| input(n));
-            for (k, x) in g.kept.iter_mut().zip(values.iter().copied().chain(ins)) {
-                k.push(x);
-            }
-        } else if g.cols[0].sketch.is_none() {
-            // From here on the quantiles are estimates over every value.
-            for (i, c) in g.cols.iter_mut().enumerate() {
-                let mut s = Sketch::default();
-                for &x in g.kept[i].iter().filter(|x| x.is_finite()) {
-                    s.add(x);
-                }
-                if values[i].is_finite() {
-                    s.add(values[i]);
-                }
-                c.sketch = Some(s);
-            }
-        }
-        Ok(())
     }
 
     /// Writes the last group; the file, to be committed with the run's

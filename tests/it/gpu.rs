@@ -330,7 +330,7 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
         threads: 1,
         settings: Default::default(),
     };
-    let err = match tswm::run::run(&src, &mut be, target, None, false) {
+    let err = match tswm::run::run(&src, &mut be, target, None, None, false) {
         Ok(_) => panic!("the run must fail"),
         Err(e) => e.to_string(),
     };

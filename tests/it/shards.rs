@@ -496,3 +496,60 @@ fn merge_refuses_shards_run_at_different_tolerances() {
     ];
     refused(&merge_args(&parts, "out"), dir, &parts[1], "f64 tol 1e-11");
 }
+
+/// Every shipped sweep's `lanes.parquet`, read by pyarrow, equals its
+/// `lanes.csv` read by pyarrow's CSV reader: the same types, floats bit
+/// for bit, nulls where a cell is empty, in the word columns too
+/// (`tests/columnar/same_values.py`); and both runs write the same
+/// `summary.csv`.
+#[test]
+fn pyarrow_reads_every_shipped_sweeps_parquet_as_its_csv() {
+    const PYARROW: crate::reference::Needs = crate::reference::Needs {
+        modules: "pyarrow",
+        vars: &["TSWM_PYTHON"],
+        install: "pip install pyarrow, or set TSWM_PYTHON",
+    };
+    let Some(py) = crate::reference::python_for(&PYARROW, "pyarrow_reads_every_shipped_sweeps")
+    else {
+        return;
+    };
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    let script = root().join("tests/columnar/same_values.py");
+    let mut sweeps: Vec<_> = fs::read_dir(root().join("sweeps"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .filter(|p| !p.ends_with("million.toml")) // 10^6 lanes: too long for a test
+        .collect();
+    sweeps.sort();
+    assert!(sweeps.len() >= 8, "{sweeps:?}");
+    for s in &sweeps {
+        let s = s.display().to_string();
+        ok(&cpu(&["run", &s, "--no-report", "--out", "c"]), dir);
+        ok(
+            &cpu(&[
+                "run",
+                &s,
+                "--no-report",
+                "--format",
+                "parquet",
+                "--out",
+                "p",
+            ]),
+            dir,
+        );
+        let out = std::process::Command::new(&py)
+            .arg(&script)
+            .arg(dir.join("p/lanes.parquet"))
+            .arg(dir.join("c/lanes.csv"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{s}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(bytes(&dir.join("c/summary.csv")) == bytes(&dir.join("p/summary.csv")));
+    }
+}

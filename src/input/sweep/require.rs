@@ -111,17 +111,20 @@ impl Requirement {
     /// Whether a lane whose cell of [`Requirement::column`] is `cell`
     /// passes.
     pub fn passes(&self, cell: &Cell) -> bool {
+        self.passes_value(cell.word(), cell.number())
+    }
+
+    /// Whether a lane whose cell in the column is `word` (a word column)
+    /// or `x` (a number column) passes.
+    pub fn passes_value(&self, word: &str, x: f64) -> bool {
         match &self.test {
-            Test::Word(w) => cell.word() == w,
-            Test::Number(op, v) => {
-                let x = cell.number();
-                match op {
-                    Op::Lt => x < *v,
-                    Op::Le => x <= *v,
-                    Op::Gt => x > *v,
-                    Op::Ge => x >= *v,
-                }
-            }
+            Test::Word(w) => word == w,
+            Test::Number(op, v) => match op {
+                Op::Lt => x < *v,
+                Op::Le => x <= *v,
+                Op::Gt => x > *v,
+                Op::Ge => x >= *v,
+            },
         }
     }
 

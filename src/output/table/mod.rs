@@ -7,21 +7,28 @@
 //! f64), so `merge` and `report` treat both alike and a CSV written from a
 //! Parquet file is byte-identical to one written directly.
 
+mod batches;
+mod csv_rows;
 mod parquet;
 mod reader;
 
 use std::borrow::Cow;
 use std::path::Path;
 
-pub use self::parquet::ParquetLanes;
+pub use self::batches::read_batches;
+pub use self::csv_rows::CsvBlocks;
+pub use self::parquet::{ParquetLanes, ROW_GROUP};
 use crate::columns::results;
 pub use crate::columns::{Cell, Kind};
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
 use crate::output::atomic::AtomicFile;
+use crate::output::batch;
+pub use crate::output::batch::columns;
 use crate::output::csv_lines::{push_f64, CsvLines};
 use crate::output::names;
 use crate::params::{Param, Params};
+use arrow_array::RecordBatch;
 pub use reader::RowReader;
 
 /// The format of the results table.
@@ -70,21 +77,6 @@ impl Format {
     }
 }
 
-/// The columns of the results table, in order, with their kinds: the
-/// parameters (docs/model.md section 9 order), then the result columns of
-/// [`crate::columns::RESULTS`].
-pub fn columns() -> Vec<(&'static str, Kind)> {
-    let mut c: Vec<(&'static str, Kind)> = Param::COLUMNS
-        .iter()
-        .map(|p| match p {
-            Param::Num(_) => (p.name(), Kind::Float),
-            _ => (p.name(), Kind::Text),
-        })
-        .collect();
-    c.extend(results().iter().map(|r| (r.name, r.kind)));
-    c
-}
-
 /// Lane `lane`'s row, in [`columns`] order, into `out` (cleared first).
 pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
     out.clear();
@@ -123,11 +115,14 @@ fn push_csv_row(s: &mut String, cells: &[Cell]) {
 /// Writes rows to the results table in either format, under a temporary
 /// name; committed with the run's other files.
 pub enum LanesWriter {
-    /// `lanes.csv`.
-    Csv(CsvLines),
-    /// `lanes.parquet`.
-    Parquet(Box<ParquetLanes>),
+    /// `lanes.csv`, and the buffers its blocks of rows are formatted in.
+    Csv(CsvLines, CsvBlocks),
+    /// `lanes.parquet`, and the rows given as cells not yet written.
+    Parquet(Box<ParquetLanes>, Vec<Cell>),
 }
+
+/// Rows given as cells (a merge's) gathered into one batch for Parquet.
+const CELL_ROWS: usize = 8192;
 
 impl LanesWriter {
     /// Starts the table `dir/lanes.{csv,parquet}`.
@@ -138,70 +133,42 @@ impl LanesWriter {
         Ok(match format {
             Format::Csv => {
                 let header: Vec<&str> = columns().iter().map(|c| c.0).collect();
-                LanesWriter::Csv(CsvLines::start(&path, &header.join(","), hashed)?)
+                LanesWriter::Csv(
+                    CsvLines::start(&path, &header.join(","), hashed)?,
+                    CsvBlocks::default(),
+                )
             }
-            Format::Parquet => LanesWriter::Parquet(Box::new(ParquetLanes::create(&path, hashed)?)),
+            Format::Parquet => {
+                LanesWriter::Parquet(Box::new(ParquetLanes::create(&path, hashed)?), Vec::new())
+            }
         })
     }
 
     /// Appends a row of cells, in [`columns`] order.
     pub fn write_cells(&mut self, cells: &[Cell]) -> Result<()> {
         match self {
-            LanesWriter::Csv(w) => {
+            LanesWriter::Csv(w, _) => {
                 push_csv_row(w.line(), cells);
                 w.end_line()
             }
-            LanesWriter::Parquet(w) => w.write(cells, None),
+            LanesWriter::Parquet(w, rows) => {
+                rows.extend_from_slice(cells);
+                if rows.len() >= CELL_ROWS * cells.len() {
+                    w.write(&batch::from_cells(rows)?, None)?;
+                    rows.clear();
+                }
+                Ok(())
+            }
         }
     }
 
-    /// Appends the rows of lanes `first..first + params.len()`. CSV rows
-    /// are formatted in parallel on `pool`, blocks of rows at a time, and
-    /// written in lane order; Parquet rows go to the column buffers.
-    pub fn write_lanes(
-        &mut self,
-        pool: &rayon::ThreadPool,
-        first: u64,
-        params: &[Params],
-        results: &[LaneResult],
-        cells: &mut Vec<Cell>,
-    ) -> Result<()> {
+    /// Appends the rows of a batch of the run: CSV rows formatted in
+    /// parallel on `pool`, blocks of rows at a time, and written in lane
+    /// order; Parquet columns encoded in parallel.
+    pub fn write_batch(&mut self, pool: &rayon::ThreadPool, b: &RecordBatch) -> Result<()> {
         match self {
-            LanesWriter::Csv(w) => {
-                use rayon::prelude::*;
-                // Blocks big enough that a task's overhead is nothing
-                // beside formatting its rows, small enough to share a
-                // chunk among every thread.
-                const BLOCK: usize = 512;
-                let blocks: Vec<String> = pool.install(|| {
-                    params
-                        .par_chunks(BLOCK)
-                        .zip(results.par_chunks(BLOCK))
-                        .enumerate()
-                        .map(|(b, (ps, rs))| {
-                            let mut s = String::with_capacity(ps.len() * 448);
-                            let mut cells = Vec::with_capacity(64);
-                            for (i, (p, r)) in ps.iter().zip(rs).enumerate() {
-                                row_cells(first + (b * BLOCK + i) as u64, p, r, &mut cells);
-                                push_csv_row(&mut s, &cells);
-                                s.push('\n');
-                            }
-                            s
-                        })
-                        .collect()
-                });
-                for b in blocks {
-                    w.write_raw(b.as_bytes())?;
-                }
-                Ok(())
-            }
-            LanesWriter::Parquet(w) => {
-                for (i, (p, r)) in params.iter().zip(results).enumerate() {
-                    row_cells(first + i as u64, p, r, cells);
-                    w.write(cells, Some(pool))?;
-                }
-                Ok(())
-            }
+            LanesWriter::Csv(w, blocks) => blocks.format(pool, b, |text| w.write_raw(text)),
+            LanesWriter::Parquet(w, _) => w.write(b, Some(pool)),
         }
     }
 
@@ -210,7 +177,7 @@ impl LanesWriter {
     /// copied as it was read (the same bytes as the shard's).
     pub fn write_row(&mut self, rec: &csv::ByteRecord, cells: &[Cell]) -> Result<()> {
         match self {
-            LanesWriter::Csv(w) => {
+            LanesWriter::Csv(w, _) => {
                 let s = w.line();
                 for (i, f) in rec.iter().enumerate() {
                     if i > 0 {
@@ -220,15 +187,20 @@ impl LanesWriter {
                 }
                 w.end_line()
             }
-            LanesWriter::Parquet(w) => w.write(cells, None),
+            LanesWriter::Parquet(..) => self.write_cells(cells),
         }
     }
 
     /// The finished file, to be committed with the run's other files.
     pub fn into_file(self) -> Result<AtomicFile> {
         match self {
-            LanesWriter::Csv(w) => Ok(w.into_file()),
-            LanesWriter::Parquet(w) => w.finish(),
+            LanesWriter::Csv(w, _) => Ok(w.into_file()),
+            LanesWriter::Parquet(mut w, rows) => {
+                if !rows.is_empty() {
+                    w.write(&batch::from_cells(&rows)?, None)?;
+                }
+                w.finish()
+            }
         }
     }
 }

@@ -1,108 +1,43 @@
 //! `lanes.parquet`: the results table as typed columns (DOUBLE and UTF-8
-//! nullable: an empty cell is a null; INT64), Snappy-compressed, written a row group at a time with
-//! each group's columns encoded in parallel.
+//! nullable: an empty cell is a null; INT64), written from the run's
+//! Arrow batches with `parquet`'s Arrow column writers: Snappy pages,
+//! dictionary-encoded words, min/max statistics per column chunk
+//! and page, and the Arrow schema in the footer for Arrow readers. Row
+//! groups of [`ROW_GROUP`] rows; each group's columns encoded in
+//! parallel, then spliced into the file in schema order (the same bytes
+//! either way).
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
-use ::parquet::basic::{Compression, Repetition, Type as Physical};
-use ::parquet::column::writer::{
-    get_column_writer, get_typed_column_writer_mut, ColumnCloseResult,
+use ::parquet::arrow::arrow_writer::{
+    compute_leaves, ArrowColumnWriter, ArrowRowGroupWriterFactory, ArrowWriter,
 };
-use ::parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
-use ::parquet::file::properties::WriterProperties;
-use ::parquet::file::writer::{SerializedFileWriter, SerializedPageWriter, TrackedWrite};
-use ::parquet::schema::types::Type;
+use ::parquet::basic::Compression;
+use ::parquet::file::properties::{EnabledStatistics, WriterProperties};
+use ::parquet::file::writer::SerializedFileWriter;
+use ::parquet::schema::types::ColumnPath;
+use arrow_array::{ArrayRef, RecordBatch};
+use arrow_schema::FieldRef;
 
-use super::{columns, Cell, Kind};
+use super::{columns, Kind};
 use crate::error::{Error, Result};
-use crate::output::atomic::AtomicFile;
+use crate::output::atomic::{AtomicFile, FileWriter};
+use crate::output::batch::schema;
 
-/// Rows buffered per row group: 64 Ki rows of ~60 columns is ~30 MB, and
-/// row groups this size compress and scan well.
-const ROW_GROUP: usize = 1 << 16;
-
-/// One column's values of the row group being filled.
-enum Buffer {
-    Float(Vec<f64>, Vec<i16>),
-    Int(Vec<i64>),
-    /// Words, and their definition levels (0: an empty cell, a null).
-    Text(Vec<ByteArray>, Vec<i16>),
-}
-
-/// Encodes one column of a row group into memory; the buffers are left
-/// empty for the next group.
-fn encode_column(
-    descr: ::parquet::schema::types::ColumnDescPtr,
-    props: Arc<WriterProperties>,
-    b: &mut Buffer,
-) -> ::parquet::errors::Result<(bytes::Bytes, ColumnCloseResult)> {
-    let mut sink = TrackedWrite::new(Vec::new());
-    let close = {
-        let pages = Box::new(SerializedPageWriter::new(&mut sink));
-        let mut col = get_column_writer(descr, props, pages);
-        match b {
-            Buffer::Float(v, def) => {
-                get_typed_column_writer_mut::<DoubleType>(&mut col).write_batch(
-                    v,
-                    Some(def),
-                    None,
-                )?;
-                v.clear();
-                def.clear();
-            }
-            Buffer::Int(v) => {
-                get_typed_column_writer_mut::<Int64Type>(&mut col).write_batch(v, None, None)?;
-                v.clear();
-            }
-            Buffer::Text(v, def) => {
-                get_typed_column_writer_mut::<ByteArrayType>(&mut col).write_batch(
-                    v,
-                    Some(def),
-                    None,
-                )?;
-                v.clear();
-                def.clear();
-            }
-        }
-        col.close()?
-    };
-    Ok((bytes::Bytes::from(sink.into_inner()?), close))
-}
+/// Rows a row group: big enough to compress and scan well, small enough
+/// that a reader holds one in a few tens of MB.
+pub const ROW_GROUP: usize = 1 << 17;
 
 /// `lanes.parquet`, written a row group at a time (bounded memory).
 pub struct ParquetLanes {
     file: AtomicFile,
     path: PathBuf,
-    writer: Option<SerializedFileWriter<crate::output::atomic::FileWriter>>,
-    bufs: Vec<Buffer>,
+    writer: Option<SerializedFileWriter<FileWriter>>,
+    factory: ArrowRowGroupWriterFactory,
+    /// The current row group's column writers (one per column).
+    cols: Vec<ArrowColumnWriter>,
     rows: usize,
-}
-
-/// The Parquet schema of the results table.
-fn schema() -> Result<Type> {
-    let fields = columns()
-        .into_iter()
-        .map(|(name, kind)| {
-            let b = match kind {
-                Kind::Float => Type::primitive_type_builder(name, Physical::DOUBLE)
-                    .with_repetition(Repetition::OPTIONAL),
-                Kind::Int => Type::primitive_type_builder(name, Physical::INT64)
-                    .with_repetition(Repetition::REQUIRED),
-                // An empty word (no `hold`, no table) is a null, as an
-                // empty number is.
-                Kind::Text => Type::primitive_type_builder(name, Physical::BYTE_ARRAY)
-                    .with_repetition(Repetition::OPTIONAL)
-                    .with_logical_type(Some(::parquet::basic::LogicalType::String)),
-            };
-            b.build().map(Arc::new)
-        })
-        .collect::<std::result::Result<Vec<_>, _>>()
-        .map_err(|e| Error::Internal(format!("parquet schema: {e}")))?;
-    Type::group_type_builder("tswm_lanes")
-        .with_fields(fields)
-        .build()
-        .map_err(|e| Error::Internal(format!("parquet schema: {e}")))
+    groups: usize,
 }
 
 pub(super) fn parquet_error(path: &Path, e: ::parquet::errors::ParquetError) -> Error {
@@ -116,102 +51,108 @@ impl ParquetLanes {
         } else {
             AtomicFile::create(path)?
         };
-        let props = WriterProperties::builder()
+        let mut props = WriterProperties::builder()
             // Snappy: fast, and read by every Parquet reader.
             .set_compression(Compression::SNAPPY)
-            .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")))
-            .build();
-        let writer =
-            SerializedFileWriter::new(file.take_writer(), Arc::new(schema()?), Arc::new(props))
-                .map_err(|e| parquet_error(path, e))?;
-        let bufs = columns()
-            .iter()
-            .map(|(_, k)| match k {
-                Kind::Float => Buffer::Float(Vec::new(), Vec::new()),
-                Kind::Int => Buffer::Int(Vec::new()),
-                Kind::Text => Buffer::Text(Vec::new(), Vec::new()),
-            })
-            .collect();
+            // Words by dictionary (a handful of words a column); numbers
+            // plain: a result takes a new value nearly every lane, and a
+            // dictionary of a million floats costs more than it saves
+            // (a fixed parameter's run of one value Snappy packs anyway).
+            .set_dictionary_enabled(false)
+            .set_statistics_enabled(EnabledStatistics::Page)
+            .set_max_row_group_row_count(Some(ROW_GROUP))
+            .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")));
+        for (name, kind) in columns() {
+            if kind == Kind::Text {
+                props = props.set_column_dictionary_enabled(ColumnPath::from(name), true);
+            }
+        }
+        let props = props.build();
+        let pe = |e| parquet_error(path, e);
+        let (writer, factory) = ArrowWriter::try_new(file.take_writer(), schema(), Some(props))
+            .and_then(ArrowWriter::into_serialized_writer)
+            .map_err(pe)?;
+        let cols = factory.create_column_writers(0).map_err(pe)?;
         Ok(ParquetLanes {
             file,
             path: path.to_path_buf(),
             writer: Some(writer),
-            bufs,
+            factory,
+            cols,
             rows: 0,
+            groups: 0,
         })
     }
 
-    /// Appends a row to the column buffers, and writes them as a row
-    /// group when it is full (its columns encoded on `pool` when given).
-    pub(super) fn write(&mut self, cells: &[Cell], pool: Option<&rayon::ThreadPool>) -> Result<()> {
-        for (b, c) in self.bufs.iter_mut().zip(cells) {
-            match (b, c) {
-                (Buffer::Float(v, def), Cell::F(x)) => {
-                    if x.is_nan() {
-                        def.push(0);
-                    } else {
-                        def.push(1);
-                        v.push(*x);
-                    }
-                }
-                (Buffer::Int(v), Cell::I(x)) => v.push(*x as i64),
-                (Buffer::Text(v, def), Cell::S(t)) => {
-                    if t.is_empty() {
-                        def.push(0);
-                    } else {
-                        def.push(1);
-                        v.push(ByteArray::from(t.as_ref()));
-                    }
-                }
-                _ => return Err(Error::Internal("a cell of the wrong kind".into())),
+    /// Appends a batch's rows, its columns encoded in parallel on `pool`;
+    /// a row group is written whenever [`ROW_GROUP`] rows are in.
+    pub(super) fn write(
+        &mut self,
+        batch: &RecordBatch,
+        pool: Option<&rayon::ThreadPool>,
+    ) -> Result<()> {
+        let mut at = 0;
+        while at < batch.num_rows() {
+            let n = (ROW_GROUP - self.rows).min(batch.num_rows() - at);
+            self.encode(&batch.slice(at, n), pool)?;
+            at += n;
+            self.rows += n;
+            if self.rows == ROW_GROUP {
+                self.flush_group()?;
             }
-        }
-        self.rows += 1;
-        if self.rows == ROW_GROUP {
-            self.flush_group(pool)?;
         }
         Ok(())
     }
 
-    /// Writes the buffered rows as a row group. Its columns are encoded
-    /// and compressed each into a buffer of its own, in parallel on
-    /// `pool` when given (the encoder is most of Parquet's cost), then
-    /// spliced into the file in schema order: the same bytes either way.
-    fn flush_group(&mut self, pool: Option<&rayon::ThreadPool>) -> Result<()> {
+    /// Encodes the columns of `batch` into the row group's writers.
+    fn encode(&mut self, batch: &RecordBatch, pool: Option<&rayon::ThreadPool>) -> Result<()> {
         use rayon::prelude::*;
+        let schema = schema();
+        let one = |((w, a), f): ((&mut ArrowColumnWriter, &ArrayRef), &FieldRef)| {
+            for leaf in compute_leaves(f, a)? {
+                w.write(&leaf)?;
+            }
+            Ok(())
+        };
+        let jobs: Vec<_> = self
+            .cols
+            .iter_mut()
+            .zip(batch.columns())
+            .zip(schema.fields())
+            .collect();
+        match pool {
+            Some(pool) => pool.install(|| jobs.into_par_iter().try_for_each(one)),
+            None => jobs.into_iter().try_for_each(one),
+        }
+        .map_err(|e| parquet_error(&self.path, e))
+    }
+
+    /// Writes the row group's columns to the file and starts the next.
+    fn flush_group(&mut self) -> Result<()> {
         if self.rows == 0 {
             return Ok(());
         }
-        let path = &self.path;
+        let pe = |e| parquet_error(&self.path, e);
+        self.groups += 1;
+        let next = self
+            .factory
+            .create_column_writers(self.groups)
+            .map_err(pe)?;
+        let cols = std::mem::replace(&mut self.cols, next);
         let w = self.writer.as_mut().expect("open");
-        let descr = w.schema_descr();
-        let jobs: Vec<_> = self
-            .bufs
-            .iter_mut()
-            .enumerate()
-            .map(|(i, b)| (descr.column(i), b))
-            .collect();
-        let props = w.properties();
-        let encode = |(d, b): (::parquet::schema::types::ColumnDescPtr, &mut Buffer)| {
-            encode_column(d, props.clone(), b)
-        };
-        let chunks: Vec<_> = match pool {
-            Some(pool) => pool.install(|| jobs.into_par_iter().map(encode).collect()),
-            None => jobs.into_iter().map(encode).collect(),
-        };
-        let mut rg = w.next_row_group().map_err(|e| parquet_error(path, e))?;
-        for c in chunks {
-            let (data, close) = c.map_err(|e| parquet_error(path, e))?;
-            rg.append_column(&data, close)
-                .map_err(|e| parquet_error(path, e))?;
+        let mut rg = w.next_row_group().map_err(pe)?;
+        for c in cols {
+            c.close()
+                .and_then(|chunk| chunk.append_to_row_group(&mut rg))
+                .map_err(pe)?;
         }
-        rg.close().map_err(|e| parquet_error(path, e))?;
+        rg.close().map_err(pe)?;
         self.rows = 0;
         Ok(())
     }
 
     pub(super) fn finish(mut self) -> Result<AtomicFile> {
-        self.flush_group(None)?;
+        self.flush_group()?;
         let w = self.writer.take().expect("open");
         let inner = w.into_inner().map_err(|e| parquet_error(&self.path, e))?;
         self.file.restore_writer(inner);

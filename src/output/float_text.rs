@@ -1,0 +1,178 @@
+//! The one spelling of a float cell, fast: the shortest text that reads
+//! back to the same f64, laid out as Rust's `{:?}` lays it out (decimal
+//! for 1e-4 <= |x| < 1e16 with at least one fractional digit, `1.5e-5`
+//! style outside), so `lanes.csv` keeps its bytes whichever formatter
+//! wrote it.
+//!
+//! The shortest digits come from `ryu` (several times faster than
+//! `core::fmt`'s Grisu with Dragon fallback, and the same digits: both
+//! give the shortest string in the rounding interval, the closest to the
+//! value, except at an exact tie, which `core::fmt` decides); `ryu`'s
+//! layout is `{:?}`'s but for 1e-5 <= |x| < 1e-4, which is laid out
+//! again here.
+
+/// Appends `v`'s text to `out`: nothing for NaN (an empty cell), else the
+/// bytes `format!("{v:?}")` gives.
+#[inline]
+pub fn push_f64(out: &mut Vec<u8>, v: f64) {
+    if v.is_nan() {
+        return;
+    }
+    if v.is_infinite() || v == 0.0 {
+        // Rare: `core::fmt` spells them ("inf", "0.0", "-0.0").
+        use std::io::Write as _;
+        let _ = write!(out, "{v:?}");
+        return;
+    }
+    // `ryu` writes straight into `out` (at most 24 bytes): no buffer of
+    // its own to copy from, on a path taken some 20 million times a
+    // million-lane run.
+    out.reserve(24);
+    let at = out.len();
+    // SAFETY: `format64` writes at most 24 bytes (its documented bound)
+    // to the pointer, and 24 bytes past `at` are reserved; they are
+    // initialised before `set_len` counts them.
+    unsafe {
+        let n = ryu::raw::format64(v, out.as_mut_ptr().add(at));
+        out.set_len(at + n);
+    }
+    // `ryu` lays a number out as `{:?}` does (decimal from 1e-4 below
+    // 1e16, else `d.ddde-7`), except below 1e-4 down to 1e-5, which it
+    // writes as a decimal; and an exact tie it rounds to even.
+    if (1e-5..1e-4).contains(&v.abs()) || may_tie(v) {
+        let mut s = [0u8; 24];
+        let n = out.len() - at;
+        s[..n].copy_from_slice(&out[at..]);
+        out.truncate(at);
+        relayout(out, v, &s[..n]);
+    }
+}
+
+/// Appends `v` laid out as `{:?}` lays it out, from `ryu`'s text `s` of
+/// it where `ryu`'s digits are the shortest `{:?}` would give, else from
+/// `core::fmt`.
+#[cold]
+fn relayout(out: &mut Vec<u8>, v: f64, s: &[u8]) {
+    let tie = may_tie(v);
+    let body = s.strip_prefix(b"-").unwrap_or(s);
+    if let (false, Some(d)) = (tie, body.strip_prefix(b"0.0000")) {
+        // 1e-5 <= |v| < 1e-4, which `ryu` spells "0.0000ddd": "d.dde-5".
+        if v < 0.0 {
+            out.push(b'-');
+        }
+        out.push(d[0]);
+        if d.len() > 1 {
+            out.push(b'.');
+            out.extend_from_slice(&d[1..]);
+        }
+        out.extend_from_slice(b"e-5");
+        return;
+    }
+    // An exact tie between two shortest spellings (`ryu` rounds it to
+    // even, `core::fmt` up; rare: a value with few fractional bits and
+    // many digits), or a layout `ryu` does not use: `core::fmt` decides.
+    use std::io::Write as _;
+    let _ = write!(out, "{v:?}");
+}
+
+/// Whether `v` (finite, not zero; its first digit at 10^lead) may lie
+/// exactly halfway between two shortest spellings. A tie needs the digit
+/// after the shortest spelling's last (at most 17 digits from lead) to
+/// be `v`'s last nonzero digit, a 5 at 10^-f for `v` with f fractional
+/// bits, and the two spellings 10^(1-f) apart to both lie within half a
+/// unit in the last place (2^u) of `v`: f <= 17 - lead, 2^u >= 10^(1-f).
+/// Integers (u >= 0) never tie. lead is bounded below from the binary
+/// exponent (a needless `true` only costs time).
+#[inline]
+fn may_tie(v: f64) -> bool {
+    let bits = v.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        return false; // subnormal: hundreds of fractional digits
+    }
+    let mant = (bits & ((1u64 << 52) - 1)) | (1u64 << 52);
+    let u = biased - 1075;
+    // 2^e2 <= |v| < 2^(e2+1): lead >= floor(e2 log10 2) >= this.
+    let lead = ((biased - 1023) * 30103).div_euclid(100_000) - 1;
+    let f = -(u + mant.trailing_zeros() as i32);
+    u < 0
+        && f >= 1
+        && f <= 17 - lead
+        // With a margin: a needless fallback only costs time.
+        && f64::from(u) * std::f64::consts::LOG10_2 >= f64::from(1 - f) - 1e-6
+}
+
+/// Appends a whole number's text.
+#[inline]
+pub fn push_u64(out: &mut Vec<u8>, v: u64) {
+    out.extend_from_slice(itoa::Buffer::new().format(v).as_bytes());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::push_f64;
+    use rand_core::{Rng, SeedableRng};
+
+    fn same(v: f64) {
+        let mut out = Vec::new();
+        push_f64(&mut out, v);
+        let want = if v.is_nan() {
+            String::new()
+        } else {
+            format!("{v:?}")
+        };
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            want,
+            "bits {:#x}",
+            v.to_bits()
+        );
+    }
+
+    /// The text is `core::fmt`'s `{:?}`, byte for byte: random bit
+    /// patterns (every exponent), random values of every decade, round
+    /// numbers, the boundaries of the decimal layout and the extremes.
+    #[test]
+    fn float_text_is_debug_text() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(28);
+        let n: usize = std::env::var("TSWM_FLOAT_TEXT_N").map_or(200_000, |v| v.parse().unwrap());
+        for _ in 0..n {
+            same(f64::from_bits(rng.next_u64()));
+            let m = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+            let e = (rng.next_u64() % 60) as i32 - 30;
+            same(m * 10f64.powi(e));
+            same(-((rng.next_u64() % 1_000_000) as f64) / 1000.0);
+            // Few fractional bits and many digits: where exact ties lie.
+            let k = (rng.next_u64() >> (11 + rng.next_u64() % 40)) as f64;
+            let f = (rng.next_u64() % 24) as i32;
+            same((k + 0.5) * 2f64.powi(-f));
+            same(k * 2f64.powi(-f));
+        }
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.1,
+            1e-4,
+            9.999e-5,
+            1e-5,
+            1e15,
+            9.999999999999998e15,
+            1e16,
+            1e17,
+            123456789.0,
+            5e-324,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            0.3,
+            2.0f64.powi(60),
+            1.0 / 3.0,
+        ] {
+            same(v);
+        }
+    }
+}

@@ -1,0 +1,306 @@
+//! The report's one pass over the results table, batch by batch: while
+//! a run's rows stream past (`tswm run`), or read back from the folder
+//! with only the columns it needs (`tswm report`). Either way the same
+//! bounded aggregates, so the two pages are the same, byte for byte.
+
+use std::path::Path;
+
+use arrow_array::RecordBatch;
+
+use super::scan::{words_of, Folder, CONTACT_NAMES, UNFINISHED_SHOWN};
+use crate::columns::{results, Summary};
+use crate::columns::{CONTACT_END, DRIVE, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
+use crate::error::{Error, Result};
+use crate::input::sweep::Sweep;
+use crate::output::batch::{Col, Columns};
+use crate::output::table::{read_batches, Format};
+use crate::params::Num;
+
+/// A word column: its name, allowed words, and whether an empty cell is
+/// allowed (a column of words given only for some lanes).
+type WordCol = (&'static str, Vec<&'static str>, bool);
+
+impl Folder {
+    /// Reads the folder `dir` of a run of `sweep`, whose
+    /// `sweep.resolved.toml` states `stated` lanes: `summary.csv`, the
+    /// results table's columns the report needs, and `traces.csv`.
+    pub fn read(dir: &Path, sweep: &Sweep, stated: u64) -> Result<Folder> {
+        let format = Format::of_folder(dir)?;
+        let mut f = Folder::start(format.file_name(), sweep);
+        if f.study {
+            f.read_summary(dir, sweep, f.groups_total.min(sweep.report.panels()))?;
+        }
+        let mut scan = Scan::new(f, sweep, stated);
+        let names = scan.names();
+        let path = dir.join(format.file_name());
+        read_batches(dir, &names, |b| scan.batch_of(&path, b))?;
+        scan.finish(dir, &path)
+    }
+}
+
+/// The report's pass over a run's rows.
+pub struct Scan {
+    folder: Folder,
+    stated: u64,
+    samples: u64,
+    /// Whether the sweep has no axes (a study's one group).
+    one_group: bool,
+    traced_lanes: Vec<u64>,
+    /// Each traced lane with its horizon (t_max or t_end).
+    traced: Vec<(u64, f64)>,
+    words: Vec<WordCol>,
+    require: Option<&'static str>,
+    vals: Vec<f64>,
+}
+
+/// Where a batch holds what the scan reads.
+struct Cols<'a> {
+    lane: Col<'a>,
+    status: Col<'a>,
+    contact: Col<'a>,
+    hold: Col<'a>,
+    drive: Col<'a>,
+    lock: Col<'a>,
+    t_end: Col<'a>,
+    t_max: Col<'a>,
+    results: Vec<Col<'a>>,
+    shown: Vec<Col<'a>>,
+    require: Option<Col<'a>>,
+    words: Vec<Col<'a>>,
+}
+
+impl Scan {
+    /// The pass of a run of `sweep` stating `stated` lanes, into `folder`
+    /// ([`Folder::start`], with `summary.csv` read for a study).
+    pub fn new(folder: Folder, sweep: &Sweep, stated: u64) -> Scan {
+        let words = results()
+            .iter()
+            .filter(|r| matches!(r.summary, Summary::Shares(..)))
+            .map(|r| {
+                let maybe = matches!(r.summary, Summary::Shares(_, crate::columns::Of::Given));
+                (r.name, words_of(r), maybe)
+            })
+            .collect();
+        Scan {
+            stated,
+            samples: sweep.study.as_ref().map_or(1, |s| s.n),
+            one_group: sweep.axes.is_empty(),
+            traced_lanes: sweep.trace.as_ref().map_or(Vec::new(), |t| t.lanes.clone()),
+            traced: Vec::new(),
+            words,
+            require: folder.require.as_ref().map(|r| r.req.column),
+            vals: vec![0.0; folder.results.len()],
+            folder,
+        }
+    }
+
+    /// The columns the pass reads, by name.
+    pub fn names(&self) -> Vec<&'static str> {
+        let f = &self.folder;
+        let mut n = vec![LANE, LOCK_MARGIN_DEG, Num::TEnd.name(), Num::TMax.name()];
+        n.extend(self.words.iter().map(|w| w.0));
+        n.extend(f.results.iter().map(|r| r.name));
+        n.extend(f.shown_params.iter().map(|p| p.name()));
+        n.extend(self.require);
+        n
+    }
+
+    /// Finds the columns of `b`.
+    fn cols<'a>(&self, b: &'a RecordBatch) -> Result<Cols<'a>> {
+        let c = Columns::new(b);
+        let get = |n: &str| {
+            c.get(n)
+                .ok_or_else(|| Error::Internal(format!("the report's batch has no column {n}")))
+        };
+        let f = &self.folder;
+        Ok(Cols {
+            lane: get(LANE)?,
+            status: get(STATUS)?,
+            contact: get(CONTACT_END)?,
+            hold: get(HOLD)?,
+            drive: get(DRIVE)?,
+            lock: get(LOCK_MARGIN_DEG)?,
+            t_end: get(Num::TEnd.name())?,
+            t_max: get(Num::TMax.name())?,
+            results: f
+                .results
+                .iter()
+                .map(|r| get(r.name))
+                .collect::<Result<_>>()?,
+            shown: f
+                .shown_params
+                .iter()
+                .map(|p| get(p.name()))
+                .collect::<Result<_>>()?,
+            require: self.require.map(get).transpose()?,
+            words: self.words.iter().map(|w| get(w.0)).collect::<Result<_>>()?,
+        })
+    }
+
+    /// Adds the rows of `b`, the next lanes in order; `path` names the
+    /// table in an error.
+    pub fn batch_of(&mut self, path: &Path, b: &RecordBatch) -> Result<()> {
+        let cols = self.cols(b)?;
+        for row in 0..b.num_rows() {
+            self.row(path, &cols, row)?;
+        }
+        Ok(())
+    }
+
+    /// Checks row `row`: its lane is its row, within the run's lanes,
+    /// and every word column holds one of its words.
+    fn check(&self, path: &Path, c: &Cols<'_>, row: usize, lane: u64) -> Result<()> {
+        let at = || Some(format!("row {}", lane + 1));
+        if c.lane.count(row) != Some(lane as i64) {
+            return Err(Error::input(
+                path,
+                at(),
+                Some(LANE),
+                format!(
+                    "is {}, expected {lane}: a table's rows are its lanes 0, 1, 2, ... in order; \
+                     not a table tswm wrote",
+                    c.lane.text(row)
+                ),
+            ));
+        }
+        if lane >= self.stated {
+            return Err(Error::input(
+                path,
+                at(),
+                Some(LANE),
+                format!(
+                    "lane {lane} is not in the run: its sweep.resolved.toml states {} lanes; \
+                     the table belongs to another run",
+                    self.stated
+                ),
+            ));
+        }
+        for ((name, words, maybe), col) in self.words.iter().zip(&c.words) {
+            let w = col.word(row);
+            // `hold` is empty for a lane whose motor runs to the end,
+            // `drive` for one whose motor is cut.
+            if !(words.contains(&w) || (w.is_empty() && *maybe)) {
+                return Err(Error::input(
+                    path,
+                    at(),
+                    Some(name),
+                    format!(
+                        "`{}` is not one of {}; not a tswm table",
+                        crate::error::shown(w, 40),
+                        words.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn row(&mut self, path: &Path, c: &Cols<'_>, row: usize) -> Result<()> {
+        let lane = self.folder.lanes;
+        self.check(path, c, row, lane)?;
+        let f = &mut self.folder;
+        f.lanes += 1;
+        if self.traced_lanes.binary_search(&lane).is_ok() {
+            let (te, tm) = (c.t_end.number(row), c.t_max.number(row));
+            self.traced
+                .push((lane, if tm.is_finite() { tm.max(te) } else { te }));
+        }
+        let (ok, outcome) = count_outcomes(f, lane, c, row);
+        for (v, col) in self.vals.iter_mut().zip(&c.results) {
+            *v = col.number(row);
+        }
+        if ok {
+            for (e, &v) in f.extremes.iter_mut().zip(&self.vals) {
+                e.add(lane, v);
+            }
+        }
+        let point = lane / self.samples;
+        if let (Some(r), Some(col)) = (f.require.as_mut(), c.require) {
+            let passes = r.req.passes_value(col.word(row), col.number(row));
+            r.add(point, passes);
+        }
+        let outcome = if ok { outcome } else { None };
+        if let Some(m) = f.map.as_mut() {
+            m.add(point, &self.vals, outcome, c.lock.number(row));
+        }
+        if let Some(l) = f.line.as_mut() {
+            l.add(point, &self.vals, outcome);
+        }
+        if f.study {
+            let g = if self.one_group { 0 } else { point as usize };
+            if let Some(gd) = f.groups.get_mut(g) {
+                gd.add(&self.vals);
+            }
+        }
+        Ok(())
+    }
+
+    /// The aggregates, once every row is in: the table `path` must hold
+    /// the run's every lane; the traced lanes are read from `traces.csv`
+    /// of `dir`.
+    pub fn finish(mut self, dir: &Path, path: &Path) -> Result<Folder> {
+        if self.folder.lanes != self.stated {
+            return Err(Error::input(
+                path,
+                None,
+                None,
+                format!(
+                    "has {} rows, but its sweep.resolved.toml states {} lanes: the table is \
+                     incomplete or belongs to another run; run it again",
+                    self.folder.lanes, self.stated
+                ),
+            ));
+        }
+        self.folder.read_traces(dir, &self.traced)?;
+        Ok(self.folder)
+    }
+}
+
+/// Counts a lane's status, hold, drive, final contact and outcome, and
+/// lists it when it did not finish; whether it is ok, and its outcome's
+/// index (`outcome::OUTCOMES`).
+fn count_outcomes(f: &mut Folder, lane: u64, c: &Cols<'_>, row: usize) -> (bool, Option<usize>) {
+    let status = c.status.word(row);
+    let ok = status == "ok";
+    if let Some(e) = f.by_status.iter_mut().find(|e| e.0 == status) {
+        e.1 += 1;
+    }
+    let hold = c.hold.word(row);
+    if !hold.is_empty() {
+        f.hold_lanes += 1;
+        if let Some(e) = f.by_hold.iter_mut().find(|e| e.0 == hold) {
+            e.1 += 1;
+        }
+        if hold == "coasting" {
+            let (te, tm) = (c.t_end.number(row), c.t_max.number(row));
+            f.coasting_t_end = f.coasting_t_end.max(te);
+            if tm.is_finite() {
+                f.coasting_t_max = f.coasting_t_max.max(tm);
+            }
+        }
+    }
+    let drive = c.drive.word(row);
+    if !drive.is_empty() {
+        f.drive_lanes += 1;
+        if let Some(e) = f.by_drive.iter_mut().find(|e| e.0 == drive) {
+            e.1 += 1;
+        }
+    }
+    let contact_word = c.contact.word(row);
+    let contact = CONTACT_NAMES.iter().position(|x| x.0 == contact_word);
+    let outcome = super::outcome::of(contact_word, hold, drive);
+    if !ok {
+        f.unfinished_total += 1;
+        if f.unfinished.len() < UNFINISHED_SHOWN {
+            let mut r = vec![lane.to_string(), status.to_string()];
+            r.extend(c.shown.iter().map(|col| col.text(row)));
+            f.unfinished.push(r);
+        }
+    } else {
+        if let Some(k) = contact {
+            f.by_contact[k] += 1;
+        }
+        f.by_outcome[outcome] += 1;
+    }
+    (ok, Some(outcome))
+}

@@ -1,0 +1,160 @@
+//! Adding a batch's rows to the statistics: each group's rows of the
+//! batch column by column, the number columns in parallel, the same
+//! values in the same order as one row at a time.
+
+use std::ops::Range;
+
+use super::{Column, Group, Layout, Stats, EXACT_MAX};
+use crate::columns::Of;
+use crate::error::Result;
+use crate::output::batch::Col;
+use crate::params::Num;
+use crate::stats::grouping::grid_values;
+use crate::stats::quantile::Sketch;
+
+impl Stats {
+    /// Adds the rows of a batch of the results table (every column, in
+    /// `table::columns` order: parameters, then results), lanes
+    /// `first..`; lanes come in order. Each group's rows of the batch are
+    /// added column by column, the columns in parallel on `pool`: the
+    /// same values in the same order as one row at a time.
+    pub fn add_batch(
+        &mut self,
+        first: u64,
+        cols: &[Col<'_>],
+        pool: &rayon::ThreadPool,
+    ) -> Result<()> {
+        let n = cols.first().map_or(0, Col::len);
+        let mut r = 0;
+        while r < n {
+            let lane = first + r as u64;
+            let id = self.grouping.group_of(lane);
+            // This group's rows of the batch.
+            let end = match self.grouping.per_group {
+                0 => n,
+                per => (((id + 1) * per - first) as usize).min(n),
+            };
+            self.add_rows(id, first, cols, r..end, pool)?;
+            r = end;
+        }
+        Ok(())
+    }
+
+    /// Adds rows `rows` of `cols` (lanes `first + row`), all of group `id`.
+    fn add_rows(
+        &mut self,
+        id: u64,
+        first: u64,
+        cols: &[Col<'_>],
+        rows: Range<usize>,
+        pool: &rayon::ThreadPool,
+    ) -> Result<()> {
+        if self.group.as_ref().is_some_and(|g| g.id != id) {
+            let g = self.group.take().expect("checked");
+            self.write_group(g)?;
+        }
+        let (axes, inputs, layout) = (&self.grouping.axes, &self.grouping.inputs, &self.layout);
+        let g = self.group.get_or_insert_with(|| Group {
+            id,
+            axis_values: grid_values(axes, id),
+            lanes: 0,
+            cols: (0..layout.numbers.len())
+                .map(|_| Column::default())
+                .collect(),
+            shares: layout.words.iter().map(|w| w.1.clone()).collect(),
+            kept: vec![Vec::new(); layout.numbers.len() + inputs.len()],
+        });
+        g.lanes += rows.len() as u64;
+        add_shares(g, layout, cols, rows.clone());
+        add_numbers(g, layout, inputs, cols, rows.clone(), pool);
+        if let Some(sn) = self.sensitivity.as_mut() {
+            let words = &self.word_cells;
+            for row in rows {
+                let lane = first + row as u64;
+                for (v, &i) in self.values.iter_mut().zip(&layout.numbers) {
+                    *v = cols[i].number(row);
+                }
+                let word = |name: &str| {
+                    words
+                        .iter()
+                        .find(|(n, _)| *n == name)
+                        .map_or("", |&(_, i)| cols[i].word(row))
+                };
+                sn.add(id, lane - id * self.grouping.per_group, &self.values, word)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Counts the word columns' words of rows `rows` into group `g`'s shares.
+fn add_shares(g: &mut Group, layout: &Layout, cols: &[Col<'_>], rows: Range<usize>) {
+    let status = cols[layout.status];
+    for ((i, _), sh) in layout.words.iter().zip(g.shares.iter_mut()) {
+        for row in rows.clone() {
+            let word = cols[*i].word(row);
+            let counted = match sh.of {
+                Of::All => true,
+                Of::Ok => status.word(row) == "ok",
+                Of::Given => !word.is_empty(),
+            };
+            if counted {
+                sh.total += 1;
+                if let Some(k) = sh.words.iter().position(|w| *w == word) {
+                    sh.counts[k] += 1;
+                }
+            }
+        }
+    }
+}
+
+/// Adds the number columns of rows `rows` to group `g` (each column on
+/// its own, the columns in parallel on `pool`), and keeps the sampled
+/// inputs' values while the group's first lanes are kept.
+fn add_numbers(
+    g: &mut Group,
+    layout: &Layout,
+    inputs: &[Num],
+    cols: &[Col<'_>],
+    rows: Range<usize>,
+    pool: &rayon::ThreadPool,
+) {
+    use rayon::prelude::*;
+    let numbers = layout.numbers.len();
+    let (kept_numbers, kept_inputs) = g.kept.split_at_mut(numbers);
+    let number_jobs = g.cols.iter_mut().zip(kept_numbers).zip(&layout.numbers);
+    let add_column = |((c, kept), &i): ((&mut Column, &mut Vec<f64>), &usize)| {
+        for row in rows.clone() {
+            let x = cols[i].number(row);
+            c.add(x);
+            if kept.len() < EXACT_MAX {
+                kept.push(x);
+            } else if c.sketch.is_none() {
+                // From here on the quantiles are estimates over
+                // every value.
+                let mut s = Sketch::default();
+                for &v in kept.iter().filter(|v| v.is_finite()) {
+                    s.add(v);
+                }
+                if x.is_finite() {
+                    s.add(x);
+                }
+                c.sketch = Some(s);
+            }
+        }
+    };
+    pool.install(|| {
+        number_jobs
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .for_each(add_column)
+    });
+    for (kept, &n) in kept_inputs.iter_mut().zip(inputs) {
+        let i = layout.params[n as usize];
+        for row in rows.clone() {
+            if kept.len() < EXACT_MAX {
+                kept.push(cols[i].number(row));
+            }
+        }
+    }
+}
