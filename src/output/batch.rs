@@ -158,25 +158,30 @@ pub fn from_lanes(
     let schema = schema();
     let kinds: Vec<Kind> = columns().iter().map(|c| c.1).collect();
     let n = params.len();
+    // Every `groups`-th column a group: parameters and results (whose
+    // cells cost more) shared evenly.
     let groups = pool.current_num_threads().clamp(1, kinds.len());
-    let per = kinds.len().div_ceil(groups);
-    let filled: Vec<Vec<Fill>> = pool.install(|| {
+    let filled: Vec<Vec<(usize, Fill)>> = pool.install(|| {
         (0..groups)
             .into_par_iter()
             .map(|g| {
-                let cols = g * per..((g + 1) * per).min(kinds.len());
-                let mut fills: Vec<Fill> = cols.clone().map(|c| Fill::of(kinds[c], n)).collect();
+                let mut fills: Vec<(usize, Fill)> = (g..kinds.len())
+                    .step_by(groups)
+                    .map(|c| (c, Fill::of(kinds[c], n)))
+                    .collect();
                 for start in (0..n).step_by(FILL_ROWS) {
                     let rows = start..(start + FILL_ROWS).min(n);
-                    for (f, c) in fills.iter_mut().zip(cols.clone()) {
-                        fill_column(f, c, rows.clone(), first, params, results_);
+                    for (c, f) in fills.iter_mut() {
+                        fill_column(f, *c, rows.clone(), first, params, results_);
                     }
                 }
                 fills
             })
             .collect()
     });
-    let cols: Vec<ArrayRef> = filled.into_iter().flatten().map(Fill::finish).collect();
+    let mut all: Vec<(usize, Fill)> = filled.into_iter().flatten().collect();
+    all.sort_by_key(|f| f.0);
+    let cols: Vec<ArrayRef> = all.into_iter().map(|f| f.1.finish()).collect();
     RecordBatch::try_new(schema, cols).map_err(|e| Error::Internal(format!("results batch: {e}")))
 }
 

@@ -61,13 +61,60 @@ pub fn pipeline_range<S: Sink>(
     pipeline_timed(source, range, backend, progress, sink).map(|o| o.0)
 }
 
+/// The producer: chunks of lanes from `reader` (lanes `first..`), in
+/// buffers given back when free, until the end, an error or a closed
+/// channel (the run stopped).
+fn produce(
+    reader: &mut crate::input::lanes::LaneReader<'_>,
+    mut first: u64,
+    chunk: usize,
+    recycled: std::sync::mpsc::Receiver<Batch>,
+    to_backend: std::sync::mpsc::SyncSender<Result<Batch>>,
+) {
+    loop {
+        let (_, mut params, results) = recycled
+            .try_recv()
+            .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
+        params.clear();
+        if let Err(e) = reader.fill(chunk, &mut params) {
+            let _ = to_backend.send(Err(e));
+            return;
+        }
+        let n = params.len() as u64;
+        if n == 0 || to_backend.send(Ok((first, params, results))).is_err() {
+            return;
+        }
+        first += n;
+    }
+}
+
+/// The sink's thread: every chunk into `sink`, its buffers given back;
+/// what the sink gives back, and the seconds it was busy.
+fn consume<S: Sink>(
+    mut sink: S,
+    from_backend: std::sync::mpsc::Receiver<Batch>,
+    recycle: std::sync::mpsc::SyncSender<Batch>,
+) -> Result<(S::Output, f64)> {
+    use std::time::Instant;
+    let mut busy = 0.0;
+    for (first, params, results) in from_backend {
+        let t = Instant::now();
+        sink.chunk(first, &params, &results)?;
+        busy += t.elapsed().as_secs_f64();
+        let _ = recycle.send((0, params, results));
+    }
+    let t = Instant::now();
+    let out = sink.finish()?;
+    Ok((out, busy + t.elapsed().as_secs_f64()))
+}
+
 /// [`pipeline_range`], with the time each stage was busy.
 pub fn pipeline_timed<S: Sink>(
     source: &Source,
     (start, end): (u64, u64),
     backend: &mut dyn Backend,
     progress: bool,
-    mut sink: S,
+    sink: S,
 ) -> Result<(S::Output, Busy)> {
     use std::time::Instant;
     let tables = source.friction_tables().tables.clone();
@@ -82,36 +129,8 @@ pub fn pipeline_timed<S: Sink>(
 
     let mut busy = Busy::default();
     let outcome = std::thread::scope(|scope| -> Result<(S::Output, f64)> {
-        scope.spawn(move || {
-            let mut first = start;
-            loop {
-                let (_, mut params, results) = recycled
-                    .try_recv()
-                    .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
-                params.clear();
-                if let Err(e) = reader.fill(chunk, &mut params) {
-                    let _ = to_backend.send(Err(e));
-                    return;
-                }
-                let n = params.len() as u64;
-                if n == 0 || to_backend.send(Ok((first, params, results))).is_err() {
-                    return; // the end, or the run stopped
-                }
-                first += n;
-            }
-        });
-        let consumer = scope.spawn(move || -> Result<(S::Output, f64)> {
-            let mut busy = 0.0;
-            for (first, params, results) in from_backend {
-                let t = Instant::now();
-                sink.chunk(first, &params, &results)?;
-                busy += t.elapsed().as_secs_f64();
-                let _ = recycle.send((0, params, results));
-            }
-            let t = Instant::now();
-            let out = sink.finish()?;
-            Ok((out, busy + t.elapsed().as_secs_f64()))
-        });
+        scope.spawn(move || produce(&mut reader, start, chunk, recycled, to_backend));
+        let consumer = scope.spawn(move || consume(sink, from_backend, recycle));
         let mut failure = None;
         for batch in &from_producer {
             let (first, params, mut results) = match batch {

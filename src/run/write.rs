@@ -108,17 +108,35 @@ impl Sink for TableSink {
             _ => results,
         };
         let batch = crate::output::batch::from_lanes(first, params, results, &self.pool)?;
-        self.table.write_batch(&self.pool, &batch)?;
-        if let Some((s, path)) = self.scan.as_mut() {
-            s.batch_of(path, &batch)?;
-        }
-        if let Some(s) = self.stats.as_mut() {
-            s.add_batch(first, &typed(&batch)?, &self.pool)?;
-        }
-        for (p, r) in params.iter().zip(results) {
-            self.summary.add(p, r);
-        }
-        Ok(())
+        // The table written while the counts are taken: each is a task
+        // of the pool (which splits them further), so neither leaves a
+        // core idle while the other's serial part runs.
+        let TableSink {
+            table,
+            pool,
+            summary,
+            stats,
+            scan,
+            ..
+        } = self;
+        let (written, counted) = pool.install(|| {
+            rayon::join(
+                || table.write_batch(pool, &batch),
+                || -> Result<()> {
+                    if let Some((s, path)) = scan.as_mut() {
+                        s.batch_of(path, &batch)?;
+                    }
+                    if let Some(s) = stats.as_mut() {
+                        s.add_batch(first, &typed(&batch)?, pool)?;
+                    }
+                    for (p, r) in params.iter().zip(results) {
+                        summary.add(p, r);
+                    }
+                    Ok(())
+                },
+            )
+        });
+        written.and(counted)
     }
     fn finish(self) -> Result<Self::Output> {
         let (stats, sensitivity_seconds) = match self.stats {

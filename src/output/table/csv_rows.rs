@@ -3,6 +3,11 @@
 //! Blocks of rows are formatted in parallel into buffers that are reused
 //! from chunk to chunk (no allocation per row or cell), then written in
 //! order.
+//!
+//! Most columns of a sweep's rows hold one value over a block (the
+//! parameters it does not vary, the cells its laws leave empty): a block
+//! is first laid out as a template, each run of such columns one piece
+//! of text (commas included), so a row costs only its varying cells.
 
 use arrow_array::{Array, RecordBatch};
 
@@ -14,86 +19,103 @@ use crate::output::float_text::push_f64;
 /// beside its rows, small enough to share a chunk among every thread.
 const BLOCK: usize = 1024;
 
-/// The last float a column spelled, and its text: a parameter a sweep
-/// holds fixed (most columns of most rows) is copied, not formatted.
-#[derive(Clone, Copy)]
-struct Memo {
-    bits: u64,
-    len: u8,
-    text: [u8; 32],
-}
-
-const NONE: Memo = Memo {
-    // A NaN's bits: never a present value's (nulls are not spelled).
-    bits: u64::MAX,
-    len: 0,
-    text: [0; 32],
-};
-
-/// Appends the first `len` bytes of `text` to `out` with one fixed-size
-/// copy (a call to `memcpy` per cell costs more than the cell's text).
+/// Appends row `i`'s cell of `col` (nothing for an empty cell).
 #[inline]
-fn copy_short(out: &mut Vec<u8>, text: &[u8; 32], len: usize) {
-    out.reserve(text.len());
-    let at = out.len();
-    // SAFETY: 32 bytes past `at` are reserved and all 32 are written;
-    // `len <= 32` of them are counted.
-    unsafe {
-        std::ptr::copy_nonoverlapping(text.as_ptr(), out.as_mut_ptr().add(at), text.len());
-        out.set_len(at + len.min(text.len()));
+fn push_cell(out: &mut Vec<u8>, col: &Col<'_>, i: usize) {
+    match col {
+        Col::F(a) => {
+            if a.is_valid(i) {
+                push_f64(out, a.value(i));
+            }
+        }
+        Col::I(a) => out.extend_from_slice(itoa::Buffer::new().format(a.value(i)).as_bytes()),
+        Col::S(a) => {
+            if a.is_valid(i) {
+                out.extend_from_slice(a.value(i).as_bytes());
+            }
+        }
     }
 }
 
-/// Appends rows `rows` of `cols` to `out`, each ended by a newline.
-fn format_rows(
-    cols: &[Col<'_>],
-    rows: std::ops::Range<usize>,
-    memo: &mut Vec<Memo>,
-    out: &mut Vec<u8>,
-) {
-    memo.clear();
-    memo.resize(cols.len(), NONE);
-    for i in rows {
-        for (c, (col, m)) in cols.iter().zip(memo.iter_mut()).enumerate() {
+/// Whether `col` holds one cell over `rows` (the same value, or empty
+/// throughout).
+fn fixed(col: &Col<'_>, rows: std::ops::Range<usize>) -> bool {
+    let first = rows.start;
+    match col {
+        Col::F(a) => {
+            let v = a.values();
+            let bits = v[first].to_bits();
+            let valid = a.is_valid(first);
+            rows.clone().all(|i| a.is_valid(i) == valid)
+                && (!valid || v[rows].iter().all(|x| x.to_bits() == bits))
+        }
+        Col::I(a) => {
+            let v = a.values();
+            v[rows].iter().all(|&x| x == v[first])
+        }
+        Col::S(a) => {
+            let w = a.is_valid(first).then(|| a.value(first));
+            rows.into_iter()
+                .all(|i| a.is_valid(i).then(|| a.value(i)) == w)
+        }
+    }
+}
+
+/// One piece of a block's row: text every row has, or a column whose
+/// cell is formatted row by row.
+enum Piece {
+    /// `text[range]` of the template.
+    Text(std::ops::Range<usize>),
+    /// A varying column.
+    Cell(usize),
+}
+
+/// A block's rows laid out: fixed text and varying cells, in order.
+#[derive(Default)]
+struct Template {
+    text: Vec<u8>,
+    pieces: Vec<Piece>,
+}
+
+impl Template {
+    /// The layout of `cols` over `rows`.
+    fn of(&mut self, cols: &[Col<'_>], rows: std::ops::Range<usize>) {
+        self.text.clear();
+        self.pieces.clear();
+        let mut start = 0;
+        for (c, col) in cols.iter().enumerate() {
             if c > 0 {
-                out.push(b',');
+                self.text.push(b',');
             }
-            match col {
-                Col::F(a) => {
-                    if a.is_valid(i) {
-                        let v = a.value(i);
-                        if v.to_bits() != m.bits {
-                            let start = out.len();
-                            push_f64(out, v);
-                            let t = &out[start..];
-                            if t.len() <= m.text.len() {
-                                m.bits = v.to_bits();
-                                m.len = t.len() as u8;
-                                m.text[..t.len()].copy_from_slice(t);
-                            }
-                        } else {
-                            copy_short(out, &m.text, m.len as usize);
-                        }
-                    }
-                }
-                Col::I(a) => {
-                    out.extend_from_slice(itoa::Buffer::new().format(a.value(i)).as_bytes())
-                }
-                Col::S(a) => {
-                    if a.is_valid(i) {
-                        out.extend_from_slice(a.value(i).as_bytes());
-                    }
+            if fixed(col, rows.clone()) {
+                push_cell(&mut self.text, col, rows.start);
+            } else {
+                self.pieces.push(Piece::Text(start..self.text.len()));
+                self.pieces.push(Piece::Cell(c));
+                start = self.text.len();
+            }
+        }
+        self.text.push(b'\n');
+        self.pieces.push(Piece::Text(start..self.text.len()));
+    }
+
+    /// Appends rows `rows` of `cols` to `out`.
+    fn rows(&self, cols: &[Col<'_>], rows: std::ops::Range<usize>, out: &mut Vec<u8>) {
+        for i in rows {
+            for p in &self.pieces {
+                match p {
+                    Piece::Text(r) => out.extend_from_slice(&self.text[r.clone()]),
+                    Piece::Cell(c) => push_cell(out, &cols[*c], i),
                 }
             }
         }
-        out.push(b'\n');
     }
 }
 
 /// Buffers for the blocks of a chunk, kept from chunk to chunk.
 #[derive(Default)]
 pub struct CsvBlocks {
-    blocks: Vec<(Vec<u8>, Vec<Memo>)>,
+    blocks: Vec<(Vec<u8>, Template)>,
 }
 
 impl CsvBlocks {
@@ -116,9 +138,11 @@ impl CsvBlocks {
             self.blocks[..count]
                 .par_iter_mut()
                 .enumerate()
-                .for_each(|(b, (out, memo))| {
+                .for_each(|(b, (out, template))| {
+                    let rows = b * BLOCK..((b + 1) * BLOCK).min(n);
                     out.clear();
-                    format_rows(&cols, b * BLOCK..((b + 1) * BLOCK).min(n), memo, out);
+                    template.of(&cols, rows.clone());
+                    template.rows(&cols, rows, out);
                 })
         });
         for (out, _) in &self.blocks[..count] {

@@ -108,6 +108,40 @@ fn add_shares(g: &mut Group, layout: &Layout, cols: &[Col<'_>], rows: Range<usiz
     }
 }
 
+/// Columns a task of [`add_numbers`] takes.
+const COLUMNS_A_TASK: usize = 4;
+
+/// `jobs` in groups of [`COLUMNS_A_TASK`].
+fn jobs_in_groups<T>(jobs: Vec<T>) -> Vec<Vec<T>> {
+    let mut groups: Vec<Vec<T>> = Vec::new();
+    for (k, j) in jobs.into_iter().enumerate() {
+        if k % COLUMNS_A_TASK == 0 {
+            groups.push(Vec::with_capacity(COLUMNS_A_TASK));
+        }
+        groups.last_mut().expect("pushed").push(j);
+    }
+    groups
+}
+
+/// Adds `x` to a column and to its kept values; past the kept values,
+/// the column's quantiles become a sketch's estimates over every value.
+#[inline]
+fn add_value(c: &mut Column, kept: &mut Vec<f64>, x: f64) {
+    c.add(x);
+    if kept.len() < EXACT_MAX {
+        kept.push(x);
+    } else if c.sketch.is_none() {
+        let mut s = Sketch::default();
+        for &v in kept.iter().filter(|v| v.is_finite()) {
+            s.add(v);
+        }
+        if x.is_finite() {
+            s.add(x);
+        }
+        c.sketch = Some(s);
+    }
+}
+
 /// Adds the number columns of rows `rows` to group `g` (each column on
 /// its own, the columns in parallel on `pool`), and keeps the sampled
 /// inputs' values while the group's first lanes are kept.
@@ -122,32 +156,25 @@ fn add_numbers(
     use rayon::prelude::*;
     let numbers = layout.numbers.len();
     let (kept_numbers, kept_inputs) = g.kept.split_at_mut(numbers);
-    let number_jobs = g.cols.iter_mut().zip(kept_numbers).zip(&layout.numbers);
-    let add_column = |((c, kept), &i): ((&mut Column, &mut Vec<f64>), &usize)| {
+    let jobs: Vec<_> = g
+        .cols
+        .iter_mut()
+        .zip(kept_numbers)
+        .zip(&layout.numbers)
+        .collect();
+    // A few columns a task, row by row across them: each column's update
+    // waits on its last (a division), and the columns' chains overlap.
+    let add_columns = |group: &mut [((&mut Column, &mut Vec<f64>), &usize)]| {
         for row in rows.clone() {
-            let x = cols[i].number(row);
-            c.add(x);
-            if kept.len() < EXACT_MAX {
-                kept.push(x);
-            } else if c.sketch.is_none() {
-                // From here on the quantiles are estimates over
-                // every value.
-                let mut s = Sketch::default();
-                for &v in kept.iter().filter(|v| v.is_finite()) {
-                    s.add(v);
-                }
-                if x.is_finite() {
-                    s.add(x);
-                }
-                c.sketch = Some(s);
+            for ((c, kept), &i) in group.iter_mut() {
+                add_value(c, kept, cols[i].number(row));
             }
         }
     };
     pool.install(|| {
-        number_jobs
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .for_each(add_column)
+        jobs_in_groups(jobs)
+            .par_iter_mut()
+            .for_each(|g| add_columns(g))
     });
     for (kept, &n) in kept_inputs.iter_mut().zip(inputs) {
         let i = layout.params[n as usize];
