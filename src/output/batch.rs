@@ -143,7 +143,7 @@ fn fill_column(
 /// Rows filled at a time, every column of a group over them before the
 /// next: the lanes' parameters and end states (a few hundred bytes a
 /// lane) stay in cache while their cells are copied out column by column.
-const FILL_ROWS: usize = 128;
+const FILL_ROWS: usize = 1024;
 
 /// The batch of lanes `first..first + params.len()`: the columns split
 /// among `pool`'s threads, each filling its columns a block of rows at a

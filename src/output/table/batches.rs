@@ -55,14 +55,21 @@ pub fn read_batches(
     Ok(path)
 }
 
+/// The table, opened; an error naming it when it cannot be.
+fn open(path: &Path) -> Result<File> {
+    File::open(path).map_err(|e| Error::input(path, None, None, format!("cannot read it: {e}")))
+}
+
+/// The columns asked for: their place in the table, name and kind.
+type Wanted = [(usize, &'static str, Kind)];
+
 fn read_parquet(
     path: &Path,
-    wanted: &[(usize, &'static str, Kind)],
+    wanted: &Wanted,
     each: &mut impl FnMut(&RecordBatch) -> Result<()>,
 ) -> Result<()> {
     let bad = |m: String| Error::input(path, None, None, m);
-    let f = File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
-    let b = ParquetRecordBatchReaderBuilder::try_new(f)
+    let b = ParquetRecordBatchReaderBuilder::try_new(open(path)?)
         .map_err(|e| bad(format!("not a Parquet file: {e}")))?;
     let descr = b.parquet_schema();
     let table = columns();
@@ -153,14 +160,13 @@ impl Builder {
 
 fn read_csv(
     path: &Path,
-    wanted: &[(usize, &'static str, Kind)],
+    wanted: &Wanted,
     each: &mut impl FnMut(&RecordBatch) -> Result<()>,
 ) -> Result<()> {
     let bad = |m: String| Error::input(path, None, None, m);
-    let f = File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
     let mut rd = csv::ReaderBuilder::new()
         .buffer_capacity(1 << 20)
-        .from_reader(f);
+        .from_reader(open(path)?);
     let head = rd
         .byte_headers()
         .map_err(|e| bad(format!("not a tswm table: {e}")))?;
