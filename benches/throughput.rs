@@ -205,11 +205,12 @@ fn table(c: &mut Criterion) {
             .unwrap();
         let write = || {
             let mut w = LanesWriter::create(dir.path(), format, false).unwrap();
-            let mut cells = Vec::new();
             const CHUNK: usize = 16384;
             for (k, (p, r)) in params.chunks(CHUNK).zip(results.chunks(CHUNK)).enumerate() {
-                w.write_lanes(&writers, (k * CHUNK) as u64, p, r, &mut cells)
-                    .unwrap();
+                // The run's path: the chunk's batch of columns, then the file.
+                let b =
+                    tswm::output::batch::from_lanes((k * CHUNK) as u64, p, r, &writers).unwrap();
+                w.write_batch(&writers, &b).unwrap();
             }
             tswm::output::commit_together(vec![w.into_file().unwrap()], &[]).unwrap();
         };

@@ -12,17 +12,16 @@ use ::parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use ::parquet::arrow::ProjectionMask;
 use arrow_array::builder::{Float64Builder, Int64Builder, StringBuilder};
 use arrow_array::{ArrayRef, RecordBatch};
-use arrow_schema::{Field, Schema};
 
 use super::{columns, Format, Kind};
 use crate::error::{Error, Result};
 use crate::output::batch::data_type;
 
 /// Rows a batch read back.
-const BATCH_ROWS: usize = 1 << 16;
+pub(super) const BATCH_ROWS: usize = 1 << 16;
 
 /// The error for a table whose header is not this version's.
-fn not_ours(path: &Path) -> Error {
+pub(super) fn not_ours(path: &Path) -> Error {
     Error::input(
         path,
         Some("line 1".into()),
@@ -50,18 +49,18 @@ pub fn read_batches(
         .collect();
     match format {
         Format::Parquet => read_parquet(&path, &wanted, &mut each)?,
-        Format::Csv => read_csv(&path, &wanted, &mut each)?,
+        Format::Csv => super::csv_read::read_csv(&path, &wanted, &mut each)?,
     }
     Ok(path)
 }
 
 /// The table, opened; an error naming it when it cannot be.
-fn open(path: &Path) -> Result<File> {
+pub(super) fn open(path: &Path) -> Result<File> {
     File::open(path).map_err(|e| Error::input(path, None, None, format!("cannot read it: {e}")))
 }
 
 /// The columns asked for: their place in the table, name and kind.
-type Wanted = [(usize, &'static str, Kind)];
+pub(super) type Wanted = [(usize, &'static str, Kind)];
 
 fn read_parquet(
     path: &Path,
@@ -114,14 +113,15 @@ fn read_parquet(
 }
 
 /// One asked-for column of a CSV table, filling.
-enum Builder {
+pub(super) enum Builder {
     F(Float64Builder),
     I(Int64Builder),
     S(StringBuilder),
 }
 
 impl Builder {
-    fn of(kind: Kind) -> Builder {
+    /// An empty column of `kind`.
+    pub(super) fn of(kind: Kind) -> Builder {
         match kind {
             Kind::Float => Builder::F(Float64Builder::with_capacity(BATCH_ROWS)),
             Kind::Int => Builder::I(Int64Builder::with_capacity(BATCH_ROWS)),
@@ -130,7 +130,7 @@ impl Builder {
     }
 
     /// Appends cell `t`; the error's words when it is not of the kind.
-    fn push(&mut self, t: &[u8]) -> std::result::Result<(), String> {
+    pub(super) fn push(&mut self, t: &[u8]) -> std::result::Result<(), String> {
         let s = std::str::from_utf8(t).map_err(|_| "is not valid UTF-8 text".to_string())?;
         let shown = || crate::error::shown(s, 40);
         match self {
@@ -149,80 +149,12 @@ impl Builder {
         Ok(())
     }
 
-    fn finish(&mut self) -> ArrayRef {
+    /// The column so far, as an array; the builder starts again empty.
+    pub(super) fn finish(&mut self) -> ArrayRef {
         match self {
             Builder::F(b) => Arc::new(b.finish()),
             Builder::I(b) => Arc::new(b.finish()),
             Builder::S(b) => Arc::new(b.finish()),
         }
     }
-}
-
-fn read_csv(
-    path: &Path,
-    wanted: &Wanted,
-    each: &mut impl FnMut(&RecordBatch) -> Result<()>,
-) -> Result<()> {
-    let bad = |m: String| Error::input(path, None, None, m);
-    let mut rd = csv::ReaderBuilder::new()
-        .buffer_capacity(1 << 20)
-        .from_reader(open(path)?);
-    let head = rd
-        .byte_headers()
-        .map_err(|e| bad(format!("not a tswm table: {e}")))?;
-    let table = columns();
-    if head.len() != table.len() || head.iter().zip(&table).any(|(h, c)| h != c.0.as_bytes()) {
-        return Err(not_ours(path));
-    }
-    let schema = Arc::new(Schema::new(
-        wanted
-            .iter()
-            .map(|(_, n, k)| Field::new(*n, data_type(*k), *k != Kind::Int))
-            .collect::<Vec<_>>(),
-    ));
-    let mut builders: Vec<Builder> = wanted.iter().map(|w| Builder::of(w.2)).collect();
-    let mut rec = csv::ByteRecord::new();
-    let (mut row, mut filled) = (0u64, 0usize);
-    let mut flush = |builders: &mut Vec<Builder>| -> Result<()> {
-        let cols = builders.iter_mut().map(Builder::finish).collect();
-        let b = RecordBatch::try_new(schema.clone(), cols)
-            .map_err(|e| Error::Internal(format!("batch of {}: {e}", path.display())))?;
-        each(&b)
-    };
-    loop {
-        let more = rd.read_byte_record(&mut rec).map_err(|e| {
-            let line = e.position().map(|p| format!("line {}", p.line()));
-            Error::input(path, line, None, format!("not a tswm table: {e}"))
-        })?;
-        if !more {
-            break;
-        }
-        row += 1;
-        let at = || Some(format!("row {row}"));
-        if rec.len() != table.len() {
-            return Err(Error::input(
-                path,
-                at(),
-                Some(""),
-                format!(
-                    "has {} cells, the table's header {}; not a tswm table",
-                    rec.len(),
-                    table.len()
-                ),
-            ));
-        }
-        for ((i, name, _), b) in wanted.iter().zip(builders.iter_mut()) {
-            b.push(&rec[*i])
-                .map_err(|m| Error::input(path, at(), Some(name), m))?;
-        }
-        filled += 1;
-        if filled == BATCH_ROWS {
-            flush(&mut builders)?;
-            filled = 0;
-        }
-    }
-    if filled > 0 {
-        flush(&mut builders)?;
-    }
-    Ok(())
 }

@@ -8,6 +8,7 @@
 //! Parquet file is byte-identical to one written directly.
 
 mod batches;
+mod csv_read;
 mod csv_rows;
 mod parquet;
 mod reader;
