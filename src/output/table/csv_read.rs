@@ -15,7 +15,7 @@ use std::sync::Arc;
 use arrow_array::RecordBatch;
 use arrow_schema::{Field, Schema, SchemaRef};
 
-use super::batches::{not_ours, open, Builder, Wanted, BATCH_ROWS};
+use super::reading::{not_ours, open, Builder, Wanted, BATCH_ROWS};
 use super::{columns, Kind};
 use crate::error::{Error, Result};
 use crate::output::batch::data_type;

@@ -12,6 +12,7 @@ mod csv_read;
 mod csv_rows;
 mod parquet;
 mod reader;
+mod reading;
 
 use std::borrow::Cow;
 use std::path::Path;
