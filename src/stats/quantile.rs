@@ -42,10 +42,11 @@ pub struct Sketch {
     run: Option<Run>,
 }
 
-/// Values of one bucket not yet counted in their map, with the smallest
-/// and largest magnitude among them: the bucket index ⌈ln|x| / ln γ⌉
-/// never falls as |x| grows, so a magnitude between those two is in the
-/// same bucket, found without a logarithm or a map lookup.
+/// Values of one bucket not yet counted in their map, with magnitudes
+/// `lo..=hi` known to be in the bucket (the bucket's span, or those of
+/// its values): the bucket index ⌈ln|x| / ln γ⌉ never falls as |x|
+/// grows, so a magnitude between two of the bucket's is in it, found
+/// without a logarithm or a map lookup.
 #[derive(Clone, Copy, Debug)]
 struct Run {
     pos: bool,
@@ -57,6 +58,55 @@ struct Run {
 
 fn ln_gamma() -> f64 {
     ((1.0 + ALPHA) / (1.0 - ALPHA)).ln()
+}
+
+/// The bucket of a magnitude (at least `TINY`).
+#[inline]
+fn bucket(a: f64) -> i32 {
+    (a.ln() / ln_gamma()).ceil() as i32
+}
+
+/// The smallest and largest f64 in bucket `k`, found from γ^(k-1) and
+/// γ^k by stepping a few units in the last place until [`bucket`] itself
+/// says where the bucket begins and ends; None if that takes more steps
+/// than it should (then only the values seen stand for the bucket).
+fn span(k: i32) -> Option<(f64, f64)> {
+    const STEPS: usize = 64;
+    let g = ln_gamma();
+    let mut lo = (f64::from(k - 1) * g).exp();
+    let mut hi = (f64::from(k) * g).exp();
+    let mut steps = 0;
+    let step = |steps: &mut usize| {
+        *steps += 1;
+        *steps <= STEPS
+    };
+    while bucket(lo) < k {
+        lo = lo.next_up();
+        if !step(&mut steps) {
+            return None;
+        }
+    }
+    while bucket(lo.next_down()) == k {
+        lo = lo.next_down();
+        if !step(&mut steps) {
+            return None;
+        }
+    }
+    while bucket(hi) > k {
+        hi = hi.next_down();
+        if !step(&mut steps) {
+            return None;
+        }
+    }
+    while bucket(hi.next_up()) == k {
+        hi = hi.next_up();
+        if !step(&mut steps) {
+            return None;
+        }
+    }
+    // Magnitudes below TINY count as zero, whatever their bucket.
+    let lo = lo.max(TINY);
+    (bucket(lo) == k && bucket(hi) == k && lo <= hi).then_some((lo, hi))
 }
 
 impl Sketch {
@@ -74,13 +124,14 @@ impl Sketch {
             self.zero += 1;
             return;
         }
-        let k = (a.ln() / ln_gamma()).ceil() as i32;
+        let k = bucket(a);
         let pos = x > 0.0;
         match &mut self.run {
             Some(r) if r.pos == pos && r.k == k => {
+                // A second value in a row in this bucket: more may come
+                // (a sweep's neighbouring lanes); the bucket's whole span.
                 r.count += 1;
-                r.lo = r.lo.min(a);
-                r.hi = r.hi.max(a);
+                (r.lo, r.hi) = span(k).unwrap_or((r.lo.min(a), r.hi.max(a)));
             }
             run => {
                 let new = Run {
@@ -202,6 +253,19 @@ mod tests {
                     naive.quantile(q).to_bits(),
                     "q {q}"
                 );
+            }
+        }
+    }
+
+    /// A bucket's span is exact: its ends are in it, the floats beyond
+    /// them are not.
+    #[test]
+    fn spans_are_exact() {
+        for k in (-27_000..300_000).step_by(997) {
+            if let Some((lo, hi)) = span(k) {
+                assert!(bucket(lo) == k && bucket(hi) == k, "{k}");
+                assert!(lo == TINY || bucket(lo.next_down()) < k, "{k}");
+                assert!(bucket(hi.next_up()) > k, "{k}");
             }
         }
     }
