@@ -307,11 +307,6 @@ impl<'a> Columns<'a> {
         Columns { batch }
     }
 
-    /// Rows.
-    pub fn rows(&self) -> usize {
-        self.batch.num_rows()
-    }
-
     /// The column named `name`, when the batch holds it as one of the
     /// results table's types.
     pub fn get(&self, name: &str) -> Option<Col<'a>> {

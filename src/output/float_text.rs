@@ -100,12 +100,6 @@ fn may_tie(v: f64) -> bool {
         && f64::from(u) * std::f64::consts::LOG10_2 >= f64::from(1 - f) - 1e-6
 }
 
-/// Appends a whole number's text.
-#[inline]
-pub fn push_u64(out: &mut Vec<u8>, v: u64) {
-    out.extend_from_slice(itoa::Buffer::new().format(v).as_bytes());
-}
-
 #[cfg(test)]
 mod tests {
     use super::push_f64;

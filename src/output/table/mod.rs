@@ -1,11 +1,12 @@
 //! The results table on disk, in either format: `lanes.csv` (text, the
 //! default) or `lanes.parquet` (typed columns, docs/model.md section 9 order,
-//! empty cells as nulls). One row is a list of [`Cell`]s, built once
-//! ([`row_cells`]) and written by either writer; either file reads back as
-//! the same text records ([`RowReader`]), the float cells spelled as
-//! `lanes.csv` spells them (the shortest text that reads back to the same
-//! f64), so `merge` and `report` treat both alike and a CSV written from a
-//! Parquet file is byte-identical to one written directly.
+//! empty cells as nulls). A run's rows come as batches of columns
+//! ([`crate::output::batch`]), written by either writer; a table is read
+//! back as batches of the columns a reader asks for ([`read_batches`],
+//! the report), or as the same text records whichever its format
+//! ([`RowReader`], a merge: the float cells spelled as `lanes.csv` spells
+//! them, so a CSV written from a Parquet file is byte-identical to one
+//! written directly).
 
 mod batches;
 mod csv_read;
@@ -14,22 +15,18 @@ mod parquet;
 mod reader;
 mod reading;
 
-use std::borrow::Cow;
 use std::path::Path;
 
 pub use self::batches::read_batches;
 pub use self::csv_rows::CsvBlocks;
 pub use self::parquet::{ParquetLanes, ROW_GROUP};
-use crate::columns::results;
 pub use crate::columns::{Cell, Kind};
 use crate::error::{Error, Result};
-use crate::integrator::LaneResult;
 use crate::output::atomic::AtomicFile;
 use crate::output::batch;
 pub use crate::output::batch::columns;
-use crate::output::csv_lines::{push_f64, CsvLines};
+use crate::output::csv_lines::CsvLines;
 use crate::output::names;
-use crate::params::{Param, Params};
 use arrow_array::RecordBatch;
 pub use reader::RowReader;
 
@@ -79,41 +76,6 @@ impl Format {
     }
 }
 
-/// Lane `lane`'s row, in [`columns`] order, into `out` (cleared first).
-pub fn row_cells(lane: u64, p: &Params, r: &LaneResult, out: &mut Vec<Cell>) {
-    out.clear();
-    for c in Param::COLUMNS {
-        out.push(match c {
-            Param::Motor => Cell::S(Cow::Borrowed(p.motor.name())),
-            Param::Friction => Cell::S(Cow::Borrowed(p.friction.name())),
-            Param::FrictionTable => Cell::S(
-                p.friction_table
-                    .map_or(Cow::Borrowed(""), |t| Cow::Owned(t.as_str().to_string())),
-            ),
-            Param::Num(n) => Cell::F(p.get(n)),
-        });
-    }
-    out.extend(results().iter().map(|c| (c.cell)(lane, r)));
-}
-
-/// A row of `lanes.csv`, without its line end: the cells joined by
-/// commas, floats as their shortest round-trip text, NaN as an empty cell.
-fn push_csv_row(s: &mut String, cells: &[Cell]) {
-    use std::fmt::Write as _;
-    for (i, c) in cells.iter().enumerate() {
-        if i > 0 {
-            s.push(',');
-        }
-        match c {
-            Cell::F(v) => push_f64(s, *v),
-            Cell::I(v) => {
-                let _ = write!(s, "{v}");
-            }
-            Cell::S(t) => s.push_str(t),
-        }
-    }
-}
-
 /// Writes rows to the results table in either format, under a temporary
 /// name; committed with the run's other files.
 pub enum LanesWriter {
@@ -146,24 +108,6 @@ impl LanesWriter {
         })
     }
 
-    /// Appends a row of cells, in [`columns`] order.
-    pub fn write_cells(&mut self, cells: &[Cell]) -> Result<()> {
-        match self {
-            LanesWriter::Csv(w, _) => {
-                push_csv_row(w.line(), cells);
-                w.end_line()
-            }
-            LanesWriter::Parquet(w, rows) => {
-                rows.extend_from_slice(cells);
-                if rows.len() >= CELL_ROWS * cells.len() {
-                    w.write(&batch::from_cells(rows)?, None)?;
-                    rows.clear();
-                }
-                Ok(())
-            }
-        }
-    }
-
     /// Appends the rows of a batch of the run: CSV rows formatted in
     /// parallel on `pool`, blocks of rows at a time, and written in lane
     /// order; Parquet columns encoded in parallel.
@@ -189,7 +133,14 @@ impl LanesWriter {
                 }
                 w.end_line()
             }
-            LanesWriter::Parquet(..) => self.write_cells(cells),
+            LanesWriter::Parquet(w, rows) => {
+                rows.extend_from_slice(cells);
+                if rows.len() >= CELL_ROWS * cells.len() {
+                    w.write(&batch::from_cells(rows)?, None)?;
+                    rows.clear();
+                }
+                Ok(())
+            }
         }
     }
 
