@@ -71,42 +71,29 @@ fn bucket(a: f64) -> i32 {
 /// says where the bucket begins and ends; None if that takes more steps
 /// than it should (then only the values seen stand for the bucket).
 fn span(k: i32) -> Option<(f64, f64)> {
-    const STEPS: usize = 64;
     let g = ln_gamma();
-    let mut lo = (f64::from(k - 1) * g).exp();
-    let mut hi = (f64::from(k) * g).exp();
-    let mut steps = 0;
-    let step = |steps: &mut usize| {
-        *steps += 1;
-        *steps <= STEPS
-    };
-    while bucket(lo) < k {
-        lo = lo.next_up();
-        if !step(&mut steps) {
-            return None;
-        }
-    }
-    while bucket(lo.next_down()) == k {
-        lo = lo.next_down();
-        if !step(&mut steps) {
-            return None;
-        }
-    }
-    while bucket(hi) > k {
-        hi = hi.next_down();
-        if !step(&mut steps) {
-            return None;
-        }
-    }
-    while bucket(hi.next_up()) == k {
-        hi = hi.next_up();
-        if !step(&mut steps) {
-            return None;
-        }
-    }
+    let lo = (f64::from(k - 1) * g).exp();
+    let hi = (f64::from(k) * g).exp();
+    // Into the bucket, then to its edge.
+    let lo = walk(lo, f64::next_up, |x| bucket(x) < k)?;
+    let lo = walk(lo, f64::next_down, |x| bucket(x.next_down()) == k)?;
+    let hi = walk(hi, f64::next_down, |x| bucket(x) > k)?;
+    let hi = walk(hi, f64::next_up, |x| bucket(x.next_up()) == k)?;
     // Magnitudes below TINY count as zero, whatever their bucket.
     let lo = lo.max(TINY);
     (bucket(lo) == k && bucket(hi) == k && lo <= hi).then_some((lo, hi))
+}
+
+/// Steps `x` by `next` while `more(x)`; None after more steps than a few
+/// units in the last place should take.
+fn walk(mut x: f64, next: fn(f64) -> f64, more: impl Fn(f64) -> bool) -> Option<f64> {
+    for _ in 0..64 {
+        if !more(x) {
+            return Some(x);
+        }
+        x = next(x);
+    }
+    None
 }
 
 impl Sketch {

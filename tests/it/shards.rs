@@ -384,19 +384,7 @@ fn pyarrow_null_counts_are_the_csvs_empty_cells() {
          [friction_table.bronze]\nvs = [0.0, 1.0]\nmu = [0.1, 0.05]\n",
     )
     .unwrap();
-    ok(&cpu(&["run", "s.toml", "--no-report", "--out", "c"]), dir);
-    ok(
-        &cpu(&[
-            "run",
-            "s.toml",
-            "--no-report",
-            "--format",
-            "parquet",
-            "--out",
-            "p",
-        ]),
-        dir,
-    );
+    run_both_formats("s.toml", dir);
     let script = r#"
 import csv, sys
 import pyarrow.parquet as pq
@@ -526,19 +514,7 @@ fn pyarrow_reads_every_shipped_sweeps_parquet_as_its_csv() {
     assert!(sweeps.len() >= 8, "{sweeps:?}");
     for s in &sweeps {
         let s = s.display().to_string();
-        ok(&cpu(&["run", &s, "--no-report", "--out", "c"]), dir);
-        ok(
-            &cpu(&[
-                "run",
-                &s,
-                "--no-report",
-                "--format",
-                "parquet",
-                "--out",
-                "p",
-            ]),
-            dir,
-        );
+        run_both_formats(&s, dir);
         let out = std::process::Command::new(&py)
             .arg(&script)
             .arg(dir.join("p/lanes.parquet"))
@@ -552,4 +528,22 @@ fn pyarrow_reads_every_shipped_sweeps_parquet_as_its_csv() {
         );
         assert!(bytes(&dir.join("c/summary.csv")) == bytes(&dir.join("p/summary.csv")));
     }
+}
+
+/// Runs `sweep` in `dir` on the CPU without a report, once to `c`
+/// (`lanes.csv`) and once to `p` (`lanes.parquet`).
+fn run_both_formats(sweep: &str, dir: &Path) {
+    ok(&cpu(&["run", sweep, "--no-report", "--out", "c"]), dir);
+    ok(
+        &cpu(&[
+            "run",
+            sweep,
+            "--no-report",
+            "--format",
+            "parquet",
+            "--out",
+            "p",
+        ]),
+        dir,
+    );
 }
