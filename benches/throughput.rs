@@ -35,7 +35,7 @@ use tswm::integrator::width::{isas, Width, LANES};
 use tswm::integrator::{simulate_batch_at, Settings};
 use tswm::model::Lane;
 use tswm::output::table::{Format, LanesWriter};
-use tswm::params::Params;
+use tswm::params::{ParamColumns, Params};
 
 fn lanes(n: usize) -> Vec<Params> {
     paper_like(n, 1)
@@ -118,7 +118,7 @@ fn cpu_threads(c: &mut Criterion) {
             .unwrap();
         let mut out = Vec::with_capacity(n);
         g.bench_function(name, |b| {
-            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), &lanes, &[], &mut out))
+            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), &lanes.iter().collect(), &[], &mut out))
         });
     }
     g.finish();
@@ -133,7 +133,8 @@ fn kernel(c: &mut Criterion) {
         let params = lanes(n);
         g.throughput(Throughput::Elements(n as u64));
         let mut out = Vec::with_capacity(n);
-        g.bench_with_input(BenchmarkId::new("cpu", n), &params, |b, p| {
+        let cols: ParamColumns = params.iter().collect();
+        g.bench_with_input(BenchmarkId::new("cpu", n), &cols, |b, p| {
             b.iter(|| run_cpu_lanes(&pool, &Settings::default(), p, &[], &mut out))
         });
         if let Some(dev) = &device {
@@ -182,7 +183,7 @@ fn table(c: &mut Criterion) {
     let params = lanes(n);
     let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let mut results = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params, &[], &mut results);
+    run_cpu_lanes(&pool, &Settings::default(), &params.iter().collect(), &[], &mut results);
     let dir = tempfile::tempdir().unwrap();
     let mut g = c.benchmark_group("table");
     g.sample_size(10);
@@ -203,14 +204,18 @@ fn table(c: &mut Criterion) {
             .num_threads(threads)
             .build()
             .unwrap();
-        let write = || {
+        const CHUNK: usize = 16384;
+        let mut chunks: Vec<ParamColumns> =
+            params.chunks(CHUNK).map(|p| p.iter().collect()).collect();
+        let mut write = || {
             let mut w = LanesWriter::create(dir.path(), format, false).unwrap();
-            const CHUNK: usize = 16384;
-            for (k, (p, r)) in params.chunks(CHUNK).zip(results.chunks(CHUNK)).enumerate() {
-                // The run's path: the chunk's batch of columns, then the file.
-                let b =
-                    tswm::output::batch::from_lanes((k * CHUNK) as u64, p, r, &writers).unwrap();
+            let mut builder = tswm::output::batch::Builder::default();
+            for (k, (p, r)) in chunks.iter_mut().zip(results.chunks(CHUNK)).enumerate() {
+                // The run's path: the chunk's batch of columns, then the
+                // file, the batch's buffers kept for the next chunk.
+                let b = builder.build((k * CHUNK) as u64, p, r, &writers).unwrap();
                 w.write_batch(&writers, &b).unwrap();
+                builder.recycle(b, p);
             }
             tswm::output::commit_together(vec![w.into_file().unwrap()], &[]).unwrap();
         };
@@ -222,7 +227,7 @@ fn table(c: &mut Criterion) {
             format.file_name(),
             size as f64 / n as f64
         );
-        g.bench_function(BenchmarkId::new(name, n), |b| b.iter(write));
+        g.bench_function(BenchmarkId::new(name, n), |b| b.iter(&mut write));
     }
     g.finish();
 }
@@ -245,7 +250,7 @@ fn heterogeneous(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new(name, lanes.len()), |b| {
             b.iter(|| {
                 for (k, part) in lanes.chunks(chunk).enumerate() {
-                    be.run_chunk((k * chunk) as u64, part, &[], &mut out)
+                    be.run_chunk((k * chunk) as u64, &part.iter().collect(), &[], &mut out)
                         .unwrap();
                 }
             })

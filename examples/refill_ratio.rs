@@ -37,7 +37,7 @@ fn main() {
     let mut time = |lanes: &[Params], k: usize| {
         let t = Instant::now();
         let part = &lanes[(k * chunk).min(lanes.len())..((k + 1) * chunk).min(lanes.len())];
-        be.run_chunk((k * chunk) as u64, part, &[], &mut out)
+        be.run_chunk((k * chunk) as u64, &part.iter().collect(), &[], &mut out)
             .unwrap();
         t.elapsed().as_secs_f64()
     };

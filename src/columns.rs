@@ -103,8 +103,6 @@ pub struct Column {
     pub meaning: &'static str,
     /// When the cell is empty ("" for never).
     pub empty: &'static str,
-    /// The cells' type.
-    pub kind: Kind,
     /// How `summary.csv` summarises it.
     pub summary: Summary,
     /// How `tswm check` compares it.
@@ -114,8 +112,43 @@ pub struct Column {
     /// One of the integrated results that the f64 path's error estimate
     /// covers and the GPU row check tests (x1, v1, the works, the energies).
     pub integrated: bool,
-    /// Lane `lane`'s cell.
-    pub cell: fn(u64, &LaneResult) -> Cell,
+    /// How a lane's cell is read from its end state (and so the cells'
+    /// type, [`Column::kind`]).
+    pub value: Value,
+}
+
+/// How a lane's cell of a result column is read from its end state, one
+/// function a type: a column is filled by calling it over a chunk's
+/// lanes, with no cell in between.
+#[derive(Clone, Copy, Debug)]
+pub enum Value {
+    /// The lane's index (a count).
+    Lane,
+    /// A float; NaN for an empty cell. The function of one lane, and the
+    /// same over a block of lanes (one call a block, the reading inlined
+    /// in its loop), both from [`float!`].
+    F(fn(&LaneResult) -> f64, fn(&[LaneResult], &mut Vec<f64>)),
+    /// A count, as [`Value::F`] ([`count!`]).
+    I(fn(&LaneResult) -> u64, fn(&[LaneResult], &mut Vec<i64>)),
+    /// A word; "" for an empty cell.
+    W(fn(&LaneResult) -> Cow<'static, str>),
+}
+
+/// A float column's [`Value`] from its reading of one lane.
+macro_rules! float {
+    ($f:expr) => {
+        Value::F($f, |rs, out| out.extend(rs.iter().map($f)))
+    };
+}
+
+/// A count column's [`Value`] from its reading of one lane.
+macro_rules! count {
+    ($f:expr) => {
+        Value::I($f, |rs, out| {
+            let one: fn(&LaneResult) -> u64 = $f;
+            out.extend(rs.iter().map(|r| one(r) as i64))
+        })
+    };
 }
 
 /// The names of the columns that code reads by name (each used as its
@@ -147,8 +180,13 @@ pub const SWITCH_BOUND: f64 = 2e-5;
 pub const VALUE_BOUND: f64 = 5e-5;
 
 /// A number a lane that did not end `ok` does not report (empty cell).
-fn ok(r: &LaneResult, v: f64) -> Cell {
-    Cell::F(if r.status == Status::Ok { v } else { f64::NAN })
+#[inline(always)]
+fn ok(r: &LaneResult, v: f64) -> f64 {
+    if r.status == Status::Ok {
+        v
+    } else {
+        f64::NAN
+    }
 }
 
 const ROW: Column = Column {
@@ -157,12 +195,11 @@ const ROW: Column = Column {
     quantity: "",
     meaning: "",
     empty: "",
-    kind: Kind::Float,
     summary: Summary::Numbers,
     compare: Compare::None,
     plotted: false,
     integrated: false,
-    cell: |_, _| Cell::F(f64::NAN),
+    value: float!(|_| f64::NAN),
 };
 
 const NOT_OK: &str = "the lane's status is not ok";
@@ -229,9 +266,8 @@ pub const RESULTS: &[Column] = &[
         name: LANE,
         quantity: "lane index",
         meaning: "index of the lane in sweep order (0-based): grid point lane / n, sample lane % n",
-        kind: Kind::Int,
         summary: Summary::None,
-        cell: |lane, _| Cell::I(lane),
+        value: Value::Lane,
         ..ROW
     },
     Column {
@@ -239,19 +275,17 @@ pub const RESULTS: &[Column] = &[
         quantity: "lane status",
         meaning: "ok, or why the lane could not be finished: inconsistent (D <= 0: friction far \
                   above the lead angle), nonfinite, max_steps, max_events, step_underflow",
-        kind: Kind::Text,
         summary: Summary::Shares(status_words, Of::All),
         compare: Compare::Exact,
-        cell: |_, r| Cell::S(Cow::Borrowed(r.status.name())),
+        value: Value::W(|r| Cow::Borrowed(r.status.name())),
         ..ROW
     },
     Column {
         name: "switches",
         quantity: "contact switches",
         meaning: "changes of the contact side a-a/b-b (resuming on the same side after a stop is none)",
-        kind: Kind::Int,
         compare: Compare::Exact,
-        cell: |_, r| Cell::I(r.switches as u64),
+        value: count!(|r| u64::from(r.switches)),
         ..ROW
     },
     Column {
@@ -261,25 +295,23 @@ pub const RESULTS: &[Column] = &[
         meaning: "time of the first change of contact side",
         empty: "the lane never switches",
         compare: Compare::Seconds(SWITCH_BOUND),
-        cell: |_, r| Cell::F(r.t_first_switch),
+        value: float!(|r| r.t_first_switch),
         ..ROW
     },
     Column {
         name: "reversals",
         quantity: "direction reversals",
         meaning: "changes of the direction of motion",
-        kind: Kind::Int,
         compare: Compare::Exact,
-        cell: |_, r| Cell::I(r.reversals as u64),
+        value: count!(|r| u64::from(r.reversals)),
         ..ROW
     },
     Column {
         name: "sticks",
         quantity: "stick phases",
         meaning: "phases at rest held by static friction (one from t = 0 included)",
-        kind: Kind::Int,
         compare: Compare::Exact,
-        cell: |_, r| Cell::I(r.sticks as u64),
+        value: count!(|r| u64::from(r.sticks)),
         ..ROW
     },
     Column {
@@ -287,10 +319,9 @@ pub const RESULTS: &[Column] = &[
         quantity: "final contact",
         meaning: "contact at the end: aa (worm pushes wheel), bb (wheel pushes worm), stick (at rest, \
                   stuck by static friction: held if the motor is cut, stalled if it runs)",
-        kind: Kind::Text,
         summary: Summary::Shares(contact_words, Of::Ok),
         compare: Compare::Exact,
-        cell: |_, r| Cell::S(Cow::Borrowed(r.contact_end.name())),
+        value: Value::W(|r| Cow::Borrowed(r.contact_end.name())),
         ..ROW
     },
     Column {
@@ -298,7 +329,7 @@ pub const RESULTS: &[Column] = &[
         unit: "m",
         quantity: "final position x1",
         meaning: "position of body 1 (the worm's pitch circle) at the end",
-        cell: |_, r| ok(r, r.x1_end),
+        value: float!(|r| ok(r, r.x1_end)),
         ..INTEGRATED
     },
     Column {
@@ -306,7 +337,7 @@ pub const RESULTS: &[Column] = &[
         unit: "m/s",
         quantity: "final speed v1",
         meaning: "speed of body 1 at the end",
-        cell: |_, r| ok(r, r.v1_end),
+        value: float!(|r| ok(r, r.v1_end)),
         ..INTEGRATED
     },
     Column {
@@ -314,7 +345,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "motor work",
         meaning: "work of the motor force, the integral of F1 v1",
-        cell: |_, r| ok(r, r.w_motor),
+        value: float!(|r| ok(r, r.w_motor)),
         ..INTEGRATED
     },
     Column {
@@ -322,7 +353,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "load work",
         meaning: "work of the load, the integral of F2 v2 (negative while lifting)",
-        cell: |_, r| ok(r, r.w_load),
+        value: float!(|r| ok(r, r.w_load)),
         ..INTEGRATED
     },
     Column {
@@ -330,7 +361,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "friction heat",
         meaning: "heat in the mesh, the integral of S1 v1 + S2 v2 (>= 0)",
-        cell: |_, r| ok(r, r.w_friction),
+        value: float!(|r| ok(r, r.w_friction)),
         ..INTEGRATED
     },
     Column {
@@ -338,15 +369,14 @@ pub const RESULTS: &[Column] = &[
         quantity: "efficiency at the end",
         meaning: "instantaneous mesh efficiency in the final mode (direct or inverse flow)",
         empty: "the lane is at rest at the end, or its status is not ok",
-        cell: |_, r| ok(r, r.eta_end),
+        value: float!(|r| ok(r, r.eta_end)),
         ..ROW
     },
     Column {
         name: "steps",
         quantity: "integration steps",
         meaning: "accepted integration steps",
-        kind: Kind::Int,
-        cell: |_, r| Cell::I(r.steps as u64),
+        value: count!(|r| u64::from(r.steps)),
         ..ROW
     },
     Column {
@@ -354,7 +384,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "energy the worm side put into the mesh",
         meaning: "energy the worm side put into the mesh, the integral of max(p1, 0) with p1 = S1 v1",
-        cell: |_, r| ok(r, r.w1_in),
+        value: float!(|r| ok(r, r.w1_in)),
         ..INTEGRATED
     },
     Column {
@@ -362,7 +392,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "energy the mesh gave the worm side",
         meaning: "energy the mesh gave back to the worm side, the integral of max(-p1, 0)",
-        cell: |_, r| ok(r, r.w1_out),
+        value: float!(|r| ok(r, r.w1_out)),
         ..INTEGRATED
     },
     Column {
@@ -370,7 +400,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "energy the wheel side put into the mesh",
         meaning: "energy the wheel side put into the mesh, the integral of max(p2, 0) with p2 = S2 v2",
-        cell: |_, r| ok(r, r.w2_in),
+        value: float!(|r| ok(r, r.w2_in)),
         ..INTEGRATED
     },
     Column {
@@ -378,7 +408,7 @@ pub const RESULTS: &[Column] = &[
         unit: "J",
         quantity: "energy the mesh gave the wheel side",
         meaning: "energy the mesh gave the wheel side, the integral of max(-p2, 0)",
-        cell: |_, r| ok(r, r.w2_out),
+        value: float!(|r| ok(r, r.w2_out)),
         ..INTEGRATED
     },
     Column {
@@ -388,7 +418,7 @@ pub const RESULTS: &[Column] = &[
                   reached the wheel side, over the whole run",
         empty: "the worm side put (almost) no energy into the mesh (w1_in <= 1e-6 of w1_in + w2_in), \
                 or the status is not ok",
-        cell: |_, r| ok(r, r.eta_direct),
+        value: float!(|r| ok(r, r.eta_direct)),
         ..ROW
     },
     Column {
@@ -399,7 +429,7 @@ pub const RESULTS: &[Column] = &[
                   drive braking itself)",
         empty: "the wheel side put (almost) no energy into the mesh (w2_in <= 1e-6 of w1_in + w2_in), \
                 or the status is not ok",
-        cell: |_, r| ok(r, r.eta_inverse),
+        value: float!(|r| ok(r, r.eta_inverse)),
         ..ROW
     },
     Column {
@@ -409,7 +439,7 @@ pub const RESULTS: &[Column] = &[
         meaning: "tan(gamma) / tan(gamma + rho): steady (running) direct efficiency at the final \
                   sliding speed (at rest: the start-up value, as eta_direct_start)",
         empty: NOT_OK,
-        cell: |_, r| ok(r, r.eta_direct_ss),
+        value: float!(|r| ok(r, r.eta_direct_ss)),
         ..ROW
     },
     Column {
@@ -420,7 +450,7 @@ pub const RESULTS: &[Column] = &[
                   sliding speed; <= 0 means the wheel cannot drive the worm at that speed \
                   (self-locking)",
         empty: NOT_OK,
-        cell: |_, r| ok(r, r.eta_inverse_ss),
+        value: float!(|r| ok(r, r.eta_inverse_ss)),
         ..ROW
     },
     Column {
@@ -432,7 +462,7 @@ pub const RESULTS: &[Column] = &[
                   > 0 means the drive holds its load at rest with the motor off (statically \
                   self-locking)",
         empty: NOT_OK,
-        cell: |_, r| ok(r, r.lock_margin_deg),
+        value: float!(|r| ok(r, r.lock_margin_deg)),
         ..ROW
     },
     Column {
@@ -442,7 +472,7 @@ pub const RESULTS: &[Column] = &[
                   static friction), as catalogues list it beside the running efficiency",
         empty: NOT_OK,
         compare: Compare::Relative(VALUE_BOUND),
-        cell: |_, r| ok(r, r.eta_direct_start),
+        value: float!(|r| ok(r, r.eta_direct_start)),
         ..ROW
     },
     Column {
@@ -452,7 +482,7 @@ pub const RESULTS: &[Column] = &[
                   exactly when lock_margin_deg >= 0 (statically self-locking)",
         empty: NOT_OK,
         compare: Compare::Relative(VALUE_BOUND),
-        cell: |_, r| ok(r, r.eta_inverse_start),
+        value: float!(|r| ok(r, r.eta_inverse_start)),
         ..ROW
     },
     Column {
@@ -462,10 +492,9 @@ pub const RESULTS: &[Column] = &[
                   (sliding and not slowing down) or coasting (sliding and slowing down: not decided; \
                   set t_max)",
         empty: "the motor is not cut before t_end, or the status is not ok",
-        kind: Kind::Text,
         summary: Summary::Shares(hold_words, Of::Given),
         compare: Compare::Exact,
-        cell: |_, r| Cell::S(Cow::Borrowed(r.hold.map_or("", Hold::name))),
+        value: Value::W(|r| Cow::Borrowed(r.hold.map_or("", Hold::name))),
         ..ROW
     },
     Column {
@@ -476,10 +505,9 @@ pub const RESULTS: &[Column] = &[
                   back_driven (sliding against the motor: the load drives the worm backwards)",
         empty: "the motor is cut before t_end (see hold), a constant motor has f1 = 0, or the \
                 status is not ok",
-        kind: Kind::Text,
         summary: Summary::Shares(drive_words, Of::Given),
         compare: Compare::Exact,
-        cell: |_, r| Cell::S(Cow::Borrowed(r.drive.map_or("", Drive::name))),
+        value: Value::W(|r| Cow::Borrowed(r.drive.map_or("", Drive::name))),
         ..ROW
     },
     Column {
@@ -491,7 +519,7 @@ pub const RESULTS: &[Column] = &[
                   integral is taken here",
         empty: NOT_OK,
         compare: Compare::Relative(VALUE_BOUND),
-        cell: |_, r| ok(r, r.t_stop),
+        value: float!(|r| ok(r, r.t_stop)),
         ..ROW
     },
     Column {
@@ -501,7 +529,7 @@ pub const RESULTS: &[Column] = &[
         meaning: "worm shaft speed where the lane stopped, v1_end / R1 (a lane given in gear terms)",
         empty: "the lane has no geometry in gear terms, or its status is not ok",
         compare: Compare::Relative(VALUE_BOUND),
-        cell: |_, r| ok(r, r.n1_end),
+        value: float!(|r| ok(r, r.n1_end)),
         ..ROW
     },
     Column {
@@ -512,7 +540,7 @@ pub const RESULTS: &[Column] = &[
                   gear terms)",
         empty: "the lane has no geometry in gear terms, or its status is not ok",
         compare: Compare::Relative(VALUE_BOUND),
-        cell: |_, r| ok(r, r.n2_end),
+        value: float!(|r| ok(r, r.n2_end)),
         ..ROW
     },
     Column {
@@ -520,15 +548,12 @@ pub const RESULTS: &[Column] = &[
         quantity: "row path",
         meaning: "where the row came from: cpu (f64 path), cpu:refined (run again at a tenth of the \
                   tolerance), gpu (f32, checked and trusted), cpu:REASON (a GPU row recomputed in f64)",
-        kind: Kind::Text,
         summary: Summary::None,
-        cell: |_, r| {
-            Cell::S(match r.path {
-                RowPath::Cpu => Cow::Borrowed("cpu"),
-                RowPath::Gpu => Cow::Borrowed("gpu"),
-                p => Cow::Owned(p.name()),
-            })
-        },
+        value: Value::W(|r| match r.path {
+            RowPath::Cpu => Cow::Borrowed("cpu"),
+            RowPath::Gpu => Cow::Borrowed("gpu"),
+            p => Cow::Owned(p.name()),
+        }),
         ..ROW
     },
 ];
@@ -589,6 +614,25 @@ pub fn docs_table() -> String {
 }
 
 impl Column {
+    /// The cells' type.
+    pub fn kind(&self) -> Kind {
+        match self.value {
+            Value::F(..) => Kind::Float,
+            Value::Lane | Value::I(..) => Kind::Int,
+            Value::W(_) => Kind::Text,
+        }
+    }
+
+    /// Lane `lane`'s cell, its end state `r`.
+    pub fn cell(&self, lane: u64, r: &LaneResult) -> Cell {
+        match self.value {
+            Value::Lane => Cell::I(lane),
+            Value::F(f, _) => Cell::F(f(r)),
+            Value::I(f, _) => Cell::I(f(r)),
+            Value::W(f) => Cell::S(f(r)),
+        }
+    }
+
     /// The column's axis label.
     pub fn label(&self) -> String {
         label(self.name, self.quantity, self.unit)
@@ -629,7 +673,7 @@ mod tests {
         let marked: Vec<f64> = results()
             .iter()
             .filter(|c| c.integrated)
-            .map(|c| (c.cell)(0, &r).number())
+            .map(|c| c.cell(0, &r).number())
             .collect();
         assert_eq!(marked, r.integrated());
         let names: Vec<&str> = results()

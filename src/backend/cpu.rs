@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::integrator::width::{width, Width};
 use crate::integrator::{first_pass, own_width, refine_pass, LaneResult, Settings};
 use crate::model::{FrictionTable, Lane};
-use crate::params::Params;
+use crate::params::ParamColumns;
 
 /// The f64 reference path: rayon over blocks of lanes, each block
 /// interleaved on its thread.
@@ -70,7 +70,7 @@ fn block_lanes(n: usize, threads: usize) -> usize {
 pub fn run_cpu_lanes(
     pool: &rayon::ThreadPool,
     settings: &Settings,
-    lanes: &[Params],
+    lanes: &ParamColumns,
     tables: &[FrictionTable],
     out: &mut Vec<LaneResult>,
 ) {
@@ -80,12 +80,13 @@ pub fn run_cpu_lanes(
     let threads = pool.current_num_threads();
     let block = block_lanes(lanes.len(), threads);
     let redo: Vec<usize> = pool.install(|| {
-        lanes
-            .par_chunks(block)
-            .zip(out.par_chunks_mut(block))
+        out.par_chunks_mut(block)
             .enumerate()
-            .flat_map_iter(|(b, (p, o))| {
-                let l: Vec<Lane> = p.iter().map(|s| Lane::new(s, tables)).collect();
+            .flat_map_iter(|(b, o)| {
+                let at = b * block;
+                let l: Vec<Lane> = (at..at + o.len())
+                    .map(|i| Lane::new(&lanes.row(i), tables))
+                    .collect();
                 let redo = first_pass(w, &l, tables, settings, o);
                 redo.into_iter().map(move |i| b * block + i)
             })
@@ -103,7 +104,7 @@ pub fn run_cpu_lanes(
             .for_each(|(which, r)| {
                 let l: Vec<Lane> = which
                     .iter()
-                    .map(|&i| Lane::new(&lanes[i], tables))
+                    .map(|&i| Lane::new(&lanes.row(i), tables))
                     .collect();
                 refine_pass(w, &l, tables, settings, r);
             })
@@ -127,7 +128,7 @@ impl Backend for CpuBackend {
     fn run_chunk(
         &mut self,
         _first: u64,
-        lanes: &[Params],
+        lanes: &ParamColumns,
         tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {

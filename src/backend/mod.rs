@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::input::testmodels::paper_like;
 use crate::integrator::{LaneResult, Settings};
 use crate::model::FrictionTable;
-use crate::params::Params;
+use crate::params::ParamColumns;
 use gpu::{Gpu, GpuBackend};
 
 /// Something that turns lane parameters into results.
@@ -26,7 +26,7 @@ pub trait Backend {
     fn run_chunk(
         &mut self,
         first: u64,
-        lanes: &[Params],
+        lanes: &ParamColumns,
         tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()>;
@@ -95,7 +95,7 @@ pub fn open(
 /// Runs the trial lanes on both and keeps the faster, named with the
 /// trial's figures.
 fn trial(mut cpu: Box<dyn Backend>, mut soft: Box<dyn Backend>) -> Result<Box<dyn Backend>> {
-    let lanes: Vec<_> = paper_like(AUTO_TRIAL_LANES, 7)
+    let lanes: ParamColumns = paper_like(AUTO_TRIAL_LANES, 7)
         .iter()
         .map(|s| s.resolve(&[]).expect("paper-like lanes are valid"))
         .collect();
@@ -141,7 +141,7 @@ impl Backend for Auto {
     fn run_chunk(
         &mut self,
         first: u64,
-        lanes: &[Params],
+        lanes: &ParamColumns,
         tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {

@@ -13,7 +13,7 @@ impl run::Sink for Discard {
     fn chunk(
         &mut self,
         _first: u64,
-        params: &[crate::params::Params],
+        params: &mut crate::params::ParamColumns,
         _results: &[crate::integrator::LaneResult],
     ) -> Result<()> {
         self.0 += params.len() as u64;

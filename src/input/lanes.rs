@@ -12,7 +12,7 @@ pub use super::reader::LaneReader;
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
 use crate::model::FrictionTables;
-use crate::params::{Params, Spec};
+use crate::params::{ParamColumns, Params, Spec};
 
 /// The lanes of a run.
 pub enum Source {
@@ -202,7 +202,8 @@ impl Source {
                 // Streamed a block at a time: memory does not grow with
                 // the table.
                 let mut r = self.reader_range(0, last + 1)?;
-                let (mut buf, mut first, mut want) = (Vec::new(), 0u64, idx.iter().peekable());
+                let (mut buf, mut first, mut want) =
+                    (ParamColumns::default(), 0u64, idx.iter().peekable());
                 loop {
                     buf.clear();
                     r.fill(4096, &mut buf)?;
@@ -211,7 +212,7 @@ impl Source {
                     }
                     let end = first + buf.len() as u64;
                     while let Some(&&i) = want.peek().filter(|&&&i| i < end) {
-                        out.push(buf[(i - first) as usize]);
+                        out.push(buf.params((i - first) as usize));
                         want.next();
                     }
                     first = end;
@@ -269,7 +270,7 @@ impl Source {
             .map(|b| {
                 let (a, z) = (start + b * BLOCK, (start + (b + 1) * BLOCK).min(end));
                 let mut r = self.reader_range(a, z)?;
-                let mut buf = Vec::with_capacity(4096);
+                let mut buf = ParamColumns::with_capacity(4096);
                 loop {
                     buf.clear();
                     r.fill(4096, &mut buf)?;
@@ -291,7 +292,7 @@ impl Source {
             check_quotes(path)?;
         }
         let mut r = self.reader()?;
-        let mut buf = Vec::with_capacity(4096);
+        let mut buf = ParamColumns::with_capacity(4096);
         let mut n = 0;
         loop {
             buf.clear();
@@ -330,6 +331,7 @@ impl Source {
                 next: start,
                 total: end.min(sweep.lane_count()),
                 u: sweep.uniforms(),
+                spec: Box::default(),
             }),
             Source::Table {
                 path, base, tables, ..

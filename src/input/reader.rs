@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::input::sampling::Uniforms;
 use crate::input::sweep::Sweep;
-use crate::params::{Param, Params, Spec, TableName};
+use crate::params::{Param, ParamColumns, Spec, TableName};
 
 /// Reads lanes in order, validated.
 pub enum LaneReader<'a> {
@@ -24,6 +24,8 @@ pub enum LaneReader<'a> {
         total: u64,
         /// The study's uniforms.
         u: Uniforms,
+        /// The lane being generated (kept: no allocation a lane).
+        spec: Box<Spec>,
     },
     /// From a lane table.
     Table {
@@ -43,6 +45,8 @@ pub enum LaneReader<'a> {
         row: u64,
         /// One past the last row to read.
         end: u64,
+        /// The row being read (kept: no allocation a row).
+        spec: Box<Spec>,
     },
 }
 
@@ -111,11 +115,12 @@ impl<'a> LaneReader<'a> {
             rec,
             row: start,
             end,
+            spec: Box::default(),
         })
     }
 
     /// Appends up to `max` lanes to `out` (none at the end).
-    pub fn fill(&mut self, max: usize, out: &mut Vec<Params>) -> Result<()> {
+    pub fn fill(&mut self, max: usize, out: &mut ParamColumns) -> Result<()> {
         match self {
             LaneReader::Sweep {
                 sweep,
@@ -123,10 +128,11 @@ impl<'a> LaneReader<'a> {
                 next,
                 total,
                 u,
+                spec,
             } => {
                 while out.len() < max && *next < *total {
-                    let spec = sweep.lane_spec(*next, u);
-                    let p = spec.resolve(&sweep.tables.names).map_err(|e| {
+                    sweep.lane_spec_into(*next, u, spec);
+                    spec.resolve_into(&sweep.tables.names, out).map_err(|e| {
                         Error::input(
                             file,
                             Some(sweep.lane_at(*next, e.param)),
@@ -134,7 +140,6 @@ impl<'a> LaneReader<'a> {
                             e.msg,
                         )
                     })?;
-                    out.push(p);
                     *next += 1;
                 }
             }
@@ -147,6 +152,7 @@ impl<'a> LaneReader<'a> {
                 rec,
                 row,
                 end,
+                spec,
             } => {
                 while out.len() < max && *row < *end {
                     let more = rd
@@ -158,15 +164,13 @@ impl<'a> LaneReader<'a> {
                     *row += 1;
                     let line = rec.position().map_or(0, |p| p.line());
                     let at = || Some(format!("row {} (line {line})", *row));
-                    let mut spec = (*base).clone();
+                    Spec::clone_from(spec, base);
                     for (p, cell) in cols.iter().zip(rec.iter()) {
                         spec.set_text(*p, cell)
                             .map_err(|m| Error::input(path, at(), Some(p.name()), m))?;
                     }
-                    let p = spec
-                        .resolve(tables)
+                    spec.resolve_into(tables, out)
                         .map_err(|e| Error::input(path, at(), Some(e.param), e.msg))?;
-                    out.push(p);
                 }
             }
         }

@@ -9,7 +9,7 @@
 pub mod friction;
 pub mod vmath;
 
-use crate::params::{FrictionKind, MotorKind, Num, Params};
+use crate::params::{FrictionKind, LaneParams, MotorKind, Num};
 pub use friction::{
     agma_mu, agma_upper, mu_at, mu_sliding, tan_small, FrictionTable, FrictionTables,
     AGMA_JUMP_M_S, MAX_TABLES, MAX_TABLE_POINTS,
@@ -100,14 +100,15 @@ impl Lane {
     }
 
     /// Derives a lane's constants from validated parameters.
-    pub fn new(p: &Params, tables: &[FrictionTable]) -> Lane {
+    pub fn new(p: &impl LaneParams, tables: &[FrictionTable]) -> Lane {
         let g = p.get(Num::GammaDeg).to_radians();
         let inv_cos_an = match p.get(Num::AlphaNDeg) {
             a if a.is_nan() => 1.0,
             a => 1.0 / a.to_radians().cos(),
         };
+        let (r1, r2) = p.radii();
         let nan_to = |v: f64, d: f64| if v.is_nan() { d } else { v };
-        let (motor, v_sync, sigma_k, f_crit, f1) = match p.motor {
+        let (motor, v_sync, sigma_k, f_crit, f1) = match p.motor() {
             MotorKind::Kloss => {
                 let vs = p.get(Num::VSync);
                 (
@@ -134,13 +135,13 @@ impl Lane {
             f_crit,
             f1,
             motor_off: nan_to(p.get(Num::MotorOff), f64::INFINITY),
-            friction: match p.friction {
+            friction: match p.friction() {
                 FrictionKind::Paper => FRICTION_PAPER,
                 FrictionKind::Coulomb => FRICTION_COULOMB,
                 FrictionKind::Table => FRICTION_TABLE,
                 FrictionKind::Agma => FRICTION_AGMA,
             },
-            table: p.table as u32,
+            table: p.table() as u32,
             inv_cos_an,
             fric_a: nan_to(p.get(Num::FricA), 0.0),
             fric_b: nan_to(p.get(Num::FricB), 1.0),
@@ -151,10 +152,10 @@ impl Lane {
             v1_0: p.get(Num::V10),
             t_end: p.get(Num::TEnd),
             t_max: nan_to(p.get(Num::TMax), p.get(Num::TEnd)),
-            r1: p.r1,
-            r2: p.r2,
+            r1,
+            r2,
         };
-        lane.mu_s = match p.friction {
+        lane.mu_s = match p.friction() {
             FrictionKind::Coulomb => p.get(Num::MuStatic) * inv_cos_an,
             FrictionKind::Agma => friction::AGMA_MU_STATIC * inv_cos_an,
             _ => mu_sliding(&lane, tables, 0.0, false),

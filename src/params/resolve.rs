@@ -3,6 +3,7 @@
 //! converted by `gear.rs` first).
 
 use super::check::check;
+use super::validated::{ParamColumns, Params};
 pub use super::check::ParamError;
 use super::gear;
 use super::table::{FrictionKind, MotorKind, Num, Param, N_NUM};
@@ -29,36 +30,6 @@ impl Default for Spec {
             friction: None,
             friction_table: None,
         }
-    }
-}
-
-/// A complete, validated parameter set. Numeric values that the chosen laws
-/// do not use are NaN (written as empty cells).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Params {
-    /// Numeric values, indexed by [`Num`].
-    pub num: [f64; N_NUM],
-    /// Motor law.
-    pub motor: MotorKind,
-    /// Friction law.
-    pub friction: FrictionKind,
-    /// The friction table a `friction = table` lane names, as given.
-    pub friction_table: Option<TableName>,
-    /// Index of the lane's friction table among the run's (0 unless
-    /// `friction = table`).
-    pub table: usize,
-    /// Pitch radii R1, R2 of a lane given in gear terms, m; NaN without
-    /// a geometry.
-    pub r1: f64,
-    /// See [`Params::r1`].
-    pub r2: f64,
-}
-
-impl Params {
-    /// A numeric value (NaN when not applicable).
-    #[inline]
-    pub fn get(&self, p: Num) -> f64 {
-        self.num[p as usize]
     }
 }
 
@@ -143,6 +114,27 @@ impl Spec {
         Ok(p)
     }
 
+    /// [`Spec::resolve`], appending the lane to `out` (nothing on an
+    /// error): a lane in wedge terms goes from its checked values straight
+    /// into the columns, with no parameter set in between.
+    pub fn resolve_into(
+        &self,
+        tables: &[TableName],
+        out: &mut ParamColumns,
+    ) -> Result<(), ParamError> {
+        let motor = self.motor.unwrap_or(MotorKind::Kloss);
+        let friction = self.friction.unwrap_or(FrictionKind::Paper);
+        if gear::any(&self.num) {
+            out.push(&self.resolve(tables)?);
+            return Ok(());
+        }
+        let mut num = [f64::NAN; N_NUM];
+        self.check_wedge(motor, friction, &mut num)?;
+        let table = self.table_index(friction, tables)?;
+        out.push_checked(&num, motor, friction, self.friction_table, table);
+        Ok(())
+    }
+
     /// [`Spec::resolve`] once every value is in wedge terms.
     fn resolve_wedge(
         &self,
@@ -151,9 +143,7 @@ impl Spec {
         tables: &[TableName],
     ) -> Result<Params, ParamError> {
         let mut num = [f64::NAN; N_NUM];
-        for p in Num::ALL {
-            num[p as usize] = check(p, self.num[p as usize], motor, friction, &num)?;
-        }
+        self.check_wedge(motor, friction, &mut num)?;
         let table = self.table_index(friction, tables)?;
         Ok(Params {
             num,
@@ -164,6 +154,20 @@ impl Spec {
             r1: f64::NAN,
             r2: f64::NAN,
         })
+    }
+
+    /// Every numeric value checked, in table order, into `num`.
+    #[inline]
+    fn check_wedge(
+        &self,
+        motor: MotorKind,
+        friction: FrictionKind,
+        num: &mut [f64; N_NUM],
+    ) -> Result<(), ParamError> {
+        for p in Num::ALL {
+            num[p as usize] = check(p, self.num[p as usize], motor, friction, num)?;
+        }
+        Ok(())
     }
 
     /// The lane's friction table among the run's: the one it names, or

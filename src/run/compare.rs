@@ -23,7 +23,7 @@ use crate::error::Result;
 use crate::input::lanes::Source;
 use crate::integrator::LaneResult;
 use crate::model::FrictionTable;
-use crate::params::Params;
+use crate::params::ParamColumns;
 use crate::run::{pipeline, Sink};
 
 pub use crate::columns::{SWITCH_BOUND, VALUE_BOUND};
@@ -51,7 +51,7 @@ fn discrete(r: &LaneResult) -> String {
     results()
         .iter()
         .filter(|c| c.compare == Compare::Exact)
-        .map(|c| match (c.cell)(0, r) {
+        .map(|c| match c.cell(0, r) {
             crate::columns::Cell::S(w) => w.into_owned(),
             x => format!("{}", x.number()),
         })
@@ -143,7 +143,7 @@ impl Report {
             }
             let mut reasons = Vec::new();
             for (k, col) in compared().into_iter().enumerate() {
-                let (a, b) = ((col.cell)(lane, g).number(), (col.cell)(lane, c).number());
+                let (a, b) = (col.cell(lane, g).number(), col.cell(lane, c).number());
                 let d = match col.compare {
                     // Both have none (no switch): nothing to compare.
                     Compare::Seconds(_) if a.is_nan() && b.is_nan() => 0.0,
@@ -254,7 +254,12 @@ struct Comparison {
 
 impl Sink for Comparison {
     type Output = Report;
-    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+    fn chunk(
+        &mut self,
+        first: u64,
+        params: &mut ParamColumns,
+        results: &[LaneResult],
+    ) -> Result<()> {
         self.cpu
             .run_chunk(first, params, &self.tables, &mut self.cpu_results)?;
         self.report

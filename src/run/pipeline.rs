@@ -12,20 +12,23 @@ use crate::backend::Backend;
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
 use crate::integrator::LaneResult;
-use crate::params::Params;
+use crate::params::ParamColumns;
 
 /// What consumes each chunk's results, in lane order.
 pub trait Sink: Send {
     /// What the sink gives back when every chunk is in.
     type Output: Send;
-    /// Lanes `first..first + params.len()` with their results.
-    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()>;
+    /// Lanes `first..first + params.len()` with their results; `params`
+    /// may be lent out meanwhile (to a batch of the results table) but
+    /// holds the same lanes when the call returns.
+    fn chunk(&mut self, first: u64, params: &mut ParamColumns, results: &[LaneResult])
+        -> Result<()>;
     /// Called after the last chunk.
     fn finish(self) -> Result<Self::Output>;
 }
 
 /// A chunk on its way: its first lane, its lanes and their results.
-type Batch = (u64, Vec<Params>, Vec<LaneResult>);
+type Batch = (u64, ParamColumns, Vec<LaneResult>);
 
 /// Runs every lane of `source` through `backend` into `sink`, chunk by
 /// chunk, in lane order.
@@ -74,7 +77,13 @@ fn produce(
     loop {
         let (_, mut params, results) = recycled
             .try_recv()
-            .unwrap_or_else(|_| (0, Vec::with_capacity(chunk), Vec::with_capacity(chunk)));
+            .unwrap_or_else(|_| {
+                (
+                    0,
+                    ParamColumns::with_capacity(chunk),
+                    Vec::with_capacity(chunk),
+                )
+            });
         params.clear();
         if let Err(e) = reader.fill(chunk, &mut params) {
             let _ = to_backend.send(Err(e));
@@ -97,9 +106,9 @@ fn consume<S: Sink>(
 ) -> Result<(S::Output, f64)> {
     use std::time::Instant;
     let mut busy = 0.0;
-    for (first, params, results) in from_backend {
+    for (first, mut params, results) in from_backend {
         let t = Instant::now();
-        sink.chunk(first, &params, &results)?;
+        sink.chunk(first, &mut params, &results)?;
         busy += t.elapsed().as_secs_f64();
         let _ = recycle.send((0, params, results));
     }

@@ -8,7 +8,7 @@ use super::pipeline::Busy;
 use std::path::Path;
 
 use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, Status};
-use crate::params::{Num, Params};
+use crate::params::{Num, ParamColumns};
 
 /// Counts for the end-of-run summary.
 #[derive(Debug, Default, Clone)]
@@ -38,7 +38,16 @@ pub struct Summary {
 }
 
 impl Summary {
-    pub(super) fn add(&mut self, p: &Params, r: &LaneResult) {
+    /// Counts a chunk's lanes.
+    pub(super) fn add_chunk(&mut self, params: &ParamColumns, results: &[LaneResult]) {
+        let (t_end, t_max) = (params.num(Num::TEnd), params.num(Num::TMax));
+        for (i, r) in results.iter().enumerate() {
+            self.add(t_end[i], t_max[i], r);
+        }
+    }
+
+    /// Counts a lane with its `t_end` and `t_max`.
+    fn add(&mut self, t_end: f64, t_max: f64, r: &LaneResult) {
         self.lanes += 1;
         *self.by_status.entry(r.status).or_default() += 1;
         if r.status == Status::Ok {
@@ -47,8 +56,8 @@ impl Summary {
         if let Some(h) = r.hold {
             *self.by_hold.entry(h).or_default() += 1;
             if h == Hold::Coasting {
-                self.coasting_t_end = self.coasting_t_end.max(p.get(Num::TEnd));
-                self.coasting_with_t_max |= !p.get(Num::TMax).is_nan();
+                self.coasting_t_end = self.coasting_t_end.max(t_end);
+                self.coasting_with_t_max |= !t_max.is_nan();
             }
         }
         if let Some(d) = r.drive {

@@ -16,12 +16,12 @@ use crate::integrator::batch::settings_for;
 use crate::integrator::trace::simulate_traced;
 use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
-use crate::output::batch::typed;
+use crate::output::batch::{typed, Builder};
 use crate::output::names::{SUMMARY, TRACES};
 use crate::output::table::{Format, LanesWriter};
 use crate::output::traces::TracesCsv;
 use crate::output::AtomicFile;
-use crate::params::Params;
+use crate::params::ParamColumns;
 use crate::report::Scan;
 use crate::stats::{Grouping, Stats};
 
@@ -34,6 +34,8 @@ struct TableSink {
     /// Formats the table's rows in parallel.
     pool: rayon::ThreadPool,
     summary: Summary,
+    /// Builds each chunk's batch, its buffers kept from chunk to chunk.
+    builder: Builder,
     stats: Option<Stats>,
     traces: Option<Tracer>,
     /// The report's aggregates, and the table's path for its errors.
@@ -57,13 +59,18 @@ impl Tracer {
     /// a traced lane's row that came from the GPU becomes the f64 row of
     /// the integration its trace is taken from (`cpu:traced`), so a row
     /// and its trace are one integration on every backend.
-    fn chunk(&mut self, first: u64, params: &[Params], results: &mut [LaneResult]) -> Result<()> {
+    fn chunk(
+        &mut self,
+        first: u64,
+        params: &ParamColumns,
+        results: &mut [LaneResult],
+    ) -> Result<()> {
         let end = first + params.len() as u64;
         while let Some(&lane) = self.spec.lanes.get(self.next) {
             if lane >= end {
                 break;
             }
-            let l = Lane::new(&params[(lane - first) as usize], &self.tables);
+            let l = Lane::new(&params.row((lane - first) as usize), &self.tables);
             let mut failed = None;
             let (out, tables) = (&mut self.out, &self.tables);
             // The settings the lane's f64 row comes from, refined or not.
@@ -91,7 +98,12 @@ impl Tracer {
 
 impl Sink for TableSink {
     type Output = Written;
-    fn chunk(&mut self, first: u64, params: &[Params], results: &[LaneResult]) -> Result<()> {
+    fn chunk(
+        &mut self,
+        first: u64,
+        params: &mut ParamColumns,
+        results: &[LaneResult],
+    ) -> Result<()> {
         // Traced lanes first: a GPU row of one is replaced by its trace's.
         let mut traced_rows;
         let results = match self.traces.as_mut() {
@@ -107,16 +119,19 @@ impl Sink for TableSink {
             }
             _ => results,
         };
-        let batch = crate::output::batch::from_lanes(first, params, results, &self.pool)?;
+        self.summary.add_chunk(params, results);
+        // The parameter columns move into the batch (no copy) and come
+        // back when it is written.
+        let batch = self.builder.build(first, params, results, &self.pool)?;
         // The table written while the counts are taken: each is a task
         // of the pool (which splits them further), so neither leaves a
         // core idle while the other's serial part runs.
         let TableSink {
             table,
             pool,
-            summary,
             stats,
             scan,
+            builder,
             ..
         } = self;
         let (written, counted) = pool.install(|| {
@@ -129,13 +144,11 @@ impl Sink for TableSink {
                     if let Some(s) = stats.as_mut() {
                         s.add_batch(first, &typed(&batch)?, pool)?;
                     }
-                    for (p, r) in params.iter().zip(results) {
-                        summary.add(p, r);
-                    }
                     Ok(())
                 },
             )
         });
+        builder.recycle(batch, params);
         written.and(counted)
     }
     fn finish(self) -> Result<Self::Output> {
@@ -242,6 +255,7 @@ pub fn run(
         pool,
         stats,
         summary: Summary::default(),
+        builder: Builder::default(),
         traces,
         scan: scan.map(|s| (s, dir.join(target.format.file_name()))),
     };

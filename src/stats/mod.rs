@@ -6,6 +6,7 @@
 //! one group is held at a time and memory does not grow with the run.
 
 pub mod grouping;
+pub mod moments;
 pub mod quantile;
 pub mod sensitivity;
 pub mod sobol;

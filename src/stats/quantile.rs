@@ -135,6 +135,39 @@ impl Sketch {
         }
     }
 
+    /// Adds the finite values of `xs` in order (the others are left
+    /// out), as [`Sketch::add`] one at a time does: values that fall in
+    /// the bucket of the run before them are counted in one step.
+    pub fn add_all(&mut self, xs: &[f64]) {
+        let mut i = 0;
+        while i < xs.len() {
+            if let Some(r) = self.run.as_mut() {
+                let (lo, hi, pos) = (r.lo, r.hi, r.pos);
+                // Not NaN, not infinite: outside every finite span.
+                let inside = |x: f64| (x > 0.0) == pos && lo <= x.abs() && x.abs() <= hi;
+                // Whole groups of 8 at a time (compared as a vector),
+                // then one at a time.
+                let rest = &xs[i..];
+                let whole = rest
+                    .chunks_exact(8)
+                    .take_while(|g| g.iter().fold(true, |all, &x| all & inside(x)))
+                    .count()
+                    * 8;
+                let k = whole + rest[whole..].iter().take_while(|&&x| inside(x)).count();
+                r.count += k as u64;
+                self.n += k as u64;
+                i += k;
+                if i == xs.len() {
+                    break;
+                }
+            }
+            if xs[i].is_finite() {
+                self.add(xs[i]);
+            }
+            i += 1;
+        }
+    }
+
     /// Counts a run of values of one bucket in its map.
     fn settle_run(&mut self, r: Run) {
         *if r.pos { &mut self.pos } else { &mut self.neg }
@@ -234,12 +267,33 @@ mod tests {
                 n: xs.len() as u64,
                 run: None,
             };
+            // A slice at a time, with cells that are not finite between
+            // the values (left out), in pieces of every length.
+            let mut all = Sketch::default();
+            let mut with_gaps: Vec<f64> = Vec::new();
+            for (i, &x) in xs.iter().enumerate() {
+                with_gaps.push(x);
+                if i % 97 == 0 {
+                    with_gaps.push(if i % 2 == 0 { f64::NAN } else { f64::INFINITY });
+                }
+            }
+            let mut at = 0;
+            for len in (1..).map(|k| k * k % 1000) {
+                let end = (at + len).min(with_gaps.len());
+                all.add_all(&with_gaps[at..end]);
+                at = end;
+                if at == with_gaps.len() {
+                    break;
+                }
+            }
+            assert_eq!(all.count(), s.count());
             for q in [0.0, 0.01, 0.05, 0.3, 0.5, 0.95, 0.99, 1.0] {
                 assert_eq!(
                     s.quantile(q).to_bits(),
                     naive.quantile(q).to_bits(),
                     "q {q}"
                 );
+                assert_eq!(s.quantile(q).to_bits(), all.quantile(q).to_bits(), "q {q}");
             }
         }
     }

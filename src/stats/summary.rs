@@ -7,6 +7,7 @@ use std::path::Path;
 mod add;
 
 use super::grouping::Grouping;
+use super::moments::Moments;
 use super::quantile::{self, Sketch, PROBS};
 use super::sensitivity::SensitivityCsv;
 use super::{spearman, wilson};
@@ -27,35 +28,10 @@ pub const EXACT_MAX: usize = 100_000;
 /// One result column of one group.
 #[derive(Default)]
 struct Column {
-    count: u64,
-    mean: f64,
-    m2: f64,
-    min: f64,
-    max: f64,
+    /// Count, mean, variance, min and max of its finite values.
+    m: Moments,
     /// Past `EXACT_MAX` lanes: every finite value so far.
     sketch: Option<Sketch>,
-}
-
-impl Column {
-    fn add(&mut self, x: f64) {
-        if !x.is_finite() {
-            return;
-        }
-        // Welford's update: stable for any count.
-        self.count += 1;
-        let d = x - self.mean;
-        self.mean += d / self.count as f64;
-        self.m2 += d * (x - self.mean);
-        if self.count == 1 {
-            (self.min, self.max) = (x, x);
-        } else {
-            self.min = self.min.min(x);
-            self.max = self.max.max(x);
-        }
-        if let Some(s) = self.sketch.as_mut() {
-            s.add(x);
-        }
-    }
 }
 
 /// The shares of one word column of one group: lanes per word, and the
@@ -208,12 +184,8 @@ impl Stats {
         }
         for (i, c) in g.cols.iter().enumerate() {
             let mut cells = Cells::default();
-            if c.count > 0 {
-                let sd = if c.count > 1 {
-                    (c.m2 / (c.count - 1) as f64).sqrt()
-                } else {
-                    f64::NAN
-                };
+            if c.m.count > 0 {
+                let sd = c.m.std();
                 let qs: Vec<f64> = match &c.sketch {
                     Some(s) => PROBS.iter().map(|&q| s.quantile(q)).collect(),
                     None => {
@@ -226,7 +198,7 @@ impl Stats {
                         PROBS.iter().map(|&q| quantile::exact(&v, q)).collect()
                     }
                 };
-                let moments = [c.mean, sd, c.min].into_iter().chain(qs).chain([c.max]);
+                let moments = [c.m.mean, sd, c.m.min].into_iter().chain(qs).chain([c.m.max]);
                 for (cell, x) in cells.0[..9].iter_mut().zip(moments) {
                     *cell = num(x);
                 }
@@ -237,7 +209,7 @@ impl Stats {
                 }
                 .into();
             }
-            self.row(&key, "number", names[i], "", c.count, cells)?;
+            self.row(&key, "number", names[i], "", c.m.count, cells)?;
         }
         let word_columns: Vec<&str> = self
             .layout

@@ -9,8 +9,9 @@ use tswm::model::Lane;
 
 fn fixture_lanes() -> Vec<tswm::params::Params> {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
+    let params = cols.rows();
     params
 }
 

@@ -11,8 +11,9 @@ use tswm::model::Lane;
 #[test]
 fn model_md_reference_cases_on_cpu() {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
+    let params = cols.rows();
     let res: Vec<_> = params
         .iter()
         .map(|p| simulate(&Lane::new(p, &[]), &[], &Settings::default()))

@@ -11,8 +11,9 @@ use tswm::params::{Num, Params};
 
 fn read_lanes(name: &str) -> Vec<Params> {
     let src = Source::open(None, Some(&fixture(name))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
+    let params = cols.rows();
     params
 }
 

@@ -9,7 +9,7 @@ use tswm::backend::gpu::{Gpu, GpuBackend};
 use tswm::backend::{Backend, CpuBackend};
 use tswm::input::lanes::Source;
 use tswm::integrator::{LaneResult, Settings};
-use tswm::params::Params;
+use tswm::params::{ParamColumns, Params};
 use tswm::run::compare::Report;
 
 static GPU: OnceLock<Result<Mutex<GpuBackend>, String>> = OnceLock::new();
@@ -40,8 +40,9 @@ fn gpu(test: &str) -> Option<MutexGuard<'static, GpuBackend>> {
 /// unlike length).
 fn heterogeneous(n: usize) -> Vec<Params> {
     let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(n, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(n, &mut cols).unwrap();
+    let params = cols.rows();
     params
 }
 
@@ -51,8 +52,9 @@ fn run_both(gpu: &mut GpuBackend, params: &[Params]) -> (Vec<LaneResult>, Vec<La
     let mut first = 0;
     for chunk in params.chunks(gpu.chunk_lanes()) {
         let (mut c, mut g) = (Vec::new(), Vec::new());
-        cpu.run_chunk(first, chunk, &[], &mut c).unwrap();
-        gpu.run_chunk(first, chunk, &[], &mut g).unwrap();
+        let chunk: ParamColumns = chunk.iter().collect();
+        cpu.run_chunk(first, &chunk, &[], &mut c).unwrap();
+        gpu.run_chunk(first, &chunk, &[], &mut g).unwrap();
         rc.extend(c);
         rg.extend(g);
         first += chunk.len() as u64;
@@ -70,10 +72,10 @@ fn model_md_reference_cases_on_gpu() {
     };
     eprintln!("GPU: {}", g.name());
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
     let mut res = Vec::new();
-    g.run_chunk(0, &params, &[], &mut res).unwrap();
+    g.run_chunk(0, &cols, &[], &mut res).unwrap();
     let (worst, worst_t) = check_reference_cases(&res, 2e-5, 5e-5);
     eprintln!("GPU, docs/model.md cases: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s");
 }
@@ -86,10 +88,10 @@ fn model_md_reference_cases_in_gear_terms_on_gpu() {
         return;
     };
     let src = Source::open(None, Some(&fixture("paper_gear_lanes.csv"))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
     let mut res = Vec::new();
-    g.run_chunk(0, &params, &[], &mut res).unwrap();
+    g.run_chunk(0, &cols, &[], &mut res).unwrap();
     let (worst, worst_t) = check_reference_cases(&res, 2e-5, 5e-5);
     eprintln!(
         "GPU, gear terms: worst value deviation {worst:.2e}, first switch off by {worst_t:.2e} s"
@@ -302,7 +304,7 @@ impl Backend for Failing {
     fn run_chunk(
         &mut self,
         first: u64,
-        lanes: &[Params],
+        lanes: &ParamColumns,
         table: &[tswm::model::FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> tswm::error::Result<()> {
@@ -373,10 +375,10 @@ fn engineering_columns_on_gpu() {
         return;
     };
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
     let mut res = Vec::new();
-    g.run_chunk(0, &params, &[], &mut res).unwrap();
+    g.run_chunk(0, &cols, &[], &mut res).unwrap();
     let worst = crate::engineering::check_engineering(&res, 5e-5);
     eprintln!("GPU, section 10 fixture: worst deviation {worst:.2e} (bound 5e-5)");
 }
@@ -497,11 +499,11 @@ fn a_chunk_in_parts_gives_the_same_rows() {
     let params = heterogeneous(3000);
     let (part, in_flight) = (g.part, g.in_flight);
     let mut whole = Vec::new();
-    g.run_chunk(0, &params, &[], &mut whole).unwrap();
+    g.run_chunk(0, &params.iter().collect(), &[], &mut whole).unwrap();
     g.part = 700;
     g.in_flight = 2;
     let mut parts = Vec::new();
-    let run = g.run_chunk(0, &params, &[], &mut parts);
+    let run = g.run_chunk(0, &params.iter().collect(), &[], &mut parts);
     (g.part, g.in_flight) = (part, in_flight);
     run.unwrap();
     assert_eq!(format!("{whole:?}"), format!("{parts:?}"));
@@ -518,7 +520,7 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     };
     let params = heterogeneous(3000);
     let mut want = Vec::new();
-    shared.run_chunk(0, &params, &[], &mut want).unwrap();
+    shared.run_chunk(0, &params.iter().collect(), &[], &mut want).unwrap();
     drop(shared);
     quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
@@ -526,7 +528,7 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     let mut g = GpuBackend::new(dev, Settings::default());
     assert!(!g.cost_model().trained());
     let mut got = Vec::new();
-    g.run_chunk(0, &params, &[], &mut got).unwrap();
+    g.run_chunk(0, &params.iter().collect(), &[], &mut got).unwrap();
     assert!(g.cost_model().trained(), "the pilot wave taught the model");
     assert_eq!(format!("{want:?}"), format!("{got:?}"));
 }

@@ -9,8 +9,9 @@ use tswm::model::Lane;
 
 fn traced(lane: usize, dt: f64) -> (Vec<TraceRow>, tswm::integrator::LaneResult, Lane) {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
-    let mut params = Vec::new();
-    src.reader().unwrap().fill(100, &mut params).unwrap();
+    let mut cols = tswm::params::ParamColumns::default();
+    src.reader().unwrap().fill(100, &mut cols).unwrap();
+    let params = cols.rows();
     let l = Lane::new(&params[lane], &[]);
     let mut rows = Vec::new();
     let r = simulate_traced(&l, &[], &Settings::default(), dt, &mut |row| {

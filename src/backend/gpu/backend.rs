@@ -10,7 +10,7 @@ use crate::backend::{Backend, CpuBackend};
 use crate::error::Result;
 use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
-use crate::params::Params;
+use crate::params::ParamColumns;
 
 /// The GPU as a [`Backend`] of the runner.
 pub struct GpuBackend {
@@ -37,7 +37,7 @@ pub struct GpuBackend {
     states: Vec<GpuState>,
     part_states: Vec<Vec<GpuState>>,
     redo: Vec<(usize, Recheck)>,
-    redo_params: Vec<Params>,
+    redo_params: ParamColumns,
     redo_out: Vec<LaneResult>,
 }
 
@@ -71,7 +71,7 @@ impl GpuBackend {
             states: Vec::new(),
             part_states: Vec::new(),
             redo: Vec::new(),
-            redo_params: Vec::new(),
+            redo_params: ParamColumns::default(),
             redo_out: Vec::new(),
         }
     }
@@ -95,14 +95,14 @@ impl Backend for GpuBackend {
     fn run_chunk(
         &mut self,
         first: u64,
-        lanes: &[Params],
+        lanes: &ParamColumns,
         tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
         let chunk = first / self.chunk_lanes() as u64;
         self.lanes64.clear();
         self.lanes64
-            .extend(lanes.iter().map(|p| Lane::new(p, tables)));
+            .extend((0..lanes.len()).map(|i| Lane::new(&lanes.row(i), tables)));
         out.clear();
         out.resize(lanes.len(), LaneResult::EMPTY);
         self.redo.clear();
@@ -197,16 +197,14 @@ impl GpuBackend {
     fn recompute(
         &mut self,
         first: u64,
-        lanes: &[Params],
+        lanes: &ParamColumns,
         tables: &[FrictionTable],
         out: &mut [LaneResult],
     ) -> Result<()> {
         if self.redo.is_empty() {
             return Ok(());
         }
-        self.redo_params.clear();
-        self.redo_params
-            .extend(self.redo.iter().map(|&(i, _)| lanes[i]));
+        self.redo_params = lanes.gather(self.redo.iter().map(|&(i, _)| i));
         self.cpu
             .run_chunk(first, &self.redo_params, tables, &mut self.redo_out)?;
         for (&(i, why), r) in self.redo.iter().zip(&self.redo_out) {

@@ -270,7 +270,7 @@ pub fn heterogeneous_and_sorted(
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps/heterogeneous.toml");
     let src =
         crate::input::lanes::Source::open(Some(&path), None).expect("sweeps/heterogeneous.toml");
-    let mut params = Vec::new();
+    let mut params = crate::params::ParamColumns::default();
     src.reader()
         .and_then(|mut r| r.fill(max, &mut params))
         .expect("sweeps/heterogeneous.toml's lanes");
@@ -281,8 +281,8 @@ pub fn heterogeneous_and_sorted(
     run_cpu_lanes(&pool, &Settings::default(), &params, &[], &mut results);
     let mut order: Vec<usize> = (0..params.len()).collect();
     order.sort_by_key(|&i| results[i].steps);
-    let sorted = order.iter().map(|&i| params[i]).collect();
-    (params, sorted)
+    let sorted = order.iter().map(|&i| params.params(i)).collect();
+    ((0..params.len()).map(|i| params.params(i)).collect(), sorted)
 }
 
 #[cfg(test)]

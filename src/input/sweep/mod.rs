@@ -225,6 +225,14 @@ impl Sweep {
     /// The parameters of lane `i` (not yet validated).
     pub fn lane_spec(&self, i: u64, u: &mut Uniforms) -> Spec {
         let mut spec = self.base.clone();
+        self.lane_spec_into(i, u, &mut spec);
+        spec
+    }
+
+    /// [`Sweep::lane_spec`] into `spec` (its earlier contents replaced):
+    /// a lane source reuses one.
+    pub fn lane_spec_into(&self, i: u64, u: &mut Uniforms, spec: &mut Spec) {
+        spec.clone_from(&self.base);
         let n = self.samples();
         let (mut g, k) = (i / n, i % n);
         for a in self.axes.iter().rev() {
@@ -240,10 +248,9 @@ impl Sweep {
             g /= len;
         }
         if let Some(st) = &self.study {
-            st.draw(k, &mut spec, u);
+            st.draw(k, spec, u);
         }
-        self.keep_own_law_params(&mut spec);
-        spec
+        self.keep_own_law_params(spec);
     }
 
     /// Where lane `lane`'s error on `param` (one name, or several, comma

@@ -77,7 +77,7 @@ impl Requirement {
         let (name, value) = (text[..at].trim(), text[at + len..].trim());
         let col = result(name)
             .ok_or_else(|| format!("`{}` is not a result column; {allowed}", shown(name)))?;
-        let test = match (col.kind, col.summary, op) {
+        let test = match (col.kind(), col.summary, op) {
             (Kind::Text, Summary::Shares(words, _), None) => {
                 let words = words();
                 if !words.contains(&value) {

@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::output::batch::Col;
 use crate::params::Num;
 use crate::stats::grouping::grid_values;
+use crate::stats::moments::{add_columns, Moments};
 use crate::stats::quantile::Sketch;
 
 impl Stats {
@@ -108,42 +109,32 @@ fn add_shares(g: &mut Group, layout: &Layout, cols: &[Col<'_>], rows: Range<usiz
     }
 }
 
-/// Columns a task of [`add_numbers`] takes.
-const COLUMNS_A_TASK: usize = 4;
+/// Columns a task of [`add_numbers`] takes: a vector's worth of
+/// moments (`moments::add_columns`), so the number columns make a few
+/// tasks of full vectors.
+const COLUMNS_A_TASK: usize = 8;
 
-/// `jobs` in groups of [`COLUMNS_A_TASK`].
-fn jobs_in_groups<T>(jobs: Vec<T>) -> Vec<Vec<T>> {
-    let mut groups: Vec<Vec<T>> = Vec::new();
-    for (k, j) in jobs.into_iter().enumerate() {
-        if k % COLUMNS_A_TASK == 0 {
-            groups.push(Vec::with_capacity(COLUMNS_A_TASK));
-        }
-        groups.last_mut().expect("pushed").push(j);
+/// Adds `xs`, a column's next values, to its kept values and, past the
+/// kept values, to its sketch: the column's quantiles become a sketch's
+/// estimates over every finite value.
+fn keep(c: &mut Column, kept: &mut Vec<f64>, xs: &[f64]) {
+    let room = EXACT_MAX.saturating_sub(kept.len()).min(xs.len());
+    kept.extend_from_slice(&xs[..room]);
+    let rest = &xs[room..];
+    if rest.is_empty() {
+        return;
     }
-    groups
-}
-
-/// Adds `x` to a column and to its kept values; past the kept values,
-/// the column's quantiles become a sketch's estimates over every value.
-#[inline]
-fn add_value(c: &mut Column, kept: &mut Vec<f64>, x: f64) {
-    c.add(x);
-    if kept.len() < EXACT_MAX {
-        kept.push(x);
-    } else if c.sketch.is_none() {
+    let s = c.sketch.get_or_insert_with(|| {
         let mut s = Sketch::default();
-        for &v in kept.iter().filter(|v| v.is_finite()) {
-            s.add(v);
-        }
-        if x.is_finite() {
-            s.add(x);
-        }
-        c.sketch = Some(s);
-    }
+        s.add_all(kept);
+        s
+    });
+    s.add_all(rest);
 }
 
-/// Adds the number columns of rows `rows` to group `g` (each column on
-/// its own, the columns in parallel on `pool`), and keeps the sampled
+/// Adds the number columns of rows `rows` to group `g` (a few columns a
+/// task, the tasks in parallel on `pool`: each column's moments, kept
+/// values and sketch take its values in row order), and keeps the sampled
 /// inputs' values while the group's first lanes are kept.
 fn add_numbers(
     g: &mut Group,
@@ -156,32 +147,28 @@ fn add_numbers(
     use rayon::prelude::*;
     let numbers = layout.numbers.len();
     let (kept_numbers, kept_inputs) = g.kept.split_at_mut(numbers);
+    let xs: Vec<&Col<'_>> = layout.numbers.iter().map(|&i| &cols[i]).collect();
     let jobs: Vec<_> = g
         .cols
-        .iter_mut()
-        .zip(kept_numbers)
-        .zip(&layout.numbers)
+        .chunks_mut(COLUMNS_A_TASK)
+        .zip(kept_numbers.chunks_mut(COLUMNS_A_TASK))
+        .zip(xs.chunks(COLUMNS_A_TASK))
         .collect();
-    // A few columns a task, row by row across them: each column's update
-    // waits on its last (a division), and the columns' chains overlap.
-    let add_columns = |group: &mut [((&mut Column, &mut Vec<f64>), &usize)]| {
-        for row in rows.clone() {
-            for ((c, kept), &i) in group.iter_mut() {
-                add_value(c, kept, cols[i].number(row));
-            }
-        }
-    };
     pool.install(|| {
-        jobs_in_groups(jobs)
-            .par_iter_mut()
-            .for_each(|g| add_columns(g))
+        jobs.into_par_iter().for_each(|((cs, kept), xs)| {
+            let xs: Vec<_> = xs.iter().map(|c| c.numbers(rows.clone())).collect();
+            let slices: Vec<&[f64]> = xs.iter().map(|x| &x[..]).collect();
+            let mut ms: Vec<Moments> = cs.iter().map(|c| c.m).collect();
+            add_columns(&mut ms, &slices);
+            for ((c, m), (k, x)) in cs.iter_mut().zip(ms).zip(kept.iter_mut().zip(&slices)) {
+                c.m = m;
+                keep(c, k, x);
+            }
+        })
     });
     for (kept, &n) in kept_inputs.iter_mut().zip(inputs) {
         let i = layout.params[n as usize];
-        for row in rows.clone() {
-            if kept.len() < EXACT_MAX {
-                kept.push(cols[i].number(row));
-            }
-        }
+        let room = EXACT_MAX.saturating_sub(kept.len()).min(rows.len());
+        kept.extend_from_slice(&cols[i].numbers(rows.start..rows.start + room));
     }
 }

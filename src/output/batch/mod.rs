@@ -9,17 +9,18 @@
 //! ([`typed`]) or by name ([`Columns`]: a batch read back from a file may
 //! hold only the columns its reader asked for).
 
+mod build;
+
 use std::sync::{Arc, OnceLock};
 
-use arrow_array::builder::StringBuilder;
+pub use build::{from_lanes, Builder};
+
 use arrow_array::{Array, ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
-use arrow_buffer::{BooleanBuffer, NullBuffer};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 
 use crate::columns::{results, Cell, Kind};
 use crate::error::{Error, Result};
-use crate::integrator::LaneResult;
-use crate::params::{Param, Params};
+use crate::params::Param;
 
 /// The columns of the results table, in order, with their kinds: the
 /// parameters (docs/model.md section 9 order), then the result columns of
@@ -32,7 +33,7 @@ pub fn columns() -> Vec<(&'static str, Kind)> {
             _ => (p.name(), Kind::Text),
         })
         .collect();
-    c.extend(results().iter().map(|r| (r.name, r.kind)));
+    c.extend(results().iter().map(|r| (r.name, r.kind())));
     c
 }
 
@@ -62,127 +63,7 @@ pub fn schema() -> SchemaRef {
 
 /// A float column from its values, NaN as null.
 pub fn floats(values: Vec<f64>) -> ArrayRef {
-    let valid = BooleanBuffer::collect_bool(values.len(), |i| !values[i].is_nan());
-    let nulls = (valid.count_set_bits() < values.len()).then(|| NullBuffer::new(valid));
-    Arc::new(Float64Array::new(values.into(), nulls))
-}
-
-/// A column of a batch being filled.
-enum Fill {
-    F(Vec<f64>),
-    I(Vec<i64>),
-    S(StringBuilder),
-}
-
-impl Fill {
-    fn of(kind: Kind, n: usize) -> Fill {
-        match kind {
-            Kind::Float => Fill::F(Vec::with_capacity(n)),
-            Kind::Int => Fill::I(Vec::with_capacity(n)),
-            Kind::Text => Fill::S(StringBuilder::with_capacity(n, n * 4)),
-        }
-    }
-
-    fn finish(self) -> ArrayRef {
-        match self {
-            Fill::F(v) => floats(v),
-            Fill::I(v) => Arc::new(Int64Array::from(v)),
-            Fill::S(mut b) => Arc::new(b.finish()),
-        }
-    }
-
-    /// Appends a word, "" as null.
-    fn word(&mut self, w: &str) {
-        if let Fill::S(b) = self {
-            if w.is_empty() {
-                b.append_null();
-            } else {
-                b.append_value(w);
-            }
-        }
-    }
-}
-
-/// Appends rows `rows` of column `c` (of [`columns`])
-/// of the lanes `first..` to `fill`.
-fn fill_column(
-    fill: &mut Fill,
-    c: usize,
-    rows: std::ops::Range<usize>,
-    first: u64,
-    params: &[Params],
-    results_: &[LaneResult],
-) {
-    let np = Param::COLUMNS.len();
-    if c < np {
-        let ps = &params[rows];
-        match (Param::COLUMNS[c], fill) {
-            (Param::Num(k), Fill::F(v)) => v.extend(ps.iter().map(|p| p.get(k))),
-            (Param::Motor, f) => ps.iter().for_each(|p| f.word(p.motor.name())),
-            (Param::Friction, f) => ps.iter().for_each(|p| f.word(p.friction.name())),
-            (Param::FrictionTable, f) => ps
-                .iter()
-                .for_each(|p| f.word(p.friction_table.as_ref().map_or("", |t| t.as_str()))),
-            // Every parameter column is a float or a word.
-            (_, _) => {}
-        }
-        return;
-    }
-    let cell = results()[c - np].cell;
-    let cells = rows.map(|i| cell(first + i as u64, &results_[i]));
-    match fill {
-        Fill::F(v) => v.extend(cells.map(|x| x.number())),
-        Fill::I(v) => v.extend(cells.map(|x| match x {
-            Cell::I(x) => x as i64,
-            x => x.number() as i64,
-        })),
-        f => cells.for_each(|x| f.word(x.word())),
-    }
-}
-
-/// Rows filled at a time, every column of a group over them before the
-/// next: the lanes' parameters and end states (a few hundred bytes a
-/// lane) stay in cache while their cells are copied out column by column.
-const FILL_ROWS: usize = 1024;
-
-/// The batch of lanes `first..first + params.len()`: the columns split
-/// among `pool`'s threads, each filling its columns a block of rows at a
-/// time.
-pub fn from_lanes(
-    first: u64,
-    params: &[Params],
-    results_: &[LaneResult],
-    pool: &rayon::ThreadPool,
-) -> Result<RecordBatch> {
-    use rayon::prelude::*;
-    let schema = schema();
-    let kinds: Vec<Kind> = columns().iter().map(|c| c.1).collect();
-    let n = params.len();
-    // Every `groups`-th column a group: parameters and results (whose
-    // cells cost more) shared evenly.
-    let groups = pool.current_num_threads().clamp(1, kinds.len());
-    let filled: Vec<Vec<(usize, Fill)>> = pool.install(|| {
-        (0..groups)
-            .into_par_iter()
-            .map(|g| {
-                let mut fills: Vec<(usize, Fill)> = (g..kinds.len())
-                    .step_by(groups)
-                    .map(|c| (c, Fill::of(kinds[c], n)))
-                    .collect();
-                for start in (0..n).step_by(FILL_ROWS) {
-                    let rows = start..(start + FILL_ROWS).min(n);
-                    for (c, f) in fills.iter_mut() {
-                        fill_column(f, *c, rows.clone(), first, params, results_);
-                    }
-                }
-                fills
-            })
-            .collect()
-    });
-    let mut all: Vec<(usize, Fill)> = filled.into_iter().flatten().collect();
-    all.sort_by_key(|f| f.0);
-    let cols: Vec<ArrayRef> = all.into_iter().map(|f| f.1.finish()).collect();
-    RecordBatch::try_new(schema, cols).map_err(|e| Error::Internal(format!("results batch: {e}")))
+    build::float_array(values.into())
 }
 
 /// The batch of rows given as cells, row after row, in
@@ -259,6 +140,16 @@ impl<'a> Col<'a> {
             Col::F(a) if a.is_valid(i) => a.value(i),
             Col::I(a) => a.value(i) as f64,
             _ => f64::NAN,
+        }
+    }
+
+    /// Rows `rows` as numbers, as [`Col::number`] reads them (NaN for an
+    /// empty cell): the column's own values where it has no empty cell.
+    pub fn numbers(&self, rows: std::ops::Range<usize>) -> std::borrow::Cow<'a, [f64]> {
+        match self {
+            Col::F(a) if a.null_count() == 0 => std::borrow::Cow::Borrowed(&a.values()[rows]),
+            Col::F(a) if a.null_count() == a.len() => vec![f64::NAN; rows.len()].into(),
+            _ => rows.map(|i| self.number(i)).collect(),
         }
     }
 

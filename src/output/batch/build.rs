@@ -1,0 +1,264 @@
+//! A run's batches built from its lanes: the parameter columns are the
+//! chunk's own (moved in, not copied), the result columns are filled from
+//! the lanes' end states a block of rows at a time, and the number
+//! buffers are kept from batch to batch.
+
+use std::sync::Arc;
+
+use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
+use arrow_buffer::{BooleanBuffer, NullBuffer, OffsetBuffer, ScalarBuffer};
+
+use super::schema;
+use crate::columns::{results, Column, Kind, Value};
+use crate::error::{Error, Result};
+use crate::integrator::LaneResult;
+use crate::params::{Param, ParamColumns};
+
+/// A float column over `values`, NaN as null.
+pub(super) fn float_array(values: ScalarBuffer<f64>) -> ArrayRef {
+    let nulls = nan_nulls(&values);
+    Arc::new(Float64Array::new(values, nulls))
+}
+
+/// Where `values` hold NaN, as nulls: none for a column without NaN, all
+/// for a column of NaN (a parameter that no lane's law uses, a result no
+/// lane has), counted first (as a vector) so that only a mixed column
+/// is walked value by value.
+fn nan_nulls(values: &[f64]) -> Option<NullBuffer> {
+    let nan: usize = values.iter().map(|v| usize::from(v.is_nan())).sum();
+    match nan {
+        0 => None,
+        n if n == values.len() => Some(NullBuffer::new_null(n)),
+        _ => Some(NullBuffer::new(BooleanBuffer::collect_bool(
+            values.len(),
+            |i| !values[i].is_nan(),
+        ))),
+    }
+}
+
+/// A word column being filled, laid out as Arrow lays out UTF-8: the
+/// words' bytes one after another, where each ends, and which are given.
+#[derive(Default)]
+struct Words {
+    bytes: Vec<u8>,
+    ends: Vec<i32>,
+    given: Vec<bool>,
+}
+
+impl Words {
+    fn with_capacity(n: usize) -> Words {
+        let mut ends = Vec::with_capacity(n + 1);
+        ends.push(0);
+        Words {
+            bytes: Vec::with_capacity(n * 8),
+            ends,
+            given: Vec::with_capacity(n),
+        }
+    }
+
+    /// Appends a word, "" as null.
+    #[inline]
+    fn push(&mut self, w: &str) {
+        self.bytes.extend_from_slice(w.as_bytes());
+        self.ends.push(self.bytes.len() as i32);
+        self.given.push(!w.is_empty());
+    }
+
+    fn finish(self) -> ArrayRef {
+        let n = self.given.len();
+        let given = BooleanBuffer::collect_bool(n, |i| self.given[i]);
+        let nulls = (given.count_set_bits() < n).then(|| NullBuffer::new(given));
+        // The ends rise and the bytes are whole words: checked here
+        // all the same, once a column.
+        Arc::new(StringArray::new(
+            OffsetBuffer::new(self.ends.into()),
+            self.bytes.into(),
+            nulls,
+        ))
+    }
+}
+
+/// A result column of a batch being filled.
+enum Fill {
+    F(Vec<f64>),
+    I(Vec<i64>),
+    S(Words),
+}
+
+impl Fill {
+    fn finish(self) -> ArrayRef {
+        match self {
+            Fill::F(v) => float_array(v.into()),
+            Fill::I(v) => Arc::new(Int64Array::from(v)),
+            Fill::S(w) => w.finish(),
+        }
+    }
+
+    /// Appends a word, "" as null.
+    fn word(&mut self, w: &str) {
+        if let Fill::S(b) = self {
+            b.push(w);
+        }
+    }
+
+    /// Appends rows `rows` of the result column `col` of the lanes
+    /// `first..`, whose end states are `results_`.
+    fn results(
+        &mut self,
+        col: &Column,
+        rows: std::ops::Range<usize>,
+        first: u64,
+        results_: &[LaneResult],
+    ) {
+        let rs = &results_[rows.clone()];
+        match (col.value, self) {
+            (Value::F(_, block), Fill::F(v)) => block(rs, v),
+            (Value::I(_, block), Fill::I(v)) => block(rs, v),
+            (Value::Lane, Fill::I(v)) => v.extend(rows.map(|i| (first + i as u64) as i64)),
+            (Value::W(f), fill) => rs.iter().for_each(|r| fill.word(&f(r))),
+            // A column's fill has its value's type (`Column::kind`).
+            (_, _) => {}
+        }
+    }
+}
+
+/// Rows filled at a time, every column of a group over them before the
+/// next: the lanes' end states (a few hundred bytes a lane) stay in cache
+/// while their cells are copied out column by column.
+const FILL_ROWS: usize = 1024;
+
+/// Builds a run's batches: the parameter columns are the chunk's own
+/// (moved into the batch, not copied), the result columns are filled from
+/// the end states, and the number buffers come back
+/// ([`Builder::recycle`]) once a batch is written, so that after the
+/// first chunks nothing is allocated for them.
+#[derive(Default)]
+pub struct Builder {
+    floats: Vec<Vec<f64>>,
+    ints: Vec<Vec<i64>>,
+}
+
+impl Builder {
+    /// An empty column of `kind` with room for `n` rows.
+    fn fill(&mut self, kind: Kind, n: usize) -> Fill {
+        fn room<T>(mut v: Vec<T>, n: usize) -> Vec<T> {
+            v.clear();
+            v.reserve(n);
+            v
+        }
+        match kind {
+            Kind::Float => Fill::F(room(self.floats.pop().unwrap_or_default(), n)),
+            Kind::Int => Fill::I(room(self.ints.pop().unwrap_or_default(), n)),
+            Kind::Text => Fill::S(Words::with_capacity(n)),
+        }
+    }
+
+    /// The batch of lanes `first..first + params.len()`: the numeric
+    /// parameters' columns taken out of `params` into the batch as they
+    /// are ([`Builder::recycle`] puts them back), the words and the
+    /// results filled on `pool`'s threads, a group of columns a thread,
+    /// a block of rows at a time.
+    pub fn build(
+        &mut self,
+        first: u64,
+        params: &mut ParamColumns,
+        results_: &[LaneResult],
+        pool: &rayon::ThreadPool,
+    ) -> Result<RecordBatch> {
+        use rayon::prelude::*;
+        let n = params.len();
+        let np = Param::COLUMNS.len();
+        let mut cols: Vec<Option<ArrayRef>> = Param::COLUMNS
+            .iter()
+            .map(|p| {
+                let words = |w: &mut dyn Iterator<Item = &str>| {
+                    let mut f = Fill::S(Words::with_capacity(n));
+                    w.for_each(|w| f.word(w));
+                    f.finish()
+                };
+                Some(match p {
+                    Param::Num(k) => float_array(params.take_num(*k).into()),
+                    Param::Motor => words(&mut params.motors().iter().map(|m| m.name())),
+                    Param::Friction => words(&mut params.frictions().iter().map(|f| f.name())),
+                    Param::FrictionTable => words(
+                        &mut params
+                            .friction_tables()
+                            .iter()
+                            .map(|t| t.as_ref().map_or("", |t| t.as_str())),
+                    ),
+                })
+            })
+            .collect();
+        // Every `groups`-th result column a group.
+        let groups = pool.current_num_threads().clamp(1, results().len());
+        let mut filled: Vec<Vec<(usize, Fill)>> = (0..groups)
+            .map(|g| {
+                (g..results().len())
+                    .step_by(groups)
+                    .map(|c| (c, self.fill(results()[c].kind(), n)))
+                    .collect()
+            })
+            .collect();
+        pool.install(|| {
+            filled.par_iter_mut().for_each(|fills| {
+                for start in (0..n).step_by(FILL_ROWS) {
+                    let rows = start..(start + FILL_ROWS).min(n);
+                    for (c, f) in fills.iter_mut() {
+                        f.results(&results()[*c], rows.clone(), first, results_);
+                    }
+                }
+            })
+        });
+        cols.resize(np + results().len(), None);
+        for (c, f) in filled.into_iter().flatten() {
+            cols[np + c] = Some(f.finish());
+        }
+        let cols = cols.into_iter().map(|c| c.expect("every column filled"));
+        RecordBatch::try_new(schema(), cols.collect())
+            .map_err(|e| Error::Internal(format!("results batch: {e}")))
+    }
+
+    /// Takes back the number buffers of `batch` (built by
+    /// [`Builder::build`] from `params`, and no longer shared): the
+    /// parameters' columns to `params`, as they were, the results' to be
+    /// filled again. A buffer still shared elsewhere is copied back or
+    /// left to its other owner.
+    pub fn recycle(&mut self, batch: RecordBatch, params: &mut ParamColumns) {
+        let (_, cols, _) = batch.into_parts();
+        for (c, a) in cols.into_iter().enumerate() {
+            let param = Param::COLUMNS.get(c).copied();
+            let data = a.to_data();
+            drop(a);
+            let Some(buffer) = data.buffers().first().cloned() else {
+                continue;
+            };
+            drop(data);
+            match (param, results().get(c.wrapping_sub(Param::COLUMNS.len()))) {
+                (Some(Param::Num(k)), _) => params.put_num(
+                    k,
+                    buffer
+                        .into_vec()
+                        .unwrap_or_else(|b| b.typed_data::<f64>().to_vec()),
+                ),
+                (None, Some(r)) => match r.kind() {
+                    Kind::Float => self.floats.extend(buffer.into_vec().ok()),
+                    Kind::Int => self.ints.extend(buffer.into_vec().ok()),
+                    Kind::Text => {}
+                },
+                _ => {}
+            }
+        }
+    }
+}
+
+/// The batch of lanes `first..first + params.len()` (their parameters
+/// copied), built on `pool`.
+pub fn from_lanes(
+    first: u64,
+    params: &ParamColumns,
+    results_: &[LaneResult],
+    pool: &rayon::ThreadPool,
+) -> Result<RecordBatch> {
+    Builder::default().build(first, &mut params.clone(), results_, pool)
+}
+

@@ -1,0 +1,256 @@
+//! Running moments of a column's finite values (count, mean, sum of
+//! squared deviations, min, max) by Welford's update, for one value at a
+//! time ([`Moments::add`]) or for many columns side by side
+//! ([`add_columns`]): each column's values still go in one after another
+//! in the same order, so the moments are the same bits either way, but
+//! eight columns' updates run as the elements of one vector, and their
+//! divisions overlap instead of each waiting on the one before.
+
+use crate::integrator::width::{best_isa, lanewise, Isa};
+
+/// The running moments of a column's finite values.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Moments {
+    /// Finite values added.
+    pub count: u64,
+    /// Their mean.
+    pub mean: f64,
+    /// The sum of their squared deviations from the mean.
+    pub m2: f64,
+    /// The smallest (0 while none).
+    pub min: f64,
+    /// The largest (0 while none).
+    pub max: f64,
+}
+
+impl Moments {
+    /// Adds `x`; a value that is not finite is left out. Welford's
+    /// update: stable for any count.
+    #[inline]
+    pub fn add(&mut self, x: f64) {
+        if !x.is_finite() {
+            return;
+        }
+        self.count += 1;
+        let d = x - self.mean;
+        self.mean += d / self.count as f64;
+        self.m2 += d * (x - self.mean);
+        if self.count == 1 {
+            (self.min, self.max) = (x, x);
+        } else {
+            self.min = self.min.min(x);
+            self.max = self.max.max(x);
+        }
+    }
+
+    /// The sample standard deviation (NaN below two values).
+    pub fn std(&self) -> f64 {
+        if self.count > 1 {
+            (self.m2 / (self.count - 1) as f64).sqrt()
+        } else {
+            f64::NAN
+        }
+    }
+}
+
+/// Columns updated together, one a vector element.
+const W: usize = 8;
+
+/// The moments of [`W`] columns, one a vector element; the count as f64
+/// (exact below 2^53, as `Moments::add` converts it).
+#[derive(Clone, Copy)]
+struct Block {
+    n: [f64; W],
+    mean: [f64; W],
+    m2: [f64; W],
+    min: [f64; W],
+    max: [f64; W],
+}
+
+impl Block {
+    fn load(ms: &[Moments]) -> Block {
+        let at = |f: fn(&Moments) -> f64| std::array::from_fn(|j| ms.get(j).map_or(0.0, f));
+        Block {
+            n: at(|m| m.count as f64),
+            mean: at(|m| m.mean),
+            m2: at(|m| m.m2),
+            min: at(|m| m.min),
+            max: at(|m| m.max),
+        }
+    }
+
+    fn store(&self, ms: &mut [Moments]) {
+        for (j, m) in ms.iter_mut().enumerate() {
+            *m = Moments {
+                count: self.n[j] as u64,
+                mean: self.mean[j],
+                m2: self.m2[j],
+                min: self.min[j],
+                max: self.max[j],
+            };
+        }
+    }
+
+    /// [`Moments::add`] of `x[j]` to column j, every j at once: each
+    /// column's new values computed, then kept where its value is finite.
+    ///
+    /// Written element-wise over whole arrays, each step a loop of its
+    /// own, so that it compiles to vector instructions.
+    #[inline(always)]
+    fn add(&mut self, x: &[f64; W]) {
+        let keep = |j: usize| x[j].is_finite();
+        let n: [f64; W] = lanewise(|j| self.n[j] + 1.0);
+        let d: [f64; W] = lanewise(|j| x[j] - self.mean[j]);
+        let mean: [f64; W] = lanewise(|j| self.mean[j] + d[j] / n[j]);
+        let m2: [f64; W] = lanewise(|j| self.m2[j] + d[j] * (x[j] - mean[j]));
+        // `f64::min` and `max` of a finite value, as they compare: the
+        // value where it is lower (higher), else the one held.
+        self.min = lanewise(|j| {
+            if keep(j) & ((n[j] == 1.0) | (x[j] < self.min[j])) {
+                x[j]
+            } else {
+                self.min[j]
+            }
+        });
+        self.max = lanewise(|j| {
+            if keep(j) & ((n[j] == 1.0) | (x[j] > self.max[j])) {
+                x[j]
+            } else {
+                self.max[j]
+            }
+        });
+        self.n = lanewise(|j| if keep(j) { n[j] } else { self.n[j] });
+        self.mean = lanewise(|j| if keep(j) { mean[j] } else { self.mean[j] });
+        self.m2 = lanewise(|j| if keep(j) { m2[j] } else { self.m2[j] });
+    }
+}
+
+/// Adds the rows of `xs` (one slice a column, each as long as the first)
+/// to `ms` (one a column), row after row: the same as [`Moments::add`]
+/// of each column's values in order, bit for bit.
+pub fn add_columns(ms: &mut [Moments], xs: &[&[f64]]) {
+    assert_eq!(ms.len(), xs.len(), "one moments a column");
+    match best_isa() {
+        // SAFETY: best_isa() found the features on this core.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { on_avx512(ms, xs) },
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { on_avx2(ms, xs) },
+        _ => blocks(ms, xs),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
+unsafe fn on_avx512(ms: &mut [Moments], xs: &[&[f64]]) {
+    blocks(ms, xs)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn on_avx2(ms: &mut [Moments], xs: &[&[f64]]) {
+    blocks(ms, xs)
+}
+
+/// Rows a [`blocks`] tile holds: its columns' values are copied into it
+/// row by row (a row one vector), then added.
+const TILE: usize = 64;
+
+/// [`add_columns`], [`W`] columns at a time, [`TILE`] rows at a time.
+#[inline(always)]
+fn blocks(ms: &mut [Moments], xs: &[&[f64]]) {
+    let rows = xs.first().map_or(0, |x| x.len());
+    let mut tile = [[f64::NAN; W]; TILE];
+    for (ms, xs) in ms.chunks_mut(W).zip(xs.chunks(W)) {
+        let mut b = Block::load(ms);
+        // Columns past the last fill no vector element: NaN, left out.
+        tile.iter_mut().for_each(|t| *t = [f64::NAN; W]);
+        for start in (0..rows).step_by(TILE) {
+            let n = TILE.min(rows - start);
+            for (j, col) in xs.iter().enumerate() {
+                for (t, &v) in tile[..n].iter_mut().zip(&col[start..start + n]) {
+                    t[j] = v;
+                }
+            }
+            for t in &tile[..n] {
+                b.add(t);
+            }
+        }
+        b.store(ms);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand_core::{Rng, SeedableRng};
+
+    /// Many columns side by side give the moments of each column added
+    /// one value at a time, bit for bit: values of every magnitude and
+    /// sign, empty (NaN) and infinite cells, columns of one value, and
+    /// column counts that fill no, one or several vectors.
+    #[test]
+    fn columns_side_by_side_are_each_column_alone() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for cols in [1, 3, 8, 9, 21, 24] {
+            for rows in [0, 1, 2, 7, 1000] {
+                let xs: Vec<Vec<f64>> = (0..cols)
+                    .map(|c| {
+                        (0..rows)
+                            .map(|_| {
+                                let u = rng.next_u64();
+                                match (c + (u % 7) as usize) % 9 {
+                                    0 => f64::NAN,
+                                    1 if u % 13 == 0 => f64::INFINITY,
+                                    2 => 4.25,
+                                    3 if u % 5 == 0 => 0.0,
+                                    3 if u % 5 == 1 => -0.0,
+                                    _ => {
+                                        let m = (u >> 11) as f64 / (1u64 << 53) as f64;
+                                        let e = ((u >> 3) % 40) as i32 - 20;
+                                        (m - 0.3) * 10f64.powi(e)
+                                    }
+                                }
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let mut one = vec![Moments::default(); cols];
+                for (m, x) in one.iter_mut().zip(&xs) {
+                    x.iter().for_each(|&v| m.add(v));
+                }
+                // In two batches, as a run hands them over.
+                let mut many = vec![Moments::default(); cols];
+                let half = rows / 2;
+                let a: Vec<&[f64]> = xs.iter().map(|x| &x[..half]).collect();
+                let b: Vec<&[f64]> = xs.iter().map(|x| &x[half..]).collect();
+                add_columns(&mut many, &a);
+                add_columns(&mut many, &b);
+                for (p, q) in one.iter().zip(&many) {
+                    assert_eq!(p.count, q.count);
+                    for (x, y) in [
+                        (p.mean, q.mean),
+                        (p.m2, q.m2),
+                        (p.min, q.min),
+                        (p.max, q.max),
+                    ] {
+                        assert_eq!(x.to_bits(), y.to_bits(), "{cols} columns, {rows} rows");
+                    }
+                }
+            }
+        }
+    }
+
+    /// The moments against a two-pass textbook computation.
+    #[test]
+    fn moments_are_the_textbook_ones() {
+        let x = [2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0];
+        let mut m = Moments::default();
+        x.iter().for_each(|&v| m.add(v));
+        assert_eq!(m.count, 8);
+        assert_eq!(m.mean, 5.0);
+        // Sample variance 32 / 7.
+        assert!((m.std() - (32.0f64 / 7.0).sqrt()).abs() < 1e-15);
+        assert_eq!((m.min, m.max), (2.0, 9.0));
+    }
+}
