@@ -99,7 +99,72 @@ pub fn is_partial_name(name: &str, ours: impl Fn(&str) -> bool) -> bool {
 
 /// The writer of an [`AtomicFile`]: its file, hashed on the way when
 /// asked (a shard's files, whose manifest records their SHA-256).
-pub type FileWriter = BufWriter<Hashing<File>>;
+pub type FileWriter = BufWriter<Hashing<WriteBehind>>;
+
+/// Bytes a [`WriteBehind`] lets pile up before it starts them on their
+/// way to the disk.
+const WRITE_BEHIND: u64 = 8 << 20;
+
+/// A file whose bytes start on their way to the disk as they are written,
+/// every [`WRITE_BEHIND`] bytes, without waiting for them: the commit's
+/// sync then waits only for the last few, not for the whole file (the
+/// sync of a 470 MB `lanes.csv` written all at once took 0.15 s after the
+/// run on this project's 2-core VM).
+pub struct WriteBehind {
+    file: File,
+    written: u64,
+    started: u64,
+}
+
+impl WriteBehind {
+    fn new(file: File) -> WriteBehind {
+        WriteBehind {
+            file,
+            written: 0,
+            started: 0,
+        }
+    }
+
+    /// The file.
+    pub fn file(&self) -> &File {
+        &self.file
+    }
+
+    /// Starts the bytes written since the last start on their way to the
+    /// disk (Linux: `sync_file_range`, which does not wait for them;
+    /// elsewhere the commit's sync writes them all).
+    fn start_writeback(&mut self) {
+        #[cfg(target_os = "linux")]
+        {
+            use std::os::fd::AsRawFd;
+            // SAFETY: a valid descriptor and a range of the file; the call
+            // only starts writeback (an error leaves it to the sync).
+            unsafe {
+                libc::sync_file_range(
+                    self.file.as_raw_fd(),
+                    self.started as libc::off64_t,
+                    (self.written - self.started) as libc::off64_t,
+                    libc::SYNC_FILE_RANGE_WRITE,
+                );
+            }
+        }
+        self.started = self.written;
+    }
+}
+
+impl std::io::Write for WriteBehind {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.written += n as u64;
+        if self.written - self.started >= WRITE_BEHIND {
+            self.start_writeback();
+        }
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
 
 /// A file written under a temporary name unique to this run and renamed to
 /// its final name by [`commit_together`]; dropped uncommitted, the
@@ -145,9 +210,9 @@ impl AtomicFile {
             w: Some(BufWriter::with_capacity(
                 1 << 20,
                 if hashed {
-                    Hashing::new(f)
+                    Hashing::new(WriteBehind::new(f))
                 } else {
-                    Hashing::unhashed(f)
+                    Hashing::unhashed(WriteBehind::new(f))
                 },
             )),
         })
@@ -184,6 +249,7 @@ impl AtomicFile {
         let len = w
             .get_ref()
             .get_ref()
+            .file()
             .metadata()
             .map_err(|e| Error::io(tmp, e))?
             .len();
@@ -207,7 +273,10 @@ impl AtomicFile {
         let f = w
             .into_inner()
             .map_err(|e| Error::io(&self.tmp, e.into_error()))?;
-        f.get_ref().sync_all().map_err(|e| Error::io(&self.tmp, e))
+        f.get_ref()
+            .file()
+            .sync_all()
+            .map_err(|e| Error::io(&self.tmp, e))
     }
 }
 

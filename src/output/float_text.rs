@@ -16,11 +16,25 @@
 /// bytes `format!("{v:?}")` gives.
 #[inline]
 pub fn push_f64(out: &mut Vec<u8>, v: f64) {
+    let a = v.abs();
+    // The common case, `zmij`'s text as it is: a magnitude `zmij` lays out
+    // as `{:?}` does, and no tie (NaN fails the comparison).
+    if (1e-4..1e16).contains(&a) && !may_tie(v) {
+        super::short_bytes::push(out, zmij::Buffer::new().format_finite(v).as_bytes());
+    } else {
+        push_other(out, v);
+    }
+}
+
+/// [`push_f64`] of the values `zmij` does not lay out as `{:?}` does, or
+/// that may be a tie, and of NaN, infinities and zeros.
+#[cold]
+fn push_other(out: &mut Vec<u8>, v: f64) {
     if v.is_nan() {
         return;
     }
     if v.is_infinite() || v == 0.0 {
-        // Rare: `core::fmt` spells them ("inf", "0.0", "-0.0").
+        // `core::fmt` spells them ("inf", "0.0", "-0.0").
         use std::io::Write as _;
         let _ = write!(out, "{v:?}");
         return;

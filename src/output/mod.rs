@@ -3,7 +3,8 @@
 //! names and committed together ([`atomic`]), their SHA-256
 //! ([`digest`]), the results table in either format ([`table`]),
 //! `sweep.resolved.toml` ([`provenance`]), `traces.csv` ([`traces`]) and
-//! the CSV line writer they share ([`csv_lines`]).
+//! the CSV line writer they share ([`csv_lines`]), and short byte
+//! copies for the cells ([`short_bytes`]).
 
 pub mod atomic;
 pub mod batch;
@@ -12,6 +13,7 @@ pub mod digest;
 pub mod float_text;
 pub mod folder;
 pub mod provenance;
+pub mod short_bytes;
 pub mod table;
 pub mod traces;
 

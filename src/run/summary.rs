@@ -38,32 +38,43 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// Counts a chunk's lanes.
+    /// Counts a chunk's lanes: each run of lanes with the same words
+    /// counted at once (a sweep's neighbouring lanes mostly end alike).
     pub(super) fn add_chunk(&mut self, params: &ParamColumns, results: &[LaneResult]) {
         let (t_end, t_max) = (params.num(Num::TEnd), params.num(Num::TMax));
-        for (i, r) in results.iter().enumerate() {
-            self.add(t_end[i], t_max[i], r);
+        let key = |r: &LaneResult| (r.status, r.contact_end, r.hold, r.drive, r.path);
+        let mut i = 0;
+        while i < results.len() {
+            let r = &results[i];
+            let run = 1 + results[i + 1..]
+                .iter()
+                .take_while(|q| key(q) == key(r))
+                .count();
+            self.add(r, run as u64);
+            if r.hold == Some(Hold::Coasting) {
+                for k in i..i + run {
+                    self.coasting_t_end = self.coasting_t_end.max(t_end[k]);
+                    self.coasting_with_t_max |= !t_max[k].is_nan();
+                }
+            }
+            i += run;
         }
     }
 
-    /// Counts a lane with its `t_end` and `t_max`.
-    fn add(&mut self, t_end: f64, t_max: f64, r: &LaneResult) {
-        self.lanes += 1;
-        *self.by_status.entry(r.status).or_default() += 1;
+    /// Counts `n` lanes that ended as `r`.
+    fn add(&mut self, r: &LaneResult, n: u64) {
+        self.lanes += n;
+        *self.by_status.entry(r.status).or_default() += n;
         if r.status == Status::Ok {
-            *self.by_contact.entry(r.contact_end).or_default() += 1;
+            *self.by_contact.entry(r.contact_end).or_default() += n;
         }
         if let Some(h) = r.hold {
-            *self.by_hold.entry(h).or_default() += 1;
-            if h == Hold::Coasting {
-                self.coasting_t_end = self.coasting_t_end.max(t_end);
-                self.coasting_with_t_max |= !t_max.is_nan();
-            }
+            *self.by_hold.entry(h).or_default() += n;
         }
         if let Some(d) = r.drive {
-            *self.by_drive.entry(d).or_default() += 1;
+            *self.by_drive.entry(d).or_default() += n;
         }
-        *self.by_path.entry(r.path).or_default() += 1;
+        *self.by_path.entry(r.path).or_default() += n;
     }
 
     /// "; writing set the pace: ..." when the results took longer to

@@ -12,6 +12,8 @@ use crate::params::Num;
 pub struct Grouping {
     /// Lanes per group (0: the whole run is one group).
     pub per_group: u64,
+    /// Lanes of the run.
+    pub lanes: u64,
     /// The grid's axes, whose values name a group.
     pub axes: Vec<Axis>,
     /// The sampled inputs, for rank correlations.
@@ -28,6 +30,14 @@ impl Grouping {
     /// A sampled sweep with a grid: one group per grid point; otherwise the
     /// whole run.
     pub fn of(source: &Source) -> Grouping {
+        Grouping {
+            lanes: source.lane_count(),
+            ..Grouping::groups_of(source)
+        }
+    }
+
+    /// [`Grouping::of`] but for the run's size.
+    fn groups_of(source: &Source) -> Grouping {
         match source {
             Source::Sweep { sweep, .. } => {
                 let inputs: Vec<Num> = sweep
@@ -53,6 +63,7 @@ impl Grouping {
                         inputs,
                         sampled: sensitivity.is_none(),
                         sensitivity,
+                        lanes: 0,
                     },
                     Some(_) => Grouping {
                         inputs,
@@ -69,6 +80,14 @@ impl Grouping {
 
     pub(super) fn group_of(&self, lane: u64) -> u64 {
         lane.checked_div(self.per_group).unwrap_or(0)
+    }
+
+    /// Lanes of a group: its grid point's samples, or the whole run's.
+    pub(super) fn group_lanes(&self) -> u64 {
+        match self.per_group {
+            0 => self.lanes,
+            n => n,
+        }
     }
 }
 

@@ -129,36 +129,49 @@ impl Block {
 /// to `ms` (one a column), row after row: the same as [`Moments::add`]
 /// of each column's values in order, bit for bit.
 pub fn add_columns(ms: &mut [Moments], xs: &[&[f64]]) {
+    add_columns_on(best_isa(), ms, xs)
+}
+
+/// [`add_columns`] with the instructions of `isa`. Panics when this core
+/// lacks them.
+fn add_columns_on(isa: Isa, ms: &mut [Moments], xs: &[&[f64]]) {
     assert_eq!(ms.len(), xs.len(), "one moments a column");
-    match best_isa() {
-        // SAFETY: best_isa() found the features on this core.
+    assert!(
+        crate::integrator::width::isas().contains(&isa),
+        "this core has no {isa:?} instructions"
+    );
+    match isa {
+        // SAFETY: checked above: the core has the features.
         #[cfg(target_arch = "x86_64")]
         Isa::Avx512 => unsafe { on_avx512(ms, xs) },
         #[cfg(target_arch = "x86_64")]
         Isa::Avx2 => unsafe { on_avx2(ms, xs) },
-        _ => blocks(ms, xs),
+        _ => blocks(ms, xs, |b, rows| rows.iter().for_each(|x| b.add(x))),
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
 unsafe fn on_avx512(ms: &mut [Moments], xs: &[&[f64]]) {
-    blocks(ms, xs)
+    // SAFETY: this function runs only where the features are.
+    blocks(ms, xs, |b, rows| unsafe { vectors::tile_avx512(b, rows) })
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn on_avx2(ms: &mut [Moments], xs: &[&[f64]]) {
-    blocks(ms, xs)
+    // SAFETY: this function runs only where the features are.
+    blocks(ms, xs, |b, rows| unsafe { vectors::tile_avx2(b, rows) })
 }
 
 /// Rows a [`blocks`] tile holds: its columns' values are copied into it
 /// row by row (a row one vector), then added.
 const TILE: usize = 64;
 
-/// [`add_columns`], [`W`] columns at a time, [`TILE`] rows at a time.
+/// [`add_columns`], [`W`] columns at a time, [`TILE`] rows at a time,
+/// each tile's rows added by `add`.
 #[inline(always)]
-fn blocks(ms: &mut [Moments], xs: &[&[f64]]) {
+fn blocks(ms: &mut [Moments], xs: &[&[f64]], add: impl Fn(&mut Block, &[[f64; W]])) {
     let rows = xs.first().map_or(0, |x| x.len());
     let mut tile = [[f64::NAN; W]; TILE];
     for (ms, xs) in ms.chunks_mut(W).zip(xs.chunks(W)) {
@@ -172,11 +185,91 @@ fn blocks(ms: &mut [Moments], xs: &[&[f64]]) {
                     t[j] = v;
                 }
             }
-            for t in &tile[..n] {
-                b.add(t);
-            }
+            add(&mut b, &tile[..n]);
         }
         b.store(ms);
+    }
+}
+
+/// [`Block::add`] as explicit vector instructions, row after row of a
+/// tile, the block's moments held in registers throughout: the same
+/// operations in the same order on each element, so the same bits.
+#[cfg(target_arch = "x86_64")]
+mod vectors {
+    use super::{Block, W};
+    use std::arch::x86_64::*;
+
+    /// AVX-512: a block's eight columns one vector.
+    #[target_feature(enable = "avx512f,avx512dq")]
+    pub(super) unsafe fn tile_avx512(b: &mut Block, rows: &[[f64; W]]) {
+        let one = _mm512_set1_pd(1.0);
+        let inf = _mm512_set1_pd(f64::INFINITY);
+        // SAFETY: each array holds W = 8 values, one vector.
+        let load = |a: &[f64; W]| unsafe { _mm512_loadu_pd(a.as_ptr()) };
+        let (mut n, mut mean, mut m2) = (load(&b.n), load(&b.mean), load(&b.m2));
+        let (mut min, mut max) = (load(&b.min), load(&b.max));
+        for r in rows {
+            let x = load(r);
+            let keep = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(_mm512_abs_pd(x), inf);
+            let n1 = _mm512_add_pd(n, one);
+            let d = _mm512_sub_pd(x, mean);
+            let mean1 = _mm512_add_pd(mean, _mm512_div_pd(d, n1));
+            let m21 = _mm512_add_pd(m2, _mm512_mul_pd(d, _mm512_sub_pd(x, mean1)));
+            let first = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(n1, one);
+            let lower = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(x, min);
+            let higher = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(x, max);
+            min = _mm512_mask_mov_pd(min, keep & (first | lower), x);
+            max = _mm512_mask_mov_pd(max, keep & (first | higher), x);
+            n = _mm512_mask_mov_pd(n, keep, n1);
+            mean = _mm512_mask_mov_pd(mean, keep, mean1);
+            m2 = _mm512_mask_mov_pd(m2, keep, m21);
+        }
+        // SAFETY: as the loads.
+        let store = |a: &mut [f64; W], v| unsafe { _mm512_storeu_pd(a.as_mut_ptr(), v) };
+        store(&mut b.n, n);
+        store(&mut b.mean, mean);
+        store(&mut b.m2, m2);
+        store(&mut b.min, min);
+        store(&mut b.max, max);
+    }
+
+    /// AVX2: a block's eight columns two vectors of four.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn tile_avx2(b: &mut Block, rows: &[[f64; W]]) {
+        let one = _mm256_set1_pd(1.0);
+        let inf = _mm256_set1_pd(f64::INFINITY);
+        let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+        // SAFETY: each half is 4 of an array's W = 8 values.
+        let load = |a: &[f64; W], h: usize| unsafe { _mm256_loadu_pd(a.as_ptr().add(4 * h)) };
+        let store = |a: &mut [f64; W], h: usize, v| unsafe {
+            _mm256_storeu_pd(a.as_mut_ptr().add(4 * h), v)
+        };
+        for h in 0..2 {
+            let (mut n, mut mean, mut m2) = (load(&b.n, h), load(&b.mean, h), load(&b.m2, h));
+            let (mut min, mut max) = (load(&b.min, h), load(&b.max, h));
+            for r in rows {
+                let x = load(r, h);
+                let keep = _mm256_cmp_pd::<_CMP_LT_OQ>(_mm256_and_pd(x, abs), inf);
+                let n1 = _mm256_add_pd(n, one);
+                let d = _mm256_sub_pd(x, mean);
+                let mean1 = _mm256_add_pd(mean, _mm256_div_pd(d, n1));
+                let m21 = _mm256_add_pd(m2, _mm256_mul_pd(d, _mm256_sub_pd(x, mean1)));
+                let first = _mm256_cmp_pd::<_CMP_EQ_OQ>(n1, one);
+                let lower = _mm256_cmp_pd::<_CMP_LT_OQ>(x, min);
+                let higher = _mm256_cmp_pd::<_CMP_GT_OQ>(x, max);
+                let pick = |old, new, m| _mm256_blendv_pd(old, new, m);
+                min = pick(min, x, _mm256_and_pd(keep, _mm256_or_pd(first, lower)));
+                max = pick(max, x, _mm256_and_pd(keep, _mm256_or_pd(first, higher)));
+                n = pick(n, n1, keep);
+                mean = pick(mean, mean1, keep);
+                m2 = pick(m2, m21, keep);
+            }
+            store(&mut b.n, h, n);
+            store(&mut b.mean, h, mean);
+            store(&mut b.m2, h, m2);
+            store(&mut b.min, h, min);
+            store(&mut b.max, h, max);
+        }
     }
 }
 
@@ -219,24 +312,32 @@ mod tests {
                 for (m, x) in one.iter_mut().zip(&xs) {
                     x.iter().for_each(|&v| m.add(v));
                 }
-                // In two batches, as a run hands them over.
-                let mut many = vec![Moments::default(); cols];
-                let half = rows / 2;
-                let a: Vec<&[f64]> = xs.iter().map(|x| &x[..half]).collect();
-                let b: Vec<&[f64]> = xs.iter().map(|x| &x[half..]).collect();
-                add_columns(&mut many, &a);
-                add_columns(&mut many, &b);
-                for (p, q) in one.iter().zip(&many) {
-                    assert_eq!(p.count, q.count);
-                    for (x, y) in [
-                        (p.mean, q.mean),
-                        (p.m2, q.m2),
-                        (p.min, q.min),
-                        (p.max, q.max),
-                    ] {
-                        assert_eq!(x.to_bits(), y.to_bits(), "{cols} columns, {rows} rows");
-                    }
+                // In two batches, as a run hands them over, on every
+                // instruction set of this core.
+                for isa in crate::integrator::width::isas() {
+                    let mut many = vec![Moments::default(); cols];
+                    let half = rows / 2;
+                    let a: Vec<&[f64]> = xs.iter().map(|x| &x[..half]).collect();
+                    let b: Vec<&[f64]> = xs.iter().map(|x| &x[half..]).collect();
+                    add_columns_on(isa, &mut many, &a);
+                    add_columns_on(isa, &mut many, &b);
+                    same(&one, &many, &format!("{isa:?}, {cols} columns, {rows} rows"));
                 }
+            }
+        }
+    }
+
+    /// The same moments, bit for bit.
+    fn same(one: &[Moments], many: &[Moments], case: &str) {
+        for (p, q) in one.iter().zip(many) {
+            assert_eq!(p.count, q.count, "{case}");
+            for (x, y) in [
+                (p.mean, q.mean),
+                (p.m2, q.m2),
+                (p.min, q.min),
+                (p.max, q.max),
+            ] {
+                assert_eq!(x.to_bits(), y.to_bits(), "{case}");
             }
         }
     }

@@ -144,15 +144,21 @@ impl Sketch {
             if let Some(r) = self.run.as_mut() {
                 let (lo, hi, pos) = (r.lo, r.hi, r.pos);
                 // Not NaN, not infinite: outside every finite span.
-                let inside = |x: f64| (x > 0.0) == pos && lo <= x.abs() && x.abs() <= hi;
-                // Whole groups of 8 at a time (compared as a vector),
-                // then one at a time.
+                let inside = |x: f64| ((x > 0.0) == pos) & (lo <= x.abs()) & (x.abs() <= hi);
+                // Whole groups of 8 at a time (compared as a vector, no
+                // branch inside), then one at a time.
                 let rest = &xs[i..];
-                let whole = rest
-                    .chunks_exact(8)
-                    .take_while(|g| g.iter().fold(true, |all, &x| all & inside(x)))
-                    .count()
-                    * 8;
+                let mut whole = 0;
+                for g in rest.chunks_exact(8) {
+                    let mut all = true;
+                    for &x in g {
+                        all &= inside(x);
+                    }
+                    if !all {
+                        break;
+                    }
+                    whole += 8;
+                }
                 let k = whole + rest[whole..].iter().take_while(|&&x| inside(x)).count();
                 r.count += k as u64;
                 self.n += k as u64;

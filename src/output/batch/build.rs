@@ -9,6 +9,7 @@ use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
 use arrow_buffer::{BooleanBuffer, NullBuffer, OffsetBuffer, ScalarBuffer};
 
 use super::schema;
+use crate::output::short_bytes;
 use crate::columns::{results, Column, Kind, Value};
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
@@ -37,12 +38,12 @@ fn nan_nulls(values: &[f64]) -> Option<NullBuffer> {
 }
 
 /// A word column being filled, laid out as Arrow lays out UTF-8: the
-/// words' bytes one after another, where each ends, and which are given.
+/// words' bytes one after another and where each ends; an empty word is
+/// a null.
 #[derive(Default)]
 struct Words {
     bytes: Vec<u8>,
     ends: Vec<i32>,
-    given: Vec<bool>,
 }
 
 impl Words {
@@ -52,22 +53,26 @@ impl Words {
         Words {
             bytes: Vec::with_capacity(n * 8),
             ends,
-            given: Vec::with_capacity(n),
         }
     }
 
     /// Appends a word, "" as null.
     #[inline]
     fn push(&mut self, w: &str) {
-        self.bytes.extend_from_slice(w.as_bytes());
+        short_bytes::push(&mut self.bytes, w.as_bytes());
         self.ends.push(self.bytes.len() as i32);
-        self.given.push(!w.is_empty());
     }
 
     fn finish(self) -> ArrayRef {
-        let n = self.given.len();
-        let given = BooleanBuffer::collect_bool(n, |i| self.given[i]);
-        let nulls = (given.count_set_bits() < n).then(|| NullBuffer::new(given));
+        let n = self.ends.len() - 1;
+        let empty: usize = self.ends.windows(2).map(|e| usize::from(e[0] == e[1])).sum();
+        let nulls = match empty {
+            0 => None,
+            e if e == n => Some(NullBuffer::new_null(n)),
+            _ => Some(NullBuffer::new(BooleanBuffer::collect_bool(n, |i| {
+                self.ends[i] != self.ends[i + 1]
+            }))),
+        };
         // The ends rise and the bytes are whole words: checked here
         // all the same, once a column.
         Arc::new(StringArray::new(
@@ -76,6 +81,24 @@ impl Words {
             nulls,
         ))
     }
+}
+
+/// The word column of `values` (a parameter's law or table, one a
+/// lane), each spelled by `word`: a column of one value (a sweep's fixed
+/// law) laid out at once as that word over and over.
+fn words_of<T: PartialEq>(values: &[T], word: impl Fn(&T) -> &str) -> ArrayRef {
+    let mut w = Words::with_capacity(values.len());
+    match values.first() {
+        Some(v) if values.iter().all(|x| x == v) => {
+            let text = word(v);
+            w.bytes = text.as_bytes().repeat(values.len());
+            w.ends = (0..=values.len())
+                .map(|i| (i * text.len()) as i32)
+                .collect();
+        }
+        _ => values.iter().for_each(|v| w.push(word(v))),
+    }
+    w.finish()
 }
 
 /// A result column of a batch being filled.
@@ -171,21 +194,13 @@ impl Builder {
         let mut cols: Vec<Option<ArrayRef>> = Param::COLUMNS
             .iter()
             .map(|p| {
-                let words = |w: &mut dyn Iterator<Item = &str>| {
-                    let mut f = Fill::S(Words::with_capacity(n));
-                    w.for_each(|w| f.word(w));
-                    f.finish()
-                };
                 Some(match p {
                     Param::Num(k) => float_array(params.take_num(*k).into()),
-                    Param::Motor => words(&mut params.motors().iter().map(|m| m.name())),
-                    Param::Friction => words(&mut params.frictions().iter().map(|f| f.name())),
-                    Param::FrictionTable => words(
-                        &mut params
-                            .friction_tables()
-                            .iter()
-                            .map(|t| t.as_ref().map_or("", |t| t.as_str())),
-                    ),
+                    Param::Motor => words_of(params.motors(), |m| m.name()),
+                    Param::Friction => words_of(params.frictions(), |f| f.name()),
+                    Param::FrictionTable => words_of(params.friction_tables(), |t| {
+                        t.as_ref().map_or("", |t| t.as_str())
+                    }),
                 })
             })
             .collect();

@@ -14,6 +14,7 @@ use arrow_array::{Array, RecordBatch};
 use crate::error::Result;
 use crate::output::batch::{typed, Col};
 use crate::output::float_text::push_f64;
+use crate::output::short_bytes;
 
 /// Rows a task formats: big enough that a task's overhead is nothing
 /// beside its rows, small enough to share a chunk among every thread.
@@ -28,37 +29,62 @@ fn push_cell(out: &mut Vec<u8>, col: &Col<'_>, i: usize) {
                 push_f64(out, a.value(i));
             }
         }
-        Col::I(a) => out.extend_from_slice(itoa::Buffer::new().format(a.value(i)).as_bytes()),
+        Col::I(a) => short_bytes::push(out, itoa::Buffer::new().format(a.value(i)).as_bytes()),
         Col::S(a) => {
             if a.is_valid(i) {
-                out.extend_from_slice(a.value(i).as_bytes());
+                short_bytes::push(out, a.value(i).as_bytes());
             }
         }
     }
 }
 
 /// Whether `col` holds one cell over `rows` (the same value, or empty
-/// throughout).
+/// throughout). Whole runs of values are compared at a time (a block is
+/// mostly columns that do hold one cell: a sweep's fixed parameters, the
+/// cells its laws leave empty).
 fn fixed(col: &Col<'_>, rows: std::ops::Range<usize>) -> bool {
-    let first = rows.start;
+    let (first, n) = (rows.start, rows.len());
+    let a: &dyn Array = match col {
+        Col::F(a) => *a,
+        Col::I(a) => *a,
+        Col::S(a) => *a,
+    };
+    let empty = a
+        .nulls()
+        .map_or(0, |b| n - b.inner().slice(first, n).count_set_bits());
+    if empty == n {
+        return true;
+    }
+    if empty > 0 {
+        return false;
+    }
     match col {
-        Col::F(a) => {
-            let v = a.values();
-            let bits = v[first].to_bits();
-            let valid = a.is_valid(first);
-            rows.clone().all(|i| a.is_valid(i) == valid)
-                && (!valid || v[rows].iter().all(|x| x.to_bits() == bits))
-        }
-        Col::I(a) => {
-            let v = a.values();
-            v[rows].iter().all(|&x| x == v[first])
-        }
+        Col::F(a) => same(&a.values()[rows], |x| x.to_bits()),
+        Col::I(a) => same(&a.values()[rows], |x| x),
         Col::S(a) => {
-            let w = a.is_valid(first).then(|| a.value(first));
-            rows.into_iter()
-                .all(|i| a.is_valid(i).then(|| a.value(i)) == w)
+            // Every word as long as the first, and the words' bytes the
+            // first word over and over: equal to themselves shifted by
+            // one word.
+            let ends = &a.value_offsets()[first..=rows.end];
+            let len = ends[1] - ends[0];
+            let bytes = &a.value_data()[ends[0] as usize..ends[n] as usize];
+            ends.windows(2).all(|e| e[1] - e[0] == len) && {
+                let len = len as usize;
+                bytes[len..] == bytes[..bytes.len() - len]
+            }
         }
     }
+}
+
+/// Whether every value of `v` has the key of the first: 64 values at a
+/// time, compared without a branch among them.
+fn same<T: Copy, K: PartialEq>(v: &[T], key: impl Fn(T) -> K) -> bool {
+    let Some(&head) = v.first() else {
+        return true;
+    };
+    let k = key(head);
+    v.chunks(64)
+        .all(|c| c.iter().fold(true, |all, &x| all & (key(x) == k)))
 }
 
 /// One piece of a block's row: text every row has, or a column whose
@@ -104,7 +130,7 @@ impl Template {
         for i in rows {
             for p in &self.pieces {
                 match p {
-                    Piece::Text(r) => out.extend_from_slice(&self.text[r.clone()]),
+                    Piece::Text(r) => short_bytes::push(out, &self.text[r.clone()]),
                     Piece::Cell(c) => push_cell(out, &cols[*c], i),
                 }
             }
@@ -149,5 +175,49 @@ impl CsvBlocks {
             write(out)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use arrow_array::{Float64Array, Int64Array, StringArray};
+    use rand_core::{Rng, SeedableRng};
+
+    /// `fixed` against its definition (every row's cell the same text),
+    /// on random columns of each type with runs of one value, empty
+    /// cells and words of equal and unequal length, over random ranges.
+    #[test]
+    fn fixed_is_every_cell_the_same() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let words = ["", "aa", "bb", "stick", "runs", "ab"];
+        for case in 0..3000 {
+            let n = 1 + (rng.next_u64() % 300) as usize;
+            // Few distinct values, so that whole ranges often agree.
+            let kinds = 1 + rng.next_u64() % 3;
+            let pick: Vec<u64> = (0..n)
+                .map(|_| if rng.next_u64() % 8 == 0 { rng.next_u64() % kinds } else { 0 })
+                .collect();
+            let floats = Float64Array::from_iter(
+                pick.iter().map(|&k| (k != 2).then_some(if k == 1 { -0.0 } else { 0.0 })),
+            );
+            let ints = Int64Array::from_iter_values(pick.iter().map(|&k| k as i64));
+            let strs = StringArray::from_iter(pick.iter().map(|&k| {
+                let w = words[(k as usize + case) % words.len()];
+                (!w.is_empty()).then_some(w)
+            }));
+            let a = (rng.next_u64() as usize) % n;
+            let b = a + 1 + (rng.next_u64() as usize) % (n - a);
+            for col in [Col::F(&floats), Col::I(&ints), Col::S(&strs)] {
+                let mut texts = (a..b).map(|i| {
+                    let mut t = Vec::new();
+                    push_cell(&mut t, &col, i);
+                    t
+                });
+                let first = texts.next().unwrap();
+                let want = texts.all(|t| t == first);
+                assert_eq!(fixed(&col, a..b), want, "case {case}, rows {a}..{b}");
+            }
+        }
     }
 }

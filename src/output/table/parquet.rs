@@ -53,7 +53,7 @@ impl ParquetLanes {
         };
         let mut props = WriterProperties::builder()
             // Snappy: fast, and read by every Parquet reader.
-            .set_compression(Compression::SNAPPY)
+            .set_compression(Compression::LZ4_RAW)
             // Words by dictionary (a handful of words a column); numbers
             // plain: a result takes a new value nearly every lane, and a
             // dictionary of a million floats costs more than it saves
@@ -98,7 +98,7 @@ impl ParquetLanes {
             at += n;
             self.rows += n;
             if self.rows == ROW_GROUP {
-                self.flush_group()?;
+                self.flush_group(pool)?;
             }
         }
         Ok(())
@@ -127,8 +127,11 @@ impl ParquetLanes {
         .map_err(|e| parquet_error(&self.path, e))
     }
 
-    /// Writes the row group's columns to the file and starts the next.
-    fn flush_group(&mut self) -> Result<()> {
+    /// Writes the row group's columns to the file and starts the next:
+    /// the columns' last pages encoded in parallel on `pool`, then
+    /// appended in schema order.
+    fn flush_group(&mut self, pool: Option<&rayon::ThreadPool>) -> Result<()> {
+        use rayon::prelude::*;
         if self.rows == 0 {
             return Ok(());
         }
@@ -139,11 +142,14 @@ impl ParquetLanes {
             .create_column_writers(self.groups)
             .map_err(pe)?;
         let cols = std::mem::replace(&mut self.cols, next);
+        let chunks: Vec<_> = match pool {
+            Some(pool) => pool.install(|| cols.into_par_iter().map(|c| c.close()).collect()),
+            None => cols.into_iter().map(|c| c.close()).collect(),
+        };
         let w = self.writer.as_mut().expect("open");
         let mut rg = w.next_row_group().map_err(pe)?;
-        for c in cols {
-            c.close()
-                .and_then(|chunk| chunk.append_to_row_group(&mut rg))
+        for c in chunks {
+            c.and_then(|chunk| chunk.append_to_row_group(&mut rg))
                 .map_err(pe)?;
         }
         rg.close().map_err(pe)?;
@@ -152,7 +158,7 @@ impl ParquetLanes {
     }
 
     pub(super) fn finish(mut self) -> Result<AtomicFile> {
-        self.flush_group()?;
+        self.flush_group(None)?;
         let w = self.writer.take().expect("open");
         let inner = w.into_inner().map_err(|e| parquet_error(&self.path, e))?;
         self.file.restore_writer(inner);

@@ -55,6 +55,9 @@ impl Stats {
             self.write_group(g)?;
         }
         let (axes, inputs, layout) = (&self.grouping.axes, &self.grouping.inputs, &self.layout);
+        // Room for the values kept at once: a copy of them as they grow
+        // costs more than their adding.
+        let room = self.grouping.group_lanes().min(EXACT_MAX as u64) as usize;
         let g = self.group.get_or_insert_with(|| Group {
             id,
             axis_values: grid_values(axes, id),
@@ -63,7 +66,9 @@ impl Stats {
                 .map(|_| Column::default())
                 .collect(),
             shares: layout.words.iter().map(|w| w.1.clone()).collect(),
-            kept: vec![Vec::new(); layout.numbers.len() + inputs.len()],
+            kept: (0..layout.numbers.len() + inputs.len())
+                .map(|_| Vec::with_capacity(room))
+                .collect(),
         });
         g.lanes += rows.len() as u64;
         add_shares(g, layout, cols, rows.clone());

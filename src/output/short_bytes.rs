@@ -1,0 +1,58 @@
+//! Appending a few bytes (a word, a number's text) to a buffer with
+//! copies of fixed size: `extend_from_slice` of a slice whose length is
+//! known only at run time calls `memcpy`, which costs more than the copy
+//! for the few bytes of a cell, and a results table appends tens of
+//! millions of them.
+
+/// Longest slice [`push`] copies itself.
+const MAX: usize = 32;
+
+/// Appends `s` to `out`: up to [`MAX`] bytes as two overlapping copies of
+/// a fixed size, longer ones as `extend_from_slice` does.
+#[inline(always)]
+pub fn push(out: &mut Vec<u8>, s: &[u8]) {
+    let n = s.len();
+    if n > MAX {
+        out.extend_from_slice(s);
+        return;
+    }
+    let at = out.len();
+    out.extend_from_slice(&[0; MAX]);
+    let dst = &mut out[at..at + MAX];
+    /// Copies `s`, `W <= s.len() <= 2W` bytes, as its first W and its
+    /// last W bytes (overlapping in the middle).
+    #[inline(always)]
+    fn two<const W: usize>(dst: &mut [u8], s: &[u8]) {
+        let n = s.len();
+        let first: [u8; W] = s[..W].try_into().unwrap_or([0; W]);
+        let last: [u8; W] = s[n - W..].try_into().unwrap_or([0; W]);
+        dst[..W].copy_from_slice(&first);
+        dst[n - W..n].copy_from_slice(&last);
+    }
+    match n {
+        16.. => two::<16>(dst, s),
+        8.. => two::<8>(dst, s),
+        4.. => two::<4>(dst, s),
+        _ => dst[..n].iter_mut().zip(s).for_each(|(d, &b)| *d = b),
+    }
+    out.truncate(at + n);
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every length from 0 to past the fixed copies, onto buffers of
+    /// every fill: the same bytes as `extend_from_slice`.
+    #[test]
+    fn the_same_bytes_as_extend_from_slice() {
+        let text: Vec<u8> = (0..80u8).map(|b| b.wrapping_mul(37).wrapping_add(11)).collect();
+        for before in [0, 1, 7, 31, 33] {
+            for n in 0..=70 {
+                let mut a: Vec<u8> = (0..before as u8).collect();
+                let mut b = a.clone();
+                super::push(&mut a, &text[..n]);
+                b.extend_from_slice(&text[..n]);
+                assert_eq!(a, b, "{before} bytes before, {n} appended");
+            }
+        }
+    }
+}
