@@ -12,7 +12,7 @@ use crate::columns::{results, Summary};
 use crate::columns::{CONTACT_END, DRIVE, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
-use crate::output::batch::{Col, Columns};
+use crate::output::batch::{word_runs, Col, Columns};
 use crate::output::table::{read_batches, Format};
 use crate::params::Num;
 
@@ -138,18 +138,29 @@ impl Scan {
     }
 
     /// Adds the rows of `b`, the next lanes in order; `path` names the
-    /// table in an error.
+    /// table in an error. A run of rows with the same words has them
+    /// checked and read once.
     pub fn batch_of(&mut self, path: &Path, b: &RecordBatch) -> Result<()> {
         let cols = self.cols(b)?;
-        for row in 0..b.num_rows() {
-            self.row(path, &cols, row)?;
+        let mut start = 0;
+        for end in word_runs(&cols.words, 0..b.num_rows()) {
+            self.check_lane(path, &cols, start)?;
+            self.check_words(path, &cols, start)?;
+            let words = RowWords::of(&self.folder, &cols, start);
+            for row in start..end {
+                if row > start {
+                    self.check_lane(path, &cols, row)?;
+                }
+                self.row(&cols, row, &words);
+            }
+            start = end;
         }
         Ok(())
     }
 
-    /// Checks row `row`: its lane is its row, within the run's lanes,
-    /// and every word column holds one of its words.
-    fn check(&self, path: &Path, c: &Cols<'_>, row: usize, lane: u64) -> Result<()> {
+    /// Checks that row `row` is the next lane, within the run's lanes.
+    fn check_lane(&self, path: &Path, c: &Cols<'_>, row: usize) -> Result<()> {
+        let lane = self.folder.lanes;
         let at = || Some(format!("row {}", lane + 1));
         if c.lane.count(row) != Some(lane as i64) {
             return Err(Error::input(
@@ -175,6 +186,12 @@ impl Scan {
                 ),
             ));
         }
+        Ok(())
+    }
+
+    /// Checks that every word column of row `row` holds one of its words.
+    fn check_words(&self, path: &Path, c: &Cols<'_>, row: usize) -> Result<()> {
+        let at = || Some(format!("row {}", self.folder.lanes + 1));
         for ((name, words, maybe), col) in self.words.iter().zip(&c.words) {
             let w = col.word(row);
             // `hold` is empty for a lane whose motor runs to the end,
@@ -195,21 +212,21 @@ impl Scan {
         Ok(())
     }
 
-    fn row(&mut self, path: &Path, c: &Cols<'_>, row: usize) -> Result<()> {
-        let lane = self.folder.lanes;
-        self.check(path, c, row, lane)?;
+    /// Adds row `row`, whose words are `w`.
+    fn row(&mut self, c: &Cols<'_>, row: usize, w: &RowWords<'_>) {
         let f = &mut self.folder;
+        let lane = f.lanes;
         f.lanes += 1;
         if self.traced_lanes.binary_search(&lane).is_ok() {
             let (te, tm) = (c.t_end.number(row), c.t_max.number(row));
             self.traced
                 .push((lane, if tm.is_finite() { tm.max(te) } else { te }));
         }
-        let (ok, outcome) = count_outcomes(f, lane, c, row);
+        count_outcomes(f, lane, c, row, w);
         for (v, col) in self.vals.iter_mut().zip(&c.results) {
             *v = col.number(row);
         }
-        if ok {
+        if w.ok {
             for (e, &v) in f.extremes.iter_mut().zip(&self.vals) {
                 e.add(lane, v);
             }
@@ -219,7 +236,7 @@ impl Scan {
             let passes = r.req.passes_value(col.word(row), col.number(row));
             r.add(point, passes);
         }
-        let outcome = if ok { outcome } else { None };
+        let outcome = w.ok.then_some(w.outcome);
         if let Some(m) = f.map.as_mut() {
             m.add(point, &self.vals, outcome, c.lock.number(row));
         }
@@ -232,7 +249,6 @@ impl Scan {
                 gd.add(&self.vals);
             }
         }
-        Ok(())
     }
 
     /// The aggregates, once every row is in: the table `path` must hold
@@ -256,22 +272,52 @@ impl Scan {
     }
 }
 
-/// Counts a lane's status, hold, drive, final contact and outcome, and
-/// lists it when it did not finish; whether it is ok, and its outcome's
-/// index (`outcome::OUTCOMES`).
-fn count_outcomes(f: &mut Folder, lane: u64, c: &Cols<'_>, row: usize) -> (bool, Option<usize>) {
-    let status = c.status.word(row);
-    let ok = status == "ok";
-    if let Some(e) = f.by_status.iter_mut().find(|e| e.0 == status) {
-        e.1 += 1;
-    }
-    let hold = c.hold.word(row);
-    if !hold.is_empty() {
-        f.hold_lanes += 1;
-        if let Some(e) = f.by_hold.iter_mut().find(|e| e.0 == hold) {
-            e.1 += 1;
+/// A row's words, read once for a run of rows that share them: where
+/// each is counted, whether the lane is ok, and its outcome's index
+/// (`outcome::OUTCOMES`).
+struct RowWords<'a> {
+    status: &'a str,
+    ok: bool,
+    status_at: Option<usize>,
+    hold: &'a str,
+    hold_at: Option<usize>,
+    drive: &'a str,
+    drive_at: Option<usize>,
+    contact: Option<usize>,
+    outcome: usize,
+}
+
+impl<'a> RowWords<'a> {
+    fn of(f: &Folder, c: &Cols<'a>, row: usize) -> RowWords<'a> {
+        let (status, hold, drive) = (c.status.word(row), c.hold.word(row), c.drive.word(row));
+        let contact = c.contact.word(row);
+        let at = |list: &[(&str, u64)], w: &str| list.iter().position(|e| e.0 == w);
+        RowWords {
+            status,
+            ok: status == "ok",
+            status_at: at(&f.by_status, status),
+            hold,
+            hold_at: at(&f.by_hold, hold),
+            drive,
+            drive_at: at(&f.by_drive, drive),
+            contact: CONTACT_NAMES.iter().position(|x| x.0 == contact),
+            outcome: super::outcome::of(contact, hold, drive),
         }
-        if hold == "coasting" {
+    }
+}
+
+/// Counts a lane's status, hold, drive, final contact and outcome, and
+/// lists it when it did not finish.
+fn count_outcomes(f: &mut Folder, lane: u64, c: &Cols<'_>, row: usize, w: &RowWords<'_>) {
+    if let Some(k) = w.status_at {
+        f.by_status[k].1 += 1;
+    }
+    if !w.hold.is_empty() {
+        f.hold_lanes += 1;
+        if let Some(k) = w.hold_at {
+            f.by_hold[k].1 += 1;
+        }
+        if w.hold == "coasting" {
             let (te, tm) = (c.t_end.number(row), c.t_max.number(row));
             f.coasting_t_end = f.coasting_t_end.max(te);
             if tm.is_finite() {
@@ -279,28 +325,23 @@ fn count_outcomes(f: &mut Folder, lane: u64, c: &Cols<'_>, row: usize) -> (bool,
             }
         }
     }
-    let drive = c.drive.word(row);
-    if !drive.is_empty() {
+    if !w.drive.is_empty() {
         f.drive_lanes += 1;
-        if let Some(e) = f.by_drive.iter_mut().find(|e| e.0 == drive) {
-            e.1 += 1;
+        if let Some(k) = w.drive_at {
+            f.by_drive[k].1 += 1;
         }
     }
-    let contact_word = c.contact.word(row);
-    let contact = CONTACT_NAMES.iter().position(|x| x.0 == contact_word);
-    let outcome = super::outcome::of(contact_word, hold, drive);
-    if !ok {
+    if !w.ok {
         f.unfinished_total += 1;
         if f.unfinished.len() < UNFINISHED_SHOWN {
-            let mut r = vec![lane.to_string(), status.to_string()];
+            let mut r = vec![lane.to_string(), w.status.to_string()];
             r.extend(c.shown.iter().map(|col| col.text(row)));
             f.unfinished.push(r);
         }
     } else {
-        if let Some(k) = contact {
+        if let Some(k) = w.contact {
             f.by_contact[k] += 1;
         }
-        f.by_outcome[outcome] += 1;
+        f.by_outcome[w.outcome] += 1;
     }
-    (ok, Some(outcome))
 }

@@ -244,7 +244,7 @@ pub fn run(
         Some(_) => None,
     };
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(std::env::var("TSWM_WT").ok().and_then(|v| v.parse().ok()).unwrap_or(target.threads))
+        .num_threads(target.threads)
         .thread_name(|i| format!("tswm-writer-{i}"))
         .build()
         .map_err(|e| Error::Internal(format!("writer threads: {e}")))?;

@@ -187,6 +187,59 @@ impl<'a> Col<'a> {
     }
 }
 
+/// The ends of the runs of rows `rows` over which every word column of
+/// `cols` holds one word (the same word, or empty throughout): the rows
+/// of a run need their words read once. Ascending, the last
+/// `rows.end`; number columns are left out.
+pub fn word_runs(cols: &[Col<'_>], rows: std::ops::Range<usize>) -> Vec<usize> {
+    let mut ends: Vec<usize> = Vec::new();
+    for c in cols {
+        if let Col::S(a) = c {
+            ends.extend(word_run_ends(a, rows.clone()));
+        }
+    }
+    ends.push(rows.end);
+    ends.sort_unstable();
+    ends.dedup();
+    ends.retain(|&e| e > rows.start);
+    ends
+}
+
+/// The ends of the runs of one word in `a` over `rows` (the last one,
+/// `rows.end`, left out): rows of one length and validity taken
+/// together, and their bytes compared at once (one word over and over is
+/// its bytes equal to themselves shifted by one word), row by row only
+/// where that fails.
+fn word_run_ends(a: &StringArray, rows: std::ops::Range<usize>) -> Vec<usize> {
+    let ends = a.value_offsets();
+    let bytes = a.value_data();
+    let len = |i: usize| ends[i + 1] - ends[i];
+    let word = |i: usize| &bytes[ends[i] as usize..ends[i + 1] as usize];
+    let mut out = Vec::new();
+    let mut i = rows.start;
+    while i < rows.end {
+        let (valid, n) = (a.is_valid(i), len(i));
+        let mut j = i + 1;
+        while j < rows.end && a.is_valid(j) == valid && len(j) == n {
+            j += 1;
+        }
+        let all = &bytes[ends[i] as usize..ends[j] as usize];
+        let n = n as usize;
+        if valid && n > 0 && all[n..] != all[..all.len() - n] {
+            for k in i + 1..j {
+                if word(k) != word(k - 1) {
+                    out.push(k);
+                }
+            }
+        }
+        if j < rows.end {
+            out.push(j);
+        }
+        i = j;
+    }
+    out
+}
+
 /// The columns of a batch, found by name.
 pub struct Columns<'a> {
     batch: &'a RecordBatch,
@@ -223,4 +276,47 @@ pub fn typed(batch: &RecordBatch) -> Result<Vec<Col<'_>>> {
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand_core::{Rng, SeedableRng};
+
+    /// `word_runs` against its definition: a run ends where some word
+    /// column's cell differs from the row before's, on random columns of
+    /// words of equal and unequal length, empty cells and nulls, over
+    /// random ranges.
+    #[test]
+    fn word_runs_end_where_a_word_changes() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let words = [None, Some("aa"), Some("bb"), Some("stick"), Some("ok"), Some("")];
+        for case in 0..2000 {
+            let n = 1 + (rng.next_u64() % 200) as usize;
+            let columns: Vec<StringArray> = (0..1 + rng.next_u64() % 3)
+                .map(|_| {
+                    let mut w = words[(rng.next_u64() % 6) as usize];
+                    StringArray::from_iter((0..n).map(|_| {
+                        if rng.next_u64() % 16 == 0 {
+                            w = words[(rng.next_u64() % 6) as usize];
+                        }
+                        w
+                    }))
+                })
+                .collect();
+            let mut cols: Vec<Col<'_>> = columns.iter().map(Col::S).collect();
+            let numbers = Float64Array::from(vec![1.0; n]);
+            cols.push(Col::F(&numbers));
+            let a = (rng.next_u64() as usize) % n;
+            let b = a + 1 + (rng.next_u64() as usize) % (n - a);
+            fn cell(c: &StringArray, i: usize) -> Option<&str> {
+                c.is_valid(i).then(|| c.value(i))
+            }
+            let mut want: Vec<usize> = (a + 1..b)
+                .filter(|&i| columns.iter().any(|c| cell(c, i) != cell(c, i - 1)))
+                .collect();
+            want.push(b);
+            assert_eq!(word_runs(&cols, a..b), want, "case {case}, rows {a}..{b}");
+        }
+    }
 }

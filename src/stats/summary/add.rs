@@ -7,7 +7,7 @@ use std::ops::Range;
 use super::{Column, Group, Layout, Stats, EXACT_MAX};
 use crate::columns::Of;
 use crate::error::Result;
-use crate::output::batch::Col;
+use crate::output::batch::{word_runs, Col};
 use crate::params::Num;
 use crate::stats::grouping::grid_values;
 use crate::stats::moments::{add_columns, Moments};
@@ -96,21 +96,27 @@ impl Stats {
 /// Counts the word columns' words of rows `rows` into group `g`'s shares.
 fn add_shares(g: &mut Group, layout: &Layout, cols: &[Col<'_>], rows: Range<usize>) {
     let status = cols[layout.status];
-    for ((i, _), sh) in layout.words.iter().zip(g.shares.iter_mut()) {
-        for row in rows.clone() {
-            let word = cols[*i].word(row);
+    let words: Vec<Col<'_>> = layout.words.iter().map(|(i, _)| cols[*i]).collect();
+    // A run of rows with the same words is counted at once.
+    let mut start = rows.start;
+    for end in word_runs(&words, rows) {
+        let n = (end - start) as u64;
+        let ok = status.word(start) == "ok";
+        for ((i, _), sh) in layout.words.iter().zip(g.shares.iter_mut()) {
+            let word = cols[*i].word(start);
             let counted = match sh.of {
                 Of::All => true,
-                Of::Ok => status.word(row) == "ok",
+                Of::Ok => ok,
                 Of::Given => !word.is_empty(),
             };
             if counted {
-                sh.total += 1;
+                sh.total += n;
                 if let Some(k) = sh.words.iter().position(|w| *w == word) {
-                    sh.counts[k] += 1;
+                    sh.counts[k] += n;
                 }
             }
         }
+        start = end;
     }
 }
 
