@@ -7,6 +7,8 @@
 #   - 150,000 paper-like lanes (2 s of motion) on one thread of one core,
 #     from the sweep and from a lane table (`--lanes`).
 # Usage: benches/end_to_end/run.sh [TSWM] [WORKDIR]
+# (also prints whether a software GPU is present: with one, `auto` runs a
+# trial on it first, in `tswm bench` and `tswm run` alike)
 set -euo pipefail
 T=$(realpath "${1:-target/release/tswm}")
 W=${2:-$(mktemp -d)}
@@ -53,6 +55,7 @@ ratio() { printf '%.2f' "$(echo "$1 / $2" | bc -l)"; }
 row() { printf '| %s | %.2f s | %sx |\n' "$1" "$2" "$(ratio "$2" "$3")"; }
 
 echo "tswm end to end on $(nproc) threads of: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
+echo "GPU adapters: $("$T" devices 2>/dev/null | sed -n 2p | cut -c1-60)"
 echo
 echo "| 10^6 cheap lanes, all threads | median wall | / tswm bench |"
 echo "|---|---|---|"
@@ -69,6 +72,18 @@ r=$(median "$T" report pq)
 row "tswm report (Parquet folder)" "$r" "$b"
 r=$(median "$T" report csv)
 row "tswm report (CSV folder)" "$r" "$b"
+echo
+# Where a software GPU (Mesa's lavapipe) is installed, both commands above
+# first run the backend choice's trial on it (`auto`); the same with the
+# CPU path named, no trial in either:
+echo "| the same, --backend cpu (no trial) | median wall | / tswm bench |"
+echo "|---|---|---|"
+b=$(median "$T" bench cheap.toml --backend cpu)
+row "tswm bench --backend cpu" "$b" "$b"
+c=$(median "$T" run cheap.toml --out out --backend cpu)
+row "tswm run --backend cpu" "$c" "$b"
+p=$(median "$T" run cheap.toml --out out --format parquet --backend cpu)
+row "tswm run --format parquet --backend cpu" "$p" "$b"
 echo
 echo "| 150,000 paper-like lanes, 1 thread on 1 core | median wall | / tswm bench |"
 echo "|---|---|---|"

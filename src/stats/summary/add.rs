@@ -55,9 +55,18 @@ impl Stats {
             self.write_group(g)?;
         }
         let (axes, inputs, layout) = (&self.grouping.axes, &self.grouping.inputs, &self.layout);
+        // A group past the kept values with no sampled input to rank its
+        // results against keeps none: its quantiles come from a sketch
+        // of every value, added from the first (the same values in the
+        // same order as after keeping the first ones).
+        let sketch_only = inputs.is_empty() && self.grouping.group_lanes() > EXACT_MAX as u64;
         // Room for the values kept at once: a copy of them as they grow
         // costs more than their adding.
-        let room = self.grouping.group_lanes().min(EXACT_MAX as u64) as usize;
+        let room = if sketch_only {
+            0
+        } else {
+            self.grouping.group_lanes().min(EXACT_MAX as u64) as usize
+        };
         let g = self.group.get_or_insert_with(|| Group {
             id,
             axis_values: grid_values(axes, id),
@@ -72,7 +81,7 @@ impl Stats {
         });
         g.lanes += rows.len() as u64;
         add_shares(g, layout, cols, rows.clone());
-        add_numbers(g, layout, inputs, cols, rows.clone(), pool);
+        add_numbers(g, layout, inputs, cols, rows.clone(), pool, sketch_only);
         if let Some(sn) = self.sensitivity.as_mut() {
             let words = &self.word_cells;
             for row in rows {
@@ -127,8 +136,13 @@ const COLUMNS_A_TASK: usize = 8;
 
 /// Adds `xs`, a column's next values, to its kept values and, past the
 /// kept values, to its sketch: the column's quantiles become a sketch's
-/// estimates over every finite value.
-fn keep(c: &mut Column, kept: &mut Vec<f64>, xs: &[f64]) {
+/// estimates over every finite value. `sketch_only`: straight to the
+/// sketch, none kept.
+fn keep(c: &mut Column, kept: &mut Vec<f64>, xs: &[f64], sketch_only: bool) {
+    if sketch_only {
+        c.sketch.get_or_insert_with(Sketch::default).add_all(xs);
+        return;
+    }
     let room = EXACT_MAX.saturating_sub(kept.len()).min(xs.len());
     kept.extend_from_slice(&xs[..room]);
     let rest = &xs[room..];
@@ -145,8 +159,9 @@ fn keep(c: &mut Column, kept: &mut Vec<f64>, xs: &[f64]) {
 
 /// Adds the number columns of rows `rows` to group `g` (a few columns a
 /// task, the tasks in parallel on `pool`: each column's moments, kept
-/// values and sketch take its values in row order), and keeps the sampled
-/// inputs' values while the group's first lanes are kept.
+/// values and sketch take its values in row order; see [`keep`] for
+/// `sketch_only`), and keeps the sampled inputs' values while the
+/// group's first lanes are kept.
 fn add_numbers(
     g: &mut Group,
     layout: &Layout,
@@ -154,6 +169,7 @@ fn add_numbers(
     cols: &[Col<'_>],
     rows: Range<usize>,
     pool: &rayon::ThreadPool,
+    sketch_only: bool,
 ) {
     use rayon::prelude::*;
     let numbers = layout.numbers.len();
@@ -173,7 +189,7 @@ fn add_numbers(
             add_columns(&mut ms, &slices);
             for ((c, m), (k, x)) in cs.iter_mut().zip(ms).zip(kept.iter_mut().zip(&slices)) {
                 c.m = m;
-                keep(c, k, x);
+                keep(c, k, x, sketch_only);
             }
         })
     });
