@@ -547,3 +547,94 @@ fn run_both_formats(sweep: &str, dir: &Path) {
         dir,
     );
 }
+
+/// `lanes.parquet` is laid out as docs/outputs.md says, as pyarrow reads
+/// it: row groups of `ROW_GROUP` rows, every page LZ4 (`LZ4_RAW`), the
+/// words dictionary-encoded, a minimum and maximum in every row group of
+/// the count and word columns that hold a value (pyarrow leaves those of
+/// DOUBLE columns out: their IEEE 754 total order is newer than it).
+#[test]
+fn the_parquet_layout_is_the_documented_one() {
+    const PYARROW: crate::reference::Needs = crate::reference::Needs {
+        modules: "pyarrow",
+        vars: &["TSWM_PYTHON"],
+        install: "pip install pyarrow, or set TSWM_PYTHON",
+    };
+    let Some(py) = crate::reference::python_for(&PYARROW, "the_parquet_layout_is_the_documented_one")
+    else {
+        return;
+    };
+    let group = tswm::output::table::ROW_GROUP;
+    let t = tempfile::tempdir().unwrap();
+    let sweep = t.path().join("s.toml");
+    let lanes = group + group / 2 + 7;
+    fs::write(
+        &sweep,
+        format!("[base]\nt_end = 1e-4\n[[grid]]\nparam = \"f2\"\nfrom = -5000.0\nto = 5000.0\nn = {lanes}\n"),
+    )
+    .unwrap();
+    let out = t.path().join("out");
+    let run = tswm(
+        &[
+            "run",
+            sweep.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--format",
+            "parquet",
+            "--backend",
+            "cpu",
+            "--no-report",
+        ],
+        t.path(),
+    );
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let o = std::process::Command::new(&py)
+        .arg(root().join("tests/columnar/layout.py"))
+        .arg(out.join("lanes.parquet"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let line = |start: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with(start))
+            .map(String::from)
+            .collect()
+    };
+    assert_eq!(
+        line("row_groups "),
+        [format!("row_groups {group} {}", lanes - group)]
+    );
+    assert_eq!(line("codecs "), ["codecs LZ4"]);
+    let columns = line("column ");
+    assert_eq!(columns.len(), tswm::output::table::columns().len());
+    for c in &columns {
+        let f: Vec<&str> = c.split(' ').collect();
+        let (name, physical, encodings, minmax) = (f[1], f[2], f[3], f[4]);
+        let empty = ["f1", "motor_off", "friction_table", "mu", "t_first_switch", "hold", "n1_end"];
+        if physical == "BYTE_ARRAY" {
+            assert!(encodings.contains("RLE_DICTIONARY"), "{c}");
+        }
+        if physical != "DOUBLE" && !empty.contains(&name) {
+            assert_eq!(minmax, "minmax", "{c}");
+        }
+    }
+    // The docs state the same layout.
+    let thousands = |n: usize| {
+        let s = n.to_string();
+        let mut out = String::new();
+        for (i, ch) in s.chars().enumerate() {
+            if i > 0 && (s.len() - i) % 3 == 0 {
+                out.push(',');
+            }
+            out.push(ch);
+        }
+        out
+    };
+    for page in ["docs/outputs.md", "docs/cluster.md"] {
+        let p = fs::read_to_string(root().join(page)).unwrap().replace('\n', " ");
+        assert!(p.contains(&format!("row groups of {} rows", thousands(group))), "{page}");
+        assert!(p.contains("LZ4_RAW"), "{page}");
+    }
+}
