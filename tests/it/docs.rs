@@ -95,6 +95,8 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
         "mu_sliding",
         "try_step",
         "lane_spec",
+        // system calls
+        "sync_file_range",
         // crates
         "rand_chacha",
         "rand_core",
