@@ -118,7 +118,15 @@ fn cpu_threads(c: &mut Criterion) {
             .unwrap();
         let mut out = Vec::with_capacity(n);
         g.bench_function(name, |b| {
-            b.iter(|| run_cpu_lanes(&pool, &Settings::default(), &lanes.iter().collect(), &[], &mut out))
+            b.iter(|| {
+                run_cpu_lanes(
+                    &pool,
+                    &Settings::default(),
+                    &lanes.iter().collect(),
+                    &[],
+                    &mut out,
+                )
+            })
         });
     }
     g.finish();
@@ -160,14 +168,15 @@ fn kernel(c: &mut Criterion) {
 /// One end-to-end run: lanes.csv streamed, synced and renamed into place.
 fn write_table(src: &Source, be: &mut dyn Backend, dir: &std::path::Path) {
     let target = tswm::run::Target {
-        dir,
+        dir: Some(dir),
         format: Format::Csv,
         range: None,
         threads: 0,
         settings: Default::default(),
+        keep: false,
     };
-    let written = tswm::run::run(src, be, target, None, None, false).unwrap();
-    let mut files = vec![written.lanes];
+    let written = tswm::run::run(src, be, target, None, None, &Default::default()).unwrap();
+    let mut files: Vec<_> = written.lanes.into_iter().collect();
     files.extend(written.stats);
     tswm::output::commit_together(files, &[]).unwrap();
 }
@@ -183,7 +192,13 @@ fn table(c: &mut Criterion) {
     let params = lanes(n);
     let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let mut results = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params.iter().collect(), &[], &mut results);
+    run_cpu_lanes(
+        &pool,
+        &Settings::default(),
+        &params.iter().collect(),
+        &[],
+        &mut results,
+    );
     let dir = tempfile::tempdir().unwrap();
     let mut g = c.benchmark_group("table");
     g.sample_size(10);

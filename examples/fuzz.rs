@@ -243,18 +243,16 @@ fn base_folders(base: &Path) {
         ("sens", None, &sens),
     ] {
         let out = base.join(out);
-        tswm::commands::run::run(tswm::commands::run::RunArgs {
-            lanes,
-            out: &out,
+        let flags = tswm::cli::RunFlags {
+            out,
             backend: tswm::backend::Choice::Cpu,
-            trace: &[],
+            trace: Vec::new(),
             trace_dt: None,
-            report: false,
-            shard,
+            no_report: true,
+            shard: shard.map(str::to_string),
             format: tswm::output::table::Format::Csv,
-            progress: false,
-        })
-        .expect("the base run");
+        };
+        tswm::commands::run::run(lanes, &flags, &Default::default()).expect("the base run");
     }
 }
 

@@ -24,7 +24,13 @@ fn main() {
     let lanes: Vec<Lane> = params.iter().map(|p| Lane::new(p, &[])).collect();
     let pool = rayon::ThreadPoolBuilder::new().build().unwrap();
     let mut cpu = Vec::new();
-    run_cpu_lanes(&pool, &Settings::default(), &params.iter().collect(), &[], &mut cpu);
+    run_cpu_lanes(
+        &pool,
+        &Settings::default(),
+        &params.iter().collect(),
+        &[],
+        &mut cpu,
+    );
     let gpu = Gpu::new(false).expect("a GPU adapter");
     let l32: Vec<GpuLane> = lanes.iter().map(GpuLane::from).collect();
     let mut states: Vec<GpuState> = Vec::new();

@@ -11,6 +11,7 @@ use crate::input::sweep::TraceSpec;
 use crate::integrator::Settings;
 use crate::output::table::Format;
 use crate::params::Num;
+use crate::progress::Show;
 
 /// Simulate thousands to millions of worm-drive (TSWM) variants.
 #[derive(Parser, Debug)]
@@ -39,6 +40,34 @@ pub struct LanesArgs {
     pub tol: Option<f64>,
 }
 
+/// What `tswm run` does with the lanes (Python's `tswm.run` fills the
+/// same struct).
+#[derive(clap::Args, Debug, Clone)]
+pub struct RunFlags {
+    /// Output folder.
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    pub out: PathBuf,
+    /// Backend.
+    #[arg(long, value_enum, default_value_t = Choice::Auto)]
+    pub backend: Choice,
+    /// Lanes to trace into DIR/traces.csv (overrides the sweep's `[trace]`).
+    #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
+    pub trace: Vec<u64>,
+    /// Interval between trace rows, s.
+    #[arg(long, value_name = "DT")]
+    pub trace_dt: Option<f64>,
+    /// Do not write DIR/report.html.
+    #[arg(long)]
+    pub no_report: bool,
+    /// Run only shard K (0-based) of N: a contiguous range of lanes, for
+    /// a cluster's job array; join the shards with `tswm merge`.
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
+    pub shard: Option<String>,
+    /// Format of the results table: lanes.csv or lanes.parquet.
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    pub format: Format,
+}
+
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
@@ -48,28 +77,8 @@ pub enum Command {
     Run {
         #[command(flatten)]
         lanes: LanesArgs,
-        /// Output folder.
-        #[arg(long, value_name = "DIR", default_value = "out")]
-        out: PathBuf,
-        /// Backend.
-        #[arg(long, value_enum, default_value_t = Choice::Auto)]
-        backend: Choice,
-        /// Lanes to trace into DIR/traces.csv (overrides the sweep's `[trace]`).
-        #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
-        trace: Vec<u64>,
-        /// Interval between trace rows, s.
-        #[arg(long, value_name = "DT")]
-        trace_dt: Option<f64>,
-        /// Do not write DIR/report.html.
-        #[arg(long)]
-        no_report: bool,
-        /// Run only shard K (0-based) of N: a contiguous range of lanes, for
-        /// a cluster's job array; join the shards with `tswm merge`.
-        #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
-        shard: Option<String>,
-        /// Format of the results table: lanes.csv or lanes.parquet.
-        #[arg(long, value_enum, default_value_t = Format::Csv)]
-        format: Format,
+        #[command(flatten)]
+        run: RunFlags,
     },
     /// Join the shard folders of one sweep into OUT: the table exactly as
     /// one run writes it, traces, summary.csv and report.html.
@@ -247,13 +256,25 @@ pub const MAX_THREADS: usize = 1024;
 impl LanesArgs {
     /// Validates the lane arguments into a plan (reads and checks every lane).
     pub fn plan(&self) -> Result<Plan> {
-        self.plan_part(&|n| (0, n), false)
+        self.plan_part(&|n| (0, n), &Show::default())
     }
 
     /// [`LanesArgs::plan`] for a run of part of a sweep's lanes (`part`
     /// gives a shard's range from the lane count): only those lanes are
-    /// checked, with a progress bar when `progress` and they are many.
-    pub fn plan_part(&self, part: &dyn Fn(u64) -> (u64, u64), progress: bool) -> Result<Plan> {
+    /// checked, shown by `show` (a bar on a terminal when they are many).
+    pub fn plan_part(&self, part: &dyn Fn(u64) -> (u64, u64), show: &Show) -> Result<Plan> {
+        let (threads, settings) = self.settings()?;
+        let source = Source::open_part(self.sweep.as_deref(), self.lanes.as_deref(), part, show)?;
+        Ok(Plan {
+            source,
+            threads,
+            settings,
+        })
+    }
+
+    /// The threads (0: all cores) and integration settings these
+    /// arguments ask for, checked.
+    pub fn settings(&self) -> Result<(usize, Settings)> {
         match self.threads {
             Some(0) => return Err(Error::Usage("--threads must be >= 1".into())),
             Some(n) if n > MAX_THREADS => {
@@ -275,13 +296,7 @@ impl LanesArgs {
             }
             settings.tol = tol;
         }
-        let source =
-            Source::open_part(self.sweep.as_deref(), self.lanes.as_deref(), part, progress)?;
-        Ok(Plan {
-            source,
-            threads: self.threads.unwrap_or(0),
-            settings,
-        })
+        Ok((self.threads.unwrap_or(0), settings))
     }
 }
 

@@ -39,6 +39,10 @@ pub enum Error {
     /// `tswm check` found deviations beyond the bounds.
     #[error("check failed: {0}")]
     CheckFailed(String),
+    /// The caller asked the command to stop (`progress::Watch::stop`);
+    /// nothing was committed.
+    #[error("stopped on request; nothing was written")]
+    Stopped,
 }
 
 impl Error {

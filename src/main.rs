@@ -25,26 +25,7 @@ fn main() -> ExitCode {
         return fail(&e);
     }
     let result = match &cli.command {
-        Command::Run {
-            lanes,
-            out,
-            backend,
-            trace,
-            trace_dt,
-            no_report,
-            shard,
-            format,
-        } => commands::run::run(commands::run::RunArgs {
-            lanes,
-            out,
-            backend: *backend,
-            trace,
-            trace_dt: *trace_dt,
-            report: !no_report,
-            shard: shard.as_deref(),
-            format: *format,
-            progress: std::io::stderr().is_terminal(),
-        }),
+        Command::Run { lanes, run } => commands::run::run(lanes, run, &terminal()),
         Command::Merge {
             dirs,
             out,
@@ -55,7 +36,7 @@ fn main() -> ExitCode {
         Command::Check {
             lanes,
             disagreements,
-        } => commands::check::run(lanes, disagreements.as_deref()),
+        } => commands::check::run(lanes, disagreements.as_deref(), &terminal()),
         Command::Devices => commands::devices::run(),
         Command::Bench { lanes, backend } => commands::bench::run(lanes, *backend),
     };
@@ -63,6 +44,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(&e),
     }
+}
+
+/// Progress shown as bars on stderr when it is a terminal.
+fn terminal() -> tswm::progress::Show {
+    tswm::progress::Show::terminal(std::io::stderr().is_terminal())
 }
 
 /// Prints the one error line, every control character in it (a file

@@ -1,8 +1,9 @@
 //! `tswm bench`: lanes/s of a backend on a sweep, nothing written.
 
 use crate::backend::{self, Choice};
-use crate::cli::LanesArgs;
+use crate::cli::{LanesArgs, Plan};
 use crate::error::Result;
+use crate::progress::Show;
 use crate::run;
 
 /// Counts the lanes of each chunk and drops them.
@@ -24,9 +25,27 @@ impl run::Sink for Discard {
     }
 }
 
-/// Runs `tswm bench`.
-pub fn run(lanes: &LanesArgs, choice: Choice) -> Result<()> {
-    let plan = lanes.plan()?;
+/// What `tswm bench` measured.
+#[derive(Clone, Debug)]
+pub struct Bench {
+    /// Lanes integrated.
+    pub lanes: u64,
+    /// Seconds they took (generation and integration; the lanes' check
+    /// before is not timed).
+    pub seconds: f64,
+    /// The backend, as the summary line names it.
+    pub backend: String,
+}
+
+impl Bench {
+    /// Lanes a second.
+    pub fn rate(&self) -> f64 {
+        self.lanes as f64 / self.seconds.max(1e-9)
+    }
+}
+
+/// Integrates the lanes of `plan` on `choice`, writing nothing.
+pub fn measure(plan: &Plan, choice: Choice, show: &Show) -> Result<Bench> {
     let mut be = backend::open(
         choice,
         plan.source.lane_count(),
@@ -34,12 +53,23 @@ pub fn run(lanes: &LanesArgs, choice: Choice) -> Result<()> {
         plan.settings,
     )?;
     let start = std::time::Instant::now();
-    let n = run::pipeline(&plan.source, be.as_mut(), false, Discard(0))?;
-    let s = start.elapsed().as_secs_f64();
+    let n = run::pipeline(&plan.source, be.as_mut(), show, Discard(0))?;
+    Ok(Bench {
+        lanes: n,
+        seconds: start.elapsed().as_secs_f64(),
+        backend: be.name(),
+    })
+}
+
+/// Runs `tswm bench`.
+pub fn run(lanes: &LanesArgs, choice: Choice) -> Result<()> {
+    let b = measure(&lanes.plan()?, choice, &Show::default())?;
     sayln!(
-        "tswm bench: {n} lanes in {s:.3} s ({:.0} lanes/s, {}); nothing written",
-        n as f64 / s.max(1e-9),
-        be.name()
+        "tswm bench: {} lanes in {:.3} s ({:.0} lanes/s, {}); nothing written",
+        b.lanes,
+        b.seconds,
+        b.rate(),
+        b.backend
     );
     Ok(())
 }

@@ -1,16 +1,22 @@
 //! `tswm report DIR`: the report again, from the folder's files, with the
 //! folder locked while it is written.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::Result;
 use crate::output::names::REPORT;
 use crate::output::OutDir;
 
-/// Runs `tswm report`.
-pub fn run(dir: &Path) -> Result<()> {
+/// Writes `dir/report.html` again from the folder's files; its path.
+pub fn rebuild(dir: &Path) -> Result<PathBuf> {
     let mut d = OutDir::open_existing(dir)?;
     crate::report::write(&mut d)?;
-    sayln!("tswm: wrote {}", d.join(REPORT).display());
+    Ok(d.join(REPORT))
+}
+
+/// Runs `tswm report`.
+pub fn run(dir: &Path) -> Result<()> {
+    let path = rebuild(dir)?;
+    sayln!("tswm: wrote {}", path.display());
     Ok(())
 }

@@ -4,8 +4,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::backend::{self, Choice};
-use crate::cli::{trace_plan, LanesArgs};
+use crate::backend;
+use crate::cli::{trace_plan, LanesArgs, Plan, RunFlags};
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
 use crate::input::sweep::TraceSpec;
@@ -13,30 +13,9 @@ use crate::output::names::{MANIFEST, RESOLVED};
 use crate::output::provenance;
 use crate::output::table::Format;
 use crate::output::{AtomicFile, OutDir};
+use crate::progress::Show;
 use crate::run;
 use crate::run::shard::{backend_kind, source_hash, Manifest, Shard};
-
-/// What `tswm run` was asked to do.
-pub struct RunArgs<'a> {
-    /// Where the lanes come from.
-    pub lanes: &'a LanesArgs,
-    /// The output folder.
-    pub out: &'a Path,
-    /// The backend.
-    pub backend: Choice,
-    /// `--trace` lanes.
-    pub trace: &'a [u64],
-    /// `--trace-dt`.
-    pub trace_dt: Option<f64>,
-    /// Write report.html.
-    pub report: bool,
-    /// `--shard K/N`.
-    pub shard: Option<&'a str>,
-    /// The table's format.
-    pub format: Format,
-    /// Show a progress bar.
-    pub progress: bool,
-}
 
 /// A shard this run is: which, its lanes, and its sweep's hashes.
 struct ShardRun {
@@ -93,6 +72,17 @@ impl ShardRun {
         }))
     }
 
+    /// "; shard K/N (lanes A to B) with shard.toml", for the summary line.
+    fn said(&self) -> String {
+        format!(
+            "; shard {}/{} (lanes {} to {}) with {MANIFEST}",
+            self.shard.k,
+            self.shard.n,
+            self.range.0,
+            self.range.1.max(1) - 1
+        )
+    }
+
     /// The shard's manifest over its `files` (hashed as they were
     /// written), for a run on `backend` summed up by `summary`.
     fn manifest(
@@ -142,65 +132,83 @@ impl ShardRun {
 }
 
 /// Runs `tswm run`; prints its summary line.
-pub fn run(a: RunArgs) -> Result<()> {
-    let shard = a.shard.map(Shard::parse).transpose()?;
+pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
+    let shard = flags.shard.as_deref().map(Shard::parse).transpose()?;
     // Only the lanes that run are checked: a shard's.
     let part = |n: u64| shard.map_or((0, n), |s| s.range(n));
-    let plan = a.lanes.plan_part(&part, a.progress)?;
-    let trace = trace_plan(a.trace, a.trace_dt, &plan.source)?;
-    let mut dir = OutDir::open(a.out)?;
+    let plan = lanes.plan_part(&part, show)?;
+    let done = execute(plan, shard, flags, show, false)?;
+    if !done.line.is_empty() {
+        sayln!("{}", done.line);
+    }
+    Ok(())
+}
+
+/// What a run did: its summary line, and its batches when kept.
+pub struct Done {
+    /// The summary line `tswm run` prints.
+    pub line: String,
+    /// The results table's batches, in lane order (when asked to keep them).
+    pub batches: Vec<arrow_array::RecordBatch>,
+}
+
+/// Runs the lanes of `plan` (of shard `shard`, if any) into the folder
+/// `flags.out` as `tswm run` does, shown by `show`; keeps the results
+/// table's batches when `keep` (Python's `tswm.run` with `out=`). A
+/// folder this call created is removed again when it fails.
+pub fn execute(
+    plan: Plan,
+    shard: Option<Shard>,
+    flags: &RunFlags,
+    show: &Show,
+    keep: bool,
+) -> Result<Done> {
+    let report = !flags.no_report;
+    let trace = trace_plan(&flags.trace, flags.trace_dt, &plan.source)?;
+    let mut dir = OutDir::open(&flags.out)?;
     let total = plan.source.lane_count();
     let shard = match shard {
         None => None,
-        Some(s) => match ShardRun::start(s, &plan.source, trace.as_ref(), &dir, a.format)? {
+        Some(s) => match ShardRun::start(s, &plan.source, trace.as_ref(), &dir, flags.format)? {
             Some(run) => Some(run),
-            None => return Ok(()),
+            None => {
+                return Ok(Done {
+                    line: String::new(),
+                    batches: Vec::new(),
+                })
+            }
         },
     };
-    let mut be = backend::open(a.backend, total, plan.threads, plan.settings)?;
+    let mut be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
     let target = run::Target {
-        dir: dir.path(),
-        format: a.format,
+        dir: Some(dir.path()),
+        format: flags.format,
         range: shard.as_ref().map(|s| s.range),
         threads: plan.threads,
         settings: plan.settings,
+        keep,
     };
-    let scan = (a.report && shard.is_none())
-        .then(|| report_scan(&plan.source, trace.as_ref(), be.as_ref(), &dir, a.format))
+    let scan = (report && shard.is_none())
+        .then(|| report_scan(&plan, trace.as_ref(), be.as_ref(), &dir, flags.format))
         .flatten();
-    let written = run::run(
+    let mut written = run::run(
         &plan.source,
         be.as_mut(),
         target,
         trace.as_ref(),
         scan,
-        a.progress,
+        show,
     )?;
-    let text = provenance::provenance(
-        &plan.source,
+    let files = files_of(
+        &plan,
+        &mut written,
         trace.as_ref(),
-        &be.name(),
-        be.tolerance(),
-        written.summary.seconds,
-        shard.as_ref().map(|s| ((s.shard.k, s.shard.n), s.range)),
-    );
-    let mut files = vec![small_file(&dir.join(RESOLVED), &text, shard.is_some())?];
-    files.extend(written.stats);
-    files.extend(written.traces.map(|t| t.into_file()));
-    let table = dir.join(a.format.file_name());
-    files.push(written.lanes);
-    // The table last, or for a shard its manifest: its appearance means
-    // the run is complete.
-    if let Some(s) = &shard {
-        let m = s.manifest(
-            &mut files,
-            &be.name(),
-            plan.settings.tol,
-            &written.summary,
-            a.format,
-        )?;
-        files.push(small_file(&dir.join(MANIFEST), &m.text(), false)?);
-    }
+        be.as_ref(),
+        &dir,
+        shard.as_ref(),
+        flags.format,
+    )?;
+    let table = dir.join(flags.format.file_name());
     let replaced = dir.held_results();
     dir.commit_run(files)?;
     let mut line = written.summary.line(&be.name(), &table);
@@ -208,18 +216,82 @@ pub fn run(a: RunArgs) -> Result<()> {
         line.push_str("; replaced the earlier run's results there");
     }
     match &shard {
-        Some(s) => line.push_str(&format!(
-            "; shard {}/{} (lanes {} to {}) with {MANIFEST}",
-            s.shard.k,
-            s.shard.n,
-            s.range.0,
-            s.range.1.max(1) - 1
-        )),
-        None if a.report => line.push_str(&write_report(&mut dir, written.scan)?),
+        Some(s) => line.push_str(&s.said()),
+        None if report => line.push_str(&write_report(&mut dir, written.scan.take())?),
         None => {}
     }
-    sayln!("{line}");
-    Ok(())
+    Ok(Done {
+        line,
+        batches: std::mem::take(&mut written.batches),
+    })
+}
+
+/// A run's files in the order they are committed: `sweep.resolved.toml`,
+/// the statistics, the traces, the table last, or for a shard its
+/// manifest (whose appearance means the run is complete).
+fn files_of(
+    plan: &Plan,
+    written: &mut run::Written,
+    trace: Option<&TraceSpec>,
+    be: &dyn backend::Backend,
+    dir: &OutDir,
+    shard: Option<&ShardRun>,
+    format: Format,
+) -> Result<Vec<AtomicFile>> {
+    let text = provenance::provenance(
+        &plan.source,
+        trace,
+        &be.name(),
+        be.tolerance(),
+        written.summary.seconds,
+        shard.map(|s| ((s.shard.k, s.shard.n), s.range)),
+    );
+    let mut files = vec![small_file(&dir.join(RESOLVED), &text, shard.is_some())?];
+    files.append(&mut written.stats);
+    files.extend(written.traces.take().map(|t| t.into_file()));
+    files.extend(written.lanes.take());
+    if let Some(s) = shard {
+        let m = s.manifest(
+            &mut files,
+            &be.name(),
+            plan.settings.tol,
+            &written.summary,
+            format,
+        )?;
+        files.push(small_file(&dir.join(MANIFEST), &m.text(), false)?);
+    }
+    Ok(files)
+}
+
+/// Runs the lanes of `plan` on `backend` and gives back the results
+/// table's batches, in lane order, writing nothing (Python's `tswm.run`
+/// without `out=`): the rows `tswm run` would write (a traced lane's GPU
+/// row the f64 row of its trace). Memory holds the whole table.
+pub fn collect(
+    plan: &Plan,
+    backend: crate::backend::Choice,
+    show: &Show,
+) -> Result<Vec<arrow_array::RecordBatch>> {
+    let trace = trace_plan(&[], None, &plan.source)?;
+    let total = plan.source.lane_count();
+    let mut be = backend::open(backend, total, plan.threads, plan.settings)?;
+    let target = run::Target {
+        dir: None,
+        format: Format::Parquet,
+        range: None,
+        threads: plan.threads,
+        settings: plan.settings,
+        keep: true,
+    };
+    let written = run::run(
+        &plan.source,
+        be.as_mut(),
+        target,
+        trace.as_ref(),
+        None,
+        show,
+    )?;
+    Ok(written.batches)
 }
 
 /// Writes the report; "; report.html in 0.12 s" for the summary line.
@@ -236,13 +308,13 @@ fn write_report(dir: &mut OutDir, scan: Option<crate::report::Scan>) -> Result<S
 /// sweep the report will read back (the resolved sweep, its time still
 /// to come); None where the report reads the finished folder instead.
 fn report_scan(
-    source: &Source,
+    plan: &Plan,
     trace: Option<&TraceSpec>,
     be: &dyn backend::Backend,
     dir: &OutDir,
     format: Format,
 ) -> Option<crate::report::Scan> {
-    let text = provenance::provenance(source, trace, &be.name(), be.tolerance(), 0.0, None);
+    let text = provenance::provenance(&plan.source, trace, &be.name(), be.tolerance(), 0.0, None);
     let (sweep, stated) = provenance::read_resolved(&dir.join(RESOLVED), &text).ok()?;
     crate::report::scan_for(&sweep, format, stated)
 }

@@ -10,9 +10,11 @@ use std::path::{Path, PathBuf};
 use super::reader::check_quotes;
 pub use super::reader::LaneReader;
 use crate::error::{Error, Result};
+pub use crate::input::given::{SweepIn, TableIn};
 use crate::input::sweep::Sweep;
 use crate::model::FrictionTables;
 use crate::params::{ParamColumns, Params, Spec};
+use crate::progress::{Phase, Show};
 
 /// The lanes of a run.
 pub enum Source {
@@ -27,7 +29,7 @@ pub enum Source {
     /// optional sweep file given beside it.
     Table {
         /// The lane table.
-        path: PathBuf,
+        table: TableIn,
         /// Defaults under the table's cells.
         base: Spec,
         /// Friction tables for `friction = table` rows.
@@ -53,24 +55,40 @@ impl Source {
     /// and validated here, in one place for both kinds, so bad input is
     /// reported before anything is written.
     pub fn open(sweep: Option<&Path>, lanes: Option<&Path>) -> Result<Source> {
-        Source::open_part(sweep, lanes, &|n| (0, n), false)
+        Source::open_part(sweep, lanes, &|n| (0, n), &Show::default())
     }
 
     /// [`Source::open`] for a run of part of the lanes: `part` gives the
     /// range of a sweep's lanes that runs (a shard's, from the lane
-    /// count), and only those are validated, in parallel, with a
-    /// progress bar on stderr when `progress` and the part is large. A
+    /// count), and only those are validated, in parallel, shown by
+    /// `show` (a bar on a terminal when the part is large). A
     /// part of more than [`MAX_RUN_LANES`] is refused at once, with the
     /// shards that would fit.
     pub fn open_part(
         sweep: Option<&Path>,
         lanes: Option<&Path>,
         part: &dyn Fn(u64) -> (u64, u64),
-        progress: bool,
+        show: &Show,
     ) -> Result<Source> {
-        if let (Some(s), None) = (sweep, lanes) {
-            let src = Source::sweep(s)?;
-            src.validate_part(part, progress)?;
+        Source::open_from(
+            sweep.map(SweepIn::File),
+            lanes.map(|l| TableIn::File(l.to_path_buf())),
+            part,
+            show,
+        )
+    }
+
+    /// [`Source::open_part`] of a sweep file or text, and a lane table
+    /// file or a table in memory.
+    pub fn open_from(
+        sweep: Option<SweepIn<'_>>,
+        lanes: Option<TableIn>,
+        part: &dyn Fn(u64) -> (u64, u64),
+        show: &Show,
+    ) -> Result<Source> {
+        if let (Some(s), None) = (sweep, &lanes) {
+            let src = Source::sweep_in(s)?;
+            src.validate_part(part, show)?;
             return Ok(src);
         }
         let mut src =
@@ -79,16 +97,16 @@ impl Source {
                     "name a sweep file (tswm run SWEEP.toml) or a lane table (--lanes FILE.csv)"
                         .into(),
                 )),
-                (Some(s), None) => Source::sweep(s)?,
+                (Some(s), None) => Source::sweep_in(s)?,
                 (s, Some(l)) => Source::table(l, s)?,
             };
-        let n = src.validate()?;
+        let n = src.validate(show)?;
         if let Source::Table { rows, trace, .. } = &mut src {
             *rows = n;
             if let (Some(t), Some(f)) = (trace.as_ref(), sweep) {
                 if let Some(&bad) = t.lanes.iter().find(|&&l| l >= n) {
                     return Err(Error::input(
-                        f,
+                        f.name(),
                         None,
                         Some("trace"),
                         format!(
@@ -104,24 +122,29 @@ impl Source {
 
     /// Lanes of a sweep file (not yet validated lane by lane: see [`Source::open`]).
     pub fn sweep(file: &Path) -> Result<Source> {
+        Source::sweep_in(SweepIn::File(file))
+    }
+
+    /// Lanes of a sweep file or text (not yet validated lane by lane).
+    fn sweep_in(s: SweepIn<'_>) -> Result<Source> {
         Ok(Source::Sweep {
-            sweep: Sweep::from_file(file)?,
-            file: file.to_path_buf(),
+            sweep: Sweep::parse(s.name(), &s.text()?)?,
+            file: s.name().to_path_buf(),
         })
     }
 
-    /// Lanes of a lane table over an optional sweep file's base and table
+    /// Lanes of a lane table over an optional sweep's base and table
     /// (rows not yet read: see [`Source::open`]).
-    fn table(path: &Path, sweep_file: Option<&Path>) -> Result<Source> {
-        let (base, tables, report, trace) = match sweep_file {
+    fn table(table: TableIn, sweep: Option<SweepIn<'_>>) -> Result<Source> {
+        let (base, tables, report, trace) = match sweep {
             Some(f) => {
                 // Its `[trace]` lanes are the table's rows: checked once
                 // they are counted (`Source::open`).
-                let text = crate::input::sweep::read_text(f)?;
-                let s = Sweep::parse_with_lanes(f, &text, Some(u64::MAX))?;
+                let text = f.text()?;
+                let s = Sweep::parse_with_lanes(f.name(), &text, Some(u64::MAX))?;
                 if !s.axes.is_empty() || s.study.is_some() {
                     return Err(Error::input(
-                        f,
+                        f.name(),
                         None,
                         None,
                         "with --lanes the sweep file may hold only [base], friction tables, [trace] \
@@ -138,7 +161,7 @@ impl Source {
             ),
         };
         Ok(Source::Table {
-            path: path.to_path_buf(),
+            table,
             base,
             tables,
             report,
@@ -240,7 +263,7 @@ impl Source {
 
     /// Checks the lanes of a sweep that run (`part` of them), blocks of
     /// them in parallel; the first bad lane is the one reported.
-    fn validate_part(&self, part: &dyn Fn(u64) -> (u64, u64), progress: bool) -> Result<()> {
+    fn validate_part(&self, part: &dyn Fn(u64) -> (u64, u64), show: &Show) -> Result<()> {
         use rayon::prelude::*;
         let Source::Sweep { sweep, file } = self else {
             return Ok(());
@@ -263,11 +286,12 @@ impl Source {
             ));
         }
         const BLOCK: u64 = 1 << 16;
-        let bar = crate::progress::bar(progress && n >= 10_000_000, n, "checking lanes");
+        let bar = show.bar(Phase::Checking, n >= 10_000_000, n, "checking lanes");
         let blocks = n.div_ceil(BLOCK);
         let bad = (0..blocks)
             .into_par_iter()
             .map(|b| {
+                show.check()?;
                 let (a, z) = (start + b * BLOCK, (start + (b + 1) * BLOCK).min(end));
                 let mut r = self.reader_range(a, z)?;
                 let mut buf = ParamColumns::with_capacity(4096);
@@ -287,14 +311,19 @@ impl Source {
     }
 
     /// Checks every lane; returns the count. Errors name the lane or row.
-    fn validate(&self) -> Result<u64> {
-        if let Source::Table { path, .. } = self {
+    fn validate(&self, show: &Show) -> Result<u64> {
+        if let Source::Table {
+            table: TableIn::File(path),
+            ..
+        } = self
+        {
             check_quotes(path)?;
         }
         let mut r = self.reader()?;
         let mut buf = ParamColumns::with_capacity(4096);
         let mut n = 0;
         loop {
+            show.check()?;
             buf.clear();
             r.fill(4096, &mut buf)?;
             if buf.is_empty() {
@@ -303,9 +332,9 @@ impl Source {
             n += buf.len() as u64;
         }
         if n == 0 {
-            if let Source::Table { path, .. } = self {
+            if let Source::Table { table, .. } = self {
                 return Err(Error::input(
-                    path,
+                    table.name(),
                     None,
                     None,
                     "the lane table has no rows; give one lane a row",
@@ -334,8 +363,17 @@ impl Source {
                 spec: Box::default(),
             }),
             Source::Table {
-                path, base, tables, ..
+                table: TableIn::File(path),
+                base,
+                tables,
+                ..
             } => LaneReader::table(path, base, &tables.names, start, end),
+            Source::Table {
+                table: TableIn::Frame(frame),
+                base,
+                tables,
+                ..
+            } => Ok(LaneReader::frame(frame, base, &tables.names, start, end)),
         }
     }
 }

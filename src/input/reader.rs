@@ -6,6 +6,7 @@ use std::fs::File;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::input::frame::Frame;
 use crate::input::sampling::Uniforms;
 use crate::input::sweep::Sweep;
 use crate::params::{Param, ParamColumns, Spec, TableName};
@@ -42,6 +43,21 @@ pub enum LaneReader<'a> {
         /// Reused record.
         rec: csv::StringRecord,
         /// Rows read so far.
+        row: u64,
+        /// One past the last row to read.
+        end: u64,
+        /// The row being read (kept: no allocation a row).
+        spec: Box<Spec>,
+    },
+    /// From a lane table in memory.
+    Frame {
+        /// The table.
+        frame: &'a Frame,
+        /// Defaults under the cells.
+        base: &'a Spec,
+        /// The names of the run's friction tables.
+        tables: &'a [TableName],
+        /// The next row.
         row: u64,
         /// One past the last row to read.
         end: u64,
@@ -119,6 +135,25 @@ impl<'a> LaneReader<'a> {
         })
     }
 
+    /// A reader of rows `start..end` of the table in memory `frame`, over
+    /// `base` (`tables`: the names of the sweep's friction tables).
+    pub(super) fn frame(
+        frame: &'a Frame,
+        base: &'a Spec,
+        tables: &'a [TableName],
+        start: u64,
+        end: u64,
+    ) -> LaneReader<'a> {
+        LaneReader::Frame {
+            frame,
+            base,
+            tables,
+            row: start,
+            end: end.min(frame.rows()),
+            spec: Box::default(),
+        }
+    }
+
     /// Appends up to `max` lanes to `out` (none at the end).
     pub fn fill(&mut self, max: usize, out: &mut ParamColumns) -> Result<()> {
         match self {
@@ -171,6 +206,23 @@ impl<'a> LaneReader<'a> {
                     }
                     spec.resolve_into(tables, out)
                         .map_err(|e| Error::input(path, at(), Some(e.param), e.msg))?;
+                }
+            }
+            LaneReader::Frame {
+                frame,
+                base,
+                tables,
+                row,
+                end,
+                spec,
+            } => {
+                while out.len() < max && *row < *end {
+                    Spec::clone_from(spec, base);
+                    frame.set_row(*row, spec)?;
+                    let at = Some(format!("lane {row}"));
+                    spec.resolve_into(tables, out)
+                        .map_err(|e| Error::input(frame.name(), at, Some(e.param), e.msg))?;
+                    *row += 1;
                 }
             }
         }

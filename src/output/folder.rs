@@ -70,6 +70,21 @@ pub struct OutDir {
     earlier: Vec<String>,
     /// Holds the lock for as long as the run lives.
     _lock: File,
+    /// Whether this run created the folder and has committed nothing to
+    /// it yet: dropped so (the run failed or was stopped), the folder is
+    /// removed again.
+    fresh: bool,
+}
+
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        if self.fresh {
+            // Only the lock is ours to remove; the folder goes if that
+            // leaves it empty.
+            let _ = std::fs::remove_file(self.path.join(LOCK_NAME));
+            let _ = std::fs::remove_dir(&self.path);
+        }
+    }
 }
 
 impl OutDir {
@@ -97,8 +112,10 @@ impl OutDir {
                     .into(),
             ));
         }
+        let fresh = !path.exists();
         std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;
-        let dir = OutDir::lock(path)?;
+        let mut dir = OutDir::lock(path)?;
+        dir.fresh = fresh;
         let foreign = dir.foreign()?;
         if !foreign.is_empty() {
             let more = foreign.len().saturating_sub(5);
@@ -162,6 +179,7 @@ impl OutDir {
             path: path.to_path_buf(),
             earlier,
             _lock: lock,
+            fresh: false,
         })
     }
 
@@ -223,6 +241,7 @@ impl OutDir {
                 listed.push(name);
             }
         }
+        self.fresh = false;
         write_marker(&self.path, &listed)?;
         let stale: Vec<&Path> = stale.iter().map(|p| p.as_path()).collect();
         commit_together(files, &stale)?;

@@ -46,9 +46,9 @@ pub fn provenance(
 ) -> String {
     let from = match source {
         Source::Sweep { .. } => "# every lane follows from this file\n".to_string(),
-        Source::Table { path, .. } => format!(
+        Source::Table { table, .. } => format!(
             "{TABLE_LINE}{} ({} rows) over the [base] and [friction_table] below\n",
-            toml_string(&path.display().to_string()),
+            toml_string(&table.name().display().to_string()),
             source.lane_count()
         ),
     };

@@ -44,7 +44,9 @@ mod tests {
     /// every fill: the same bytes as `extend_from_slice`.
     #[test]
     fn the_same_bytes_as_extend_from_slice() {
-        let text: Vec<u8> = (0..80u8).map(|b| b.wrapping_mul(37).wrapping_add(11)).collect();
+        let text: Vec<u8> = (0..80u8)
+            .map(|b| b.wrapping_mul(37).wrapping_add(11))
+            .collect();
         for before in [0, 1, 7, 31, 33] {
             for n in 0..=70 {
                 let mut a: Vec<u8> = (0..before as u8).collect();

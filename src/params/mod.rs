@@ -15,6 +15,6 @@ pub mod table_name;
 mod validated;
 
 pub use resolve::{ParamError, Spec};
-pub use validated::{LaneParams, ParamColumns, Params, Row};
 pub use table::{Bound, Def, Fallback, FrictionKind, MotorKind, Num, Owner, Param, N_NUM};
 pub use table_name::TableName;
+pub use validated::{LaneParams, ParamColumns, Params, Row};

@@ -3,11 +3,11 @@
 //! converted by `gear.rs` first).
 
 use super::check::check;
-use super::validated::{ParamColumns, Params};
 pub use super::check::ParamError;
 use super::gear;
 use super::table::{FrictionKind, MotorKind, Num, Param, N_NUM};
 use super::table_name::TableName;
+use super::validated::{ParamColumns, Params};
 
 /// A partial parameter set: `None` means "not set, the default applies".
 #[derive(Clone, Debug, PartialEq)]

@@ -24,6 +24,7 @@ use crate::input::lanes::Source;
 use crate::integrator::LaneResult;
 use crate::model::FrictionTable;
 use crate::params::ParamColumns;
+use crate::progress::Show;
 use crate::run::{pipeline, Sink};
 
 pub use crate::columns::{SWITCH_BOUND, VALUE_BOUND};
@@ -282,7 +283,7 @@ pub fn compare(
     source: &Source,
     gpu: &mut dyn Backend,
     cpu: CpuBackend,
-    progress: bool,
+    show: &Show,
     report: Report,
 ) -> Result<Report> {
     let sink = Comparison {
@@ -291,7 +292,7 @@ pub fn compare(
         cpu_results: Vec::new(),
         report,
     };
-    pipeline(source, gpu, progress, sink)
+    pipeline(source, gpu, show, sink)
 }
 
 #[cfg(test)]

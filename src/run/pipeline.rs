@@ -13,6 +13,7 @@ use crate::error::{Error, Result};
 use crate::input::lanes::Source;
 use crate::integrator::LaneResult;
 use crate::params::ParamColumns;
+use crate::progress::{Phase, Show};
 
 /// What consumes each chunk's results, in lane order.
 pub trait Sink: Send {
@@ -21,8 +22,12 @@ pub trait Sink: Send {
     /// Lanes `first..first + params.len()` with their results; `params`
     /// may be lent out meanwhile (to a batch of the results table) but
     /// holds the same lanes when the call returns.
-    fn chunk(&mut self, first: u64, params: &mut ParamColumns, results: &[LaneResult])
-        -> Result<()>;
+    fn chunk(
+        &mut self,
+        first: u64,
+        params: &mut ParamColumns,
+        results: &[LaneResult],
+    ) -> Result<()>;
     /// Called after the last chunk.
     fn finish(self) -> Result<Self::Output>;
 }
@@ -35,10 +40,10 @@ type Batch = (u64, ParamColumns, Vec<LaneResult>);
 pub fn pipeline<S: Sink>(
     source: &Source,
     backend: &mut dyn Backend,
-    progress: bool,
+    show: &Show,
     sink: S,
 ) -> Result<S::Output> {
-    pipeline_range(source, (0, source.lane_count()), backend, progress, sink)
+    pipeline_range(source, (0, source.lane_count()), backend, show, sink)
 }
 
 /// Where a pipeline's time went, s: the backend integrating its chunks,
@@ -58,10 +63,10 @@ pub fn pipeline_range<S: Sink>(
     source: &Source,
     range: (u64, u64),
     backend: &mut dyn Backend,
-    progress: bool,
+    show: &Show,
     sink: S,
 ) -> Result<S::Output> {
-    pipeline_timed(source, range, backend, progress, sink).map(|o| o.0)
+    pipeline_timed(source, range, backend, show, sink).map(|o| o.0)
 }
 
 /// The producer: chunks of lanes from `reader` (lanes `first..`), in
@@ -75,15 +80,13 @@ fn produce(
     to_backend: std::sync::mpsc::SyncSender<Result<Batch>>,
 ) {
     loop {
-        let (_, mut params, results) = recycled
-            .try_recv()
-            .unwrap_or_else(|_| {
-                (
-                    0,
-                    ParamColumns::with_capacity(chunk),
-                    Vec::with_capacity(chunk),
-                )
-            });
+        let (_, mut params, results) = recycled.try_recv().unwrap_or_else(|_| {
+            (
+                0,
+                ParamColumns::with_capacity(chunk),
+                Vec::with_capacity(chunk),
+            )
+        });
         params.clear();
         if let Err(e) = reader.fill(chunk, &mut params) {
             let _ = to_backend.send(Err(e));
@@ -122,12 +125,12 @@ pub fn pipeline_timed<S: Sink>(
     source: &Source,
     (start, end): (u64, u64),
     backend: &mut dyn Backend,
-    progress: bool,
+    show: &Show,
     sink: S,
 ) -> Result<(S::Output, Busy)> {
     use std::time::Instant;
     let tables = source.friction_tables().tables.clone();
-    let bar = crate::progress::bar(progress, end - start, "");
+    let bar = show.bar(Phase::Running, true, end - start, "");
     let chunk = backend.chunk_lanes().max(1);
     let mut reader = source.reader_range(start, end)?;
 
@@ -142,7 +145,7 @@ pub fn pipeline_timed<S: Sink>(
         let consumer = scope.spawn(move || consume(sink, from_backend, recycle));
         let mut failure = None;
         for batch in &from_producer {
-            let (first, params, mut results) = match batch {
+            let (first, params, mut results) = match batch.and_then(|b| show.check().map(|()| b)) {
                 Ok(b) => b,
                 Err(e) => {
                     failure = Some(e);

@@ -17,7 +17,7 @@ use sha2::{Digest, Sha256};
 use crate::output::digest::{file_digest, hex, FileDigest};
 
 use crate::error::{Error, Result};
-use crate::input::lanes::Source;
+use crate::input::lanes::{Source, TableIn};
 use crate::input::sweep::TraceSpec;
 pub use crate::output::names::MANIFEST;
 use crate::output::names::{RESOLVED, TRACES};
@@ -136,7 +136,15 @@ pub fn sweep_hash(resolved: &str, lane_table: Option<&str>) -> String {
 /// table's digest when it has one.
 pub fn source_hash(source: &Source, trace: Option<&TraceSpec>) -> Result<(String, Option<String>)> {
     let table = match source {
-        Source::Table { path, .. } => Some(file_digest(path)?.sha256),
+        Source::Table {
+            table: TableIn::File(path),
+            ..
+        } => Some(file_digest(path)?.sha256),
+        Source::Table { .. } => {
+            return Err(Error::Usage(
+                "a shard's lanes come from a sweep file or a lane table file".into(),
+            ))
+        }
         Source::Sweep { .. } => None,
     };
     Ok((

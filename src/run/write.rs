@@ -22,15 +22,18 @@ use crate::output::table::{Format, LanesWriter};
 use crate::output::traces::TracesCsv;
 use crate::output::AtomicFile;
 use crate::params::ParamColumns;
+use crate::progress::Show;
 use crate::report::Scan;
 use crate::stats::{Grouping, Stats};
+use arrow_array::RecordBatch;
 
 /// The results table as a sink: rows streamed to `lanes.csv` (or
 /// `lanes.parquet`), counted for the summary line and into `summary.csv`
 /// (not for a shard: a shard's statistics would be of part of a group);
 /// traced lanes streamed to `traces.csv`.
 struct TableSink {
-    table: LanesWriter,
+    /// The table's writer (none when the batches are only kept).
+    table: Option<LanesWriter>,
     /// Formats the table's rows in parallel.
     pool: rayon::ThreadPool,
     summary: Summary,
@@ -40,6 +43,9 @@ struct TableSink {
     traces: Option<Tracer>,
     /// The report's aggregates, and the table's path for its errors.
     scan: Option<(Scan, PathBuf)>,
+    /// The batches, kept in lane order (Python's `tswm.run`); None:
+    /// their buffers go back to the builder.
+    kept: Option<Vec<RecordBatch>>,
 }
 
 /// Traced lanes: run again on the f64 path with rows taken on the way
@@ -50,7 +56,9 @@ struct Tracer {
     /// The run's integration settings (a trace's lane is run as its row).
     settings: Settings,
     next: usize,
-    out: TracesCsv,
+    /// `traces.csv` (none when no folder is written: the traced lanes'
+    /// rows are still the f64 rows of their traces).
+    out: Option<TracesCsv>,
     tables: Vec<FrictionTable>,
 }
 
@@ -76,7 +84,7 @@ impl Tracer {
             // The settings the lane's f64 row comes from, refined or not.
             let set = settings_for(&l, tables, &self.settings);
             let r = simulate_traced(&l, tables, &set, self.spec.dt, &mut |row| {
-                if failed.is_none() {
+                if let (None, Some(out)) = (&failed, out.as_mut()) {
                     failed = out.write(lane, row).err();
                 }
             });
@@ -131,12 +139,14 @@ impl Sink for TableSink {
             pool,
             stats,
             scan,
-            builder,
             ..
         } = self;
         let (written, counted) = pool.install(|| {
             rayon::join(
-                || table.write_batch(pool, &batch),
+                || match table.as_mut() {
+                    Some(t) => t.write_batch(pool, &batch),
+                    None => Ok(()),
+                },
                 || -> Result<()> {
                     if let Some((s, path)) = scan.as_mut() {
                         s.batch_of(path, &batch)?;
@@ -148,7 +158,10 @@ impl Sink for TableSink {
                 },
             )
         });
-        builder.recycle(batch, params);
+        match self.kept.as_mut() {
+            Some(kept) => kept.push(batch),
+            None => self.builder.recycle(batch, params),
+        }
         written.and(counted)
     }
     fn finish(self) -> Result<Self::Output> {
@@ -157,22 +170,23 @@ impl Sink for TableSink {
             None => (Vec::new(), None),
         };
         Ok(Written {
-            lanes: self.table.into_file()?,
+            lanes: self.table.map(LanesWriter::into_file).transpose()?,
             stats,
-            traces: self.traces.map(|t| t.out),
+            traces: self.traces.and_then(|t| t.out),
             scan: self.scan.map(|s| s.0),
             summary: Summary {
                 sensitivity_seconds,
                 ..self.summary
             },
+            batches: self.kept.unwrap_or_default(),
         })
     }
 }
 
 /// What a run wrote, not yet committed.
 pub struct Written {
-    /// `lanes.csv` or `lanes.parquet`.
-    pub lanes: AtomicFile,
+    /// `lanes.csv` or `lanes.parquet` (none without a folder).
+    pub lanes: Option<AtomicFile>,
     /// `summary.csv` and, for a sensitivity design, `sensitivity.csv`
     /// (not for a shard).
     pub stats: Vec<AtomicFile>,
@@ -182,13 +196,15 @@ pub struct Written {
     pub summary: Summary,
     /// The report's aggregates, when they were gathered on the way.
     pub scan: Option<Scan>,
+    /// The table's batches, in lane order, when kept.
+    pub batches: Vec<RecordBatch>,
 }
 
 /// Where a run's table goes and which lanes it runs.
 #[derive(Clone, Copy, Debug)]
 pub struct Target<'a> {
-    /// The output folder.
-    pub dir: &'a Path,
+    /// The output folder; None: no file is written, the batches kept.
+    pub dir: Option<&'a Path>,
     /// The table's format.
     pub format: Format,
     /// Lanes `start..end` (a shard's), or every lane.
@@ -197,21 +213,23 @@ pub struct Target<'a> {
     pub threads: usize,
     /// The run's integration settings (traced lanes are run with them).
     pub settings: Settings,
+    /// Keep the table's batches (for a caller in the same process).
+    pub keep: bool,
 }
 
 /// Runs the lanes of `source` that `target` names on `backend`, streaming
 /// rows to a temporary file for the table (and the traced lanes' rows to
 /// one for `traces.csv` beside it, and statistics to one for
 /// `summary.csv` when every lane is run); the caller commits them (with
-/// the run's other files) or drops them. `progress` shows a bar on stderr
-/// when it is a terminal.
+/// the run's other files) or drops them. Without a folder nothing is
+/// written and the batches are kept. `show` shows the progress.
 pub fn run(
     source: &Source,
     backend: &mut dyn Backend,
     target: Target<'_>,
     trace: Option<&TraceSpec>,
     scan: Option<Scan>,
-    progress: bool,
+    show: &Show,
 ) -> Result<Written> {
     let start = Instant::now();
     let dir = target.dir;
@@ -232,16 +250,18 @@ pub fn run(
                     spec: TraceSpec { lanes, dt: spec.dt },
                     settings: target.settings,
                     next: 0,
-                    out: TracesCsv::create(&dir.join(TRACES), target.range.is_some())?,
+                    out: dir
+                        .map(|d| TracesCsv::create(&d.join(TRACES), target.range.is_some()))
+                        .transpose()?,
                     tables: source.friction_tables().tables.clone(),
                 })
             }
         }
         None => None,
     };
-    let stats = match target.range {
-        None => Some(Stats::create(&dir.join(SUMMARY), Grouping::of(source))?),
-        Some(_) => None,
+    let stats = match (target.range, dir) {
+        (None, Some(d)) => Some(Stats::create(&d.join(SUMMARY), Grouping::of(source))?),
+        _ => None,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(target.threads)
@@ -251,18 +271,21 @@ pub fn run(
     let sink = TableSink {
         // A shard's files are hashed as they are written: its manifest
         // records their SHA-256.
-        table: LanesWriter::create(dir, target.format, target.range.is_some())?,
+        table: dir
+            .map(|d| LanesWriter::create(d, target.format, target.range.is_some()))
+            .transpose()?,
         pool,
         stats,
         summary: Summary::default(),
         builder: Builder::default(),
         traces,
-        scan: scan.map(|s| (s, dir.join(target.format.file_name()))),
+        scan: dir.and_then(|d| scan.map(|s| (s, d.join(target.format.file_name())))),
+        kept: target.keep.then(Vec::new),
     };
-    let table = dir.join(target.format.file_name());
+    let table = dir.map_or_else(PathBuf::new, |d| d.join(target.format.file_name()));
     // On failure the sink's partial files are dropped, and so removed.
-    let (mut written, busy) = pipeline_timed(source, (first, end), backend, progress, sink)
-        .map_err(|e| match e {
+    let (mut written, busy) =
+        pipeline_timed(source, (first, end), backend, show, sink).map_err(|e| match e {
             Error::Gpu(m) => Error::Gpu(format!("{m}; no {} was written", table.display())),
             e => e,
         })?;

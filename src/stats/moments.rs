@@ -321,7 +321,11 @@ mod tests {
                     let b: Vec<&[f64]> = xs.iter().map(|x| &x[half..]).collect();
                     add_columns_on(isa, &mut many, &a);
                     add_columns_on(isa, &mut many, &b);
-                    same(&one, &many, &format!("{isa:?}, {cols} columns, {rows} rows"));
+                    same(
+                        &one,
+                        &many,
+                        &format!("{isa:?}, {cols} columns, {rows} rows"),
+                    );
                 }
             }
         }

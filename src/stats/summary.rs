@@ -198,7 +198,10 @@ impl Stats {
                         PROBS.iter().map(|&q| quantile::exact(&v, q)).collect()
                     }
                 };
-                let moments = [c.m.mean, sd, c.m.min].into_iter().chain(qs).chain([c.m.max]);
+                let moments = [c.m.mean, sd, c.m.min]
+                    .into_iter()
+                    .chain(qs)
+                    .chain([c.m.max]);
                 for (cell, x) in cells.0[..9].iter_mut().zip(moments) {
                     *cell = num(x);
                 }

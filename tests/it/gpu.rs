@@ -326,13 +326,14 @@ fn a_failing_chunk_leaves_no_lanes_csv() {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut be = Failing(CpuBackend::new(1, Settings::default()).unwrap());
     let target = tswm::run::Target {
-        dir: dir.path(),
+        dir: Some(dir.path()),
         format: tswm::output::table::Format::Csv,
         range: None,
         threads: 1,
         settings: Default::default(),
+        keep: false,
     };
-    let err = match tswm::run::run(&src, &mut be, target, None, None, false) {
+    let err = match tswm::run::run(&src, &mut be, target, None, None, &Default::default()) {
         Ok(_) => panic!("the run must fail"),
         Err(e) => e.to_string(),
     };
@@ -499,7 +500,8 @@ fn a_chunk_in_parts_gives_the_same_rows() {
     let params = heterogeneous(3000);
     let (part, in_flight) = (g.part, g.in_flight);
     let mut whole = Vec::new();
-    g.run_chunk(0, &params.iter().collect(), &[], &mut whole).unwrap();
+    g.run_chunk(0, &params.iter().collect(), &[], &mut whole)
+        .unwrap();
     g.part = 700;
     g.in_flight = 2;
     let mut parts = Vec::new();
@@ -520,7 +522,9 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     };
     let params = heterogeneous(3000);
     let mut want = Vec::new();
-    shared.run_chunk(0, &params.iter().collect(), &[], &mut want).unwrap();
+    shared
+        .run_chunk(0, &params.iter().collect(), &[], &mut want)
+        .unwrap();
     drop(shared);
     quiet_mesa();
     let mut dev = Gpu::new(false).unwrap();
@@ -528,7 +532,8 @@ fn ordering_lanes_by_predicted_cost_changes_no_row() {
     let mut g = GpuBackend::new(dev, Settings::default());
     assert!(!g.cost_model().trained());
     let mut got = Vec::new();
-    g.run_chunk(0, &params.iter().collect(), &[], &mut got).unwrap();
+    g.run_chunk(0, &params.iter().collect(), &[], &mut got)
+        .unwrap();
     assert!(g.cost_model().trained(), "the pilot wave taught the model");
     assert_eq!(format!("{want:?}"), format!("{got:?}"));
 }

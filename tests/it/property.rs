@@ -14,7 +14,8 @@ use crate::common::{cpu, tswm};
 
 use tswm::backend::Choice;
 use tswm::cli::LanesArgs;
-use tswm::commands::run::{run, RunArgs};
+use tswm::cli::RunFlags;
+use tswm::commands::run::run;
 
 /// A fixed generator (xorshift): the same sweeps on every run.
 pub(crate) struct Gen(pub(crate) u64);
@@ -259,18 +260,17 @@ fn five_hundred_random_sweeps_get_their_reports() {
             tol: None,
         };
         let out = dir.join("o");
-        run(RunArgs {
-            lanes: &lanes,
-            out: &out,
+        let flags = RunFlags {
+            out: out.clone(),
             backend: Choice::Cpu,
-            trace: &[],
+            trace: Vec::new(),
             trace_dt: None,
-            report: true,
+            no_report: false,
             shard: None,
             format: tswm::output::table::Format::Csv,
-            progress: false,
-        })
-        .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        };
+        run(&lanes, &flags, &Default::default())
+            .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
         odd_values(&mut g, &out);
         let page = tswm::report::build(&out).unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
         assert!(!page.contains("figure not drawn"), "case {case}\n{text}");

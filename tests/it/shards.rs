@@ -560,7 +560,8 @@ fn the_parquet_layout_is_the_documented_one() {
         vars: &["TSWM_PYTHON"],
         install: "pip install pyarrow, or set TSWM_PYTHON",
     };
-    let Some(py) = crate::reference::python_for(&PYARROW, "the_parquet_layout_is_the_documented_one")
+    let Some(py) =
+        crate::reference::python_for(&PYARROW, "the_parquet_layout_is_the_documented_one")
     else {
         return;
     };
@@ -588,7 +589,11 @@ fn the_parquet_layout_is_the_documented_one() {
         ],
         t.path(),
     );
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let o = std::process::Command::new(&py)
         .arg(root().join("tests/columnar/layout.py"))
         .arg(out.join("lanes.parquet"))
@@ -612,7 +617,15 @@ fn the_parquet_layout_is_the_documented_one() {
     for c in &columns {
         let f: Vec<&str> = c.split(' ').collect();
         let (name, physical, encodings, minmax) = (f[1], f[2], f[3], f[4]);
-        let empty = ["f1", "motor_off", "friction_table", "mu", "t_first_switch", "hold", "n1_end"];
+        let empty = [
+            "f1",
+            "motor_off",
+            "friction_table",
+            "mu",
+            "t_first_switch",
+            "hold",
+            "n1_end",
+        ];
         if physical == "BYTE_ARRAY" {
             assert!(encodings.contains("RLE_DICTIONARY"), "{c}");
         }
@@ -633,8 +646,13 @@ fn the_parquet_layout_is_the_documented_one() {
         out
     };
     for page in ["docs/outputs.md", "docs/cluster.md"] {
-        let p = fs::read_to_string(root().join(page)).unwrap().replace('\n', " ");
-        assert!(p.contains(&format!("row groups of {} rows", thousands(group))), "{page}");
+        let p = fs::read_to_string(root().join(page))
+            .unwrap()
+            .replace('\n', " ");
+        assert!(
+            p.contains(&format!("row groups of {} rows", thousands(group))),
+            "{page}"
+        );
         assert!(p.contains("LZ4_RAW"), "{page}");
     }
 }

@@ -282,7 +282,10 @@ pub fn heterogeneous_and_sorted(
     let mut order: Vec<usize> = (0..params.len()).collect();
     order.sort_by_key(|&i| results[i].steps);
     let sorted = order.iter().map(|&i| params.params(i)).collect();
-    ((0..params.len()).map(|i| params.params(i)).collect(), sorted)
+    (
+        (0..params.len()).map(|i| params.params(i)).collect(),
+        sorted,
+    )
 }
 
 #[cfg(test)]

@@ -9,10 +9,10 @@ use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
 use arrow_buffer::{BooleanBuffer, NullBuffer, OffsetBuffer, ScalarBuffer};
 
 use super::schema;
-use crate::output::short_bytes;
 use crate::columns::{results, Column, Kind, Value};
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
+use crate::output::short_bytes;
 use crate::params::{Param, ParamColumns};
 
 /// A float column over `values`, NaN as null.
@@ -65,7 +65,11 @@ impl Words {
 
     fn finish(self) -> ArrayRef {
         let n = self.ends.len() - 1;
-        let empty: usize = self.ends.windows(2).map(|e| usize::from(e[0] == e[1])).sum();
+        let empty: usize = self
+            .ends
+            .windows(2)
+            .map(|e| usize::from(e[0] == e[1]))
+            .sum();
         let nulls = match empty {
             0 => None,
             e if e == n => Some(NullBuffer::new_null(n)),
@@ -276,4 +280,3 @@ pub fn from_lanes(
 ) -> Result<RecordBatch> {
     Builder::default().build(first, &mut params.clone(), results_, pool)
 }
-

@@ -290,7 +290,14 @@ mod tests {
     #[test]
     fn word_runs_end_where_a_word_changes() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
-        let words = [None, Some("aa"), Some("bb"), Some("stick"), Some("ok"), Some("")];
+        let words = [
+            None,
+            Some("aa"),
+            Some("bb"),
+            Some("stick"),
+            Some("ok"),
+            Some(""),
+        ];
         for case in 0..2000 {
             let n = 1 + (rng.next_u64() % 200) as usize;
             let columns: Vec<StringArray> = (0..1 + rng.next_u64() % 3)

@@ -196,10 +196,17 @@ mod tests {
             // Few distinct values, so that whole ranges often agree.
             let kinds = 1 + rng.next_u64() % 3;
             let pick: Vec<u64> = (0..n)
-                .map(|_| if rng.next_u64() % 8 == 0 { rng.next_u64() % kinds } else { 0 })
+                .map(|_| {
+                    if rng.next_u64() % 8 == 0 {
+                        rng.next_u64() % kinds
+                    } else {
+                        0
+                    }
+                })
                 .collect();
             let floats = Float64Array::from_iter(
-                pick.iter().map(|&k| (k != 2).then_some(if k == 1 { -0.0 } else { 0.0 })),
+                pick.iter()
+                    .map(|&k| (k != 2).then_some(if k == 1 { -0.0 } else { 0.0 })),
             );
             let ints = Int64Array::from_iter_values(pick.iter().map(|&k| k as i64));
             let strs = StringArray::from_iter(pick.iter().map(|&k| {
