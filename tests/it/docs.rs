@@ -97,6 +97,11 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
         "lane_spec",
         // system calls
         "sync_file_range",
+        // the keys of Python's tswm.devices()
+        "chunk_lanes",
+        "device_type",
+        "part_lanes",
+        "parts_in_flight",
         // crates
         "rand_chacha",
         "rand_core",
@@ -251,8 +256,9 @@ fn snippet_dir(page: &[Block]) -> tempfile::TempDir {
 }
 
 /// Runs one command line of a snippet in `dir`: `tswm ...` with the
-/// binary under test; a `cargo ...` line is one `.ci/run` runs as
-/// written. No shell: a snippet's line is a command and its arguments.
+/// binary under test; a `cargo ...` or `pip ...` line is one `.ci/run`
+/// runs as written. No shell: a snippet's line is a command and its
+/// arguments.
 fn run_line(b: &Block, line: &str, dir: &Path) {
     let at = format!("{} line {}: `{line}`", b.page, b.line);
     let words: Vec<&str> = line.split_whitespace().collect();
@@ -269,11 +275,11 @@ fn run_line(b: &Block, line: &str, dir: &Path) {
                 String::from_utf8_lossy(&out.stderr)
             );
         }
-        Some(&"cargo") => assert!(
+        Some(&"cargo") | Some(&"pip") => assert!(
             page(".ci/run").lines().any(|l| l.trim() == line),
             "{at}: .ci/run does not run it as written"
         ),
-        _ => panic!("{at}: not a tswm or cargo command"),
+        _ => panic!("{at}: not a tswm, cargo or pip command"),
     }
 }
 
@@ -366,13 +372,31 @@ fn every_python_and_sql_block_runs_as_written() {
         vars: &["TSWM_PYTHON"],
         install: "pip install pandas polars pyarrow duckdb SALib, or set TSWM_PYTHON",
     };
+    const NEEDS_TSWM: crate::reference::Needs = crate::reference::Needs {
+        modules: "tswm, pandas, polars, pyarrow",
+        vars: &["TSWM_PYTHON"],
+        install: "pip install ./python in it, or set TSWM_PYTHON",
+    };
     let Some(py) = crate::reference::python_for(&NEEDS, "the docs' Python snippets") else {
         return;
     };
+    // The snippets of the Python package need it installed (.ci/run does).
+    let with_tswm = std::cell::OnceCell::new();
     let mut ran = 0;
     for (name, text) in user_pages() {
         let bs = blocks(&name, &text);
         for b in bs.iter().filter(|b| b.lang == "python" || b.lang == "sql") {
+            let py = if b.text.contains("import tswm") {
+                let found = with_tswm.get_or_init(|| {
+                    crate::reference::python_for(&NEEDS_TSWM, "the docs' snippets of tswm in Python")
+                });
+                match found {
+                    Some(p) => p,
+                    None => continue,
+                }
+            } else {
+                &py
+            };
             let dir = snippet_dir(&bs);
             let first = b.text.lines().next().unwrap_or("");
             if let Some(cmds) = first
@@ -396,7 +420,7 @@ fn every_python_and_sql_block_runs_as_written() {
                     "import duckdb\nfor s in {sql:?}.split(';'):\n    if s.strip():\n        duckdb.sql(s).fetchall()\n"
                 )
             };
-            let out = std::process::Command::new(&py)
+            let out = std::process::Command::new(py)
                 .args(["-c", &code])
                 .current_dir(dir.path())
                 .output()
@@ -411,6 +435,9 @@ fn every_python_and_sql_block_runs_as_written() {
         }
     }
     assert!(ran >= 4, "{ran} snippets ran");
+    if with_tswm.get().is_some_and(Option::is_some) {
+        assert!(ran >= 14, "{ran} snippets ran, those of tswm in Python with them");
+    }
 }
 
 /// A user who clones the repository has no folder beside it: no test
