@@ -15,6 +15,8 @@
 // `!(x > 0.0)` is used on purpose throughout: it also rejects NaN, which
 // `x <= 0.0` would let through.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Every public item says what it is (CI denies warnings).
+#![warn(missing_docs)]
 
 pub mod backend;
 pub mod cli;
