@@ -85,7 +85,7 @@ fn main() {
         let f = [
             !done,
             res > 1e-4,
-            l.sigma_k < 1e-3 && l.motor == 0,
+            l.sigma_k < 1e-3 && l.motor == tswm::model::MotorKind::Kloss,
             st.steps > 20_000,
         ];
         if let Some(w) = why {

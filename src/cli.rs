@@ -75,8 +75,10 @@ pub enum Command {
     /// report.html (and traces.csv for traced lanes, sensitivity.csv for a
     /// sensitivity design).
     Run {
+        /// The lanes: a sweep file or a lane table.
         #[command(flatten)]
         lanes: LanesArgs,
+        /// How to run them and where to write.
         #[command(flatten)]
         run: RunFlags,
     },
@@ -104,6 +106,7 @@ pub enum Command {
     },
     /// Run the same lanes on the CPU and the GPU and compare (exit 1 when a bound is missed).
     Check {
+        /// The lanes: a sweep file or a lane table.
         #[command(flatten)]
         lanes: LanesArgs,
         /// Write every disagreeing lane (lane, reason) to this CSV file.
@@ -115,6 +118,7 @@ pub enum Command {
     /// Integrate a sweep's lanes on a backend and print lanes/s, writing
     /// nothing (integration, the f32 check and recomputation; no table).
     Bench {
+        /// The lanes: a sweep file or a lane table.
         #[command(flatten)]
         lanes: LanesArgs,
         /// Backend.

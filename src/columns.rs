@@ -126,9 +126,9 @@ pub enum Value {
     Lane,
     /// A float; NaN for an empty cell. The function of one lane, and the
     /// same over a block of lanes (one call a block, the reading inlined
-    /// in its loop), both from [`float!`].
+    /// in its loop), both from `float!`.
     F(fn(&LaneResult) -> f64, fn(&[LaneResult], &mut Vec<f64>)),
-    /// A count, as [`Value::F`] ([`count!`]).
+    /// A count, as [`Value::F`] (`count!`).
     I(fn(&LaneResult) -> u64, fn(&[LaneResult], &mut Vec<i64>)),
     /// A word; "" for an empty cell.
     W(fn(&LaneResult) -> Cow<'static, str>),

@@ -25,6 +25,7 @@ pub mod commands;
 pub mod error;
 pub mod input;
 pub mod integrator;
+pub mod lanewise;
 pub mod model;
 pub mod output;
 pub mod params;

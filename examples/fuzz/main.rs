@@ -226,7 +226,10 @@ fn fuzz_root() -> PathBuf {
 fn target_arg(a: Option<&String>) -> &'static str {
     let t = a.map(String::as_str).unwrap_or("sweep");
     TARGETS.into_iter().find(|&k| k == t).unwrap_or_else(|| {
-        eprintln!("fuzz: unknown target {t:?}; allowed: {}", TARGETS.join(", "));
+        eprintln!(
+            "fuzz: unknown target {t:?}; allowed: {}",
+            TARGETS.join(", ")
+        );
         std::process::exit(2)
     })
 }
@@ -329,7 +332,14 @@ fn said(o: &Outcome) -> String {
 fn kind(o: &Outcome) -> String {
     let text = said(o);
     let (what, msg) = text.split_once(':').unwrap_or((&text, ""));
-    let tail: String = msg.chars().rev().take(60).collect::<Vec<_>>().into_iter().rev().collect();
+    let tail: String = msg
+        .chars()
+        .rev()
+        .take(60)
+        .collect::<Vec<_>>()
+        .into_iter()
+        .rev()
+        .collect();
     let tail: String = tail
         .chars()
         .map(|c| if c.is_ascii_digit() { '#' } else { c })
@@ -385,7 +395,11 @@ fn minimise_file(args: &[String]) -> i32 {
         chunk /= 2;
     }
     std::fs::write(out, [&input[..head], &body[..]].concat()).unwrap();
-    println!("{file}: {} bytes to {}: {want}", input.len() - head, body.len());
+    println!(
+        "{file}: {} bytes to {}: {want}",
+        input.len() - head,
+        body.len()
+    );
     let _ = std::fs::remove_dir_all(&tmp);
     0
 }

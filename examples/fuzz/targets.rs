@@ -222,7 +222,6 @@ pub const FOLDER_FILES: [&str; 6] = [
     "shard.toml",
 ];
 
-
 /// Runs the report or the merge on the folders in `scratch`.
 pub fn run_folder(target: &str, scratch: &Path) -> Outcome {
     let (tx, rx) = std::sync::mpsc::channel();
@@ -266,4 +265,3 @@ pub fn run_folder(target: &str, scratch: &Path) -> Outcome {
         }
     }
 }
-

@@ -42,8 +42,11 @@ pub fn drive<T: Send + 'static>(
         })
         .map_err(|e| failure(tswm::error::Error::Internal(format!("a thread: {e}"))))?;
     let finish = |py: Python<'_>, worker: std::thread::JoinHandle<tswm::error::Result<T>>| {
-        py.detach(move || worker.join())
-            .map_err(|_| failure(tswm::error::Error::Internal("the run's thread panicked".into())))
+        py.detach(move || worker.join()).map_err(|_| {
+            failure(tswm::error::Error::Internal(
+                "the run's thread panicked".into(),
+            ))
+        })
     };
     loop {
         let done = py.detach(|| {

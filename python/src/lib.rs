@@ -46,17 +46,31 @@ fn failure(e: Error) -> PyErr {
             at,
             param,
             msg,
-        } => Failure::new_err((
+        } => Failure::new_err(("input", line, file.display().to_string(), at, param, msg)),
+        Error::Usage(m) => Failure::new_err((
             "input",
             line,
-            file.display().to_string(),
-            at,
-            param,
-            msg,
+            None::<String>,
+            None::<String>,
+            None::<String>,
+            m,
         )),
-        Error::Usage(m) => Failure::new_err(("input", line, None::<String>, None::<String>, None::<String>, m)),
-        Error::Stopped => Failure::new_err(("stopped", line.clone(), None::<String>, None::<String>, None::<String>, line)),
-        _ => Failure::new_err(("error", line.clone(), None::<String>, None::<String>, None::<String>, line)),
+        Error::Stopped => Failure::new_err((
+            "stopped",
+            line.clone(),
+            None::<String>,
+            None::<String>,
+            None::<String>,
+            line,
+        )),
+        _ => Failure::new_err((
+            "error",
+            line.clone(),
+            None::<String>,
+            None::<String>,
+            None::<String>,
+            line,
+        )),
     }
 }
 
@@ -222,10 +236,7 @@ fn run(
 fn read(py: Python<'_>, dir: PathBuf) -> PyResult<PyArrowType<Table>> {
     let batches = py
         .detach(move || {
-            let names: Vec<&str> = tswm::output::table::columns()
-                .iter()
-                .map(|c| c.0)
-                .collect();
+            let names: Vec<&str> = tswm::output::table::columns().iter().map(|c| c.0).collect();
             let mut batches = Vec::new();
             tswm::output::table::read_batches(&dir, &names, |b| {
                 batches.push(b.clone());

@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::integrator::width::{width, Width};
 use crate::integrator::{first_pass, own_width, refine_pass, LaneResult, Settings};
 use crate::model::{FrictionTable, Lane};
-use crate::params::ParamColumns;
+use crate::params::{LaneParams, ParamColumns};
 
 /// The f64 reference path: rayon over blocks of lanes, each block
 /// interleaved on its thread.
@@ -88,6 +88,9 @@ pub fn run_cpu_lanes(
                     .map(|i| Lane::new(&lanes.row(i), tables))
                     .collect();
                 let redo = first_pass(w, &l, tables, settings, o);
+                for (k, r) in o.iter_mut().enumerate() {
+                    *r = r.with_shaft_speeds(&l[k], lanes.row(at + k).radii());
+                }
                 redo.into_iter().map(move |i| b * block + i)
             })
             .collect()
@@ -107,6 +110,9 @@ pub fn run_cpu_lanes(
                     .map(|&i| Lane::new(&lanes.row(i), tables))
                     .collect();
                 refine_pass(w, &l, tables, settings, r);
+                for ((r, l), &i) in r.iter_mut().zip(&l).zip(which) {
+                    *r = r.with_shaft_speeds(l, lanes.row(i).radii());
+                }
             })
     });
     for (i, r) in redo.into_iter().zip(rows) {

@@ -55,7 +55,7 @@ pub fn list() -> Result<Devices> {
                 driver: format!("{} {}", a.info.driver, a.info.driver_info),
                 hardware: crate::backend::gpu::is_hardware(&a.info),
                 limits: [
-                    u64::from(l.max_storage_buffer_binding_size),
+                    l.max_storage_buffer_binding_size,
                     l.max_buffer_size,
                     u64::from(l.max_compute_workgroups_per_dimension),
                     u64::from(l.max_compute_invocations_per_workgroup),

@@ -2,12 +2,11 @@
 //! them, committed together, then the report.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::backend;
 use crate::cli::{trace_plan, LanesArgs, Plan, RunFlags};
 use crate::error::{Error, Result};
-use crate::input::lanes::Source;
 use crate::input::sweep::TraceSpec;
 use crate::output::names::{MANIFEST, RESOLVED};
 use crate::output::provenance;
@@ -15,121 +14,7 @@ use crate::output::table::Format;
 use crate::output::{AtomicFile, OutDir};
 use crate::progress::Show;
 use crate::run;
-use crate::run::shard::{backend_kind, source_hash, Manifest, Shard};
-
-/// A shard this run is: which, its lanes, and its sweep's hashes.
-struct ShardRun {
-    shard: Shard,
-    range: (u64, u64),
-    hash: String,
-    lane_table: Option<String>,
-    total: u64,
-}
-
-impl ShardRun {
-    /// Shard `s` of `source`'s run with the traces `trace` into `dir`;
-    /// None when the folder already holds this shard's complete result (a
-    /// scheduler retries a task with the same index: it is kept, not
-    /// computed again, and said so).
-    fn start(
-        s: Shard,
-        source: &Source,
-        trace: Option<&TraceSpec>,
-        dir: &OutDir,
-        format: Format,
-    ) -> Result<Option<ShardRun>> {
-        let (hash, lane_table) = source_hash(source, trace)?;
-        if let Some(m) = Manifest::read(dir.path()).ok().flatten() {
-            if m.sweep_hash == hash
-                && (m.shard, m.shards) == (s.k, s.n)
-                && m.format == format
-                && m.version == env!("CARGO_PKG_VERSION")
-                && m.incomplete(dir.path()).is_none()
-            {
-                sayln!(
-                    "tswm: shard {}/{} is already complete in {} ({} lanes, {} to {}, {}); nothing to do",
-                    s.k,
-                    s.n,
-                    dir.path().display(),
-                    m.rows,
-                    m.lane_start,
-                    m.lane_end.max(1) - 1,
-                    m.backend_name
-                );
-                return Ok(None);
-            }
-        }
-        // Anything else here is redone from scratch; the old manifest goes
-        // first, so it can never stand beside new files.
-        remove_if_there(&dir.join(MANIFEST))?;
-        let total = source.lane_count();
-        Ok(Some(ShardRun {
-            shard: s,
-            range: s.range(total),
-            hash,
-            lane_table,
-            total,
-        }))
-    }
-
-    /// "; shard K/N (lanes A to B) with shard.toml", for the summary line.
-    fn said(&self) -> String {
-        format!(
-            "; shard {}/{} (lanes {} to {}) with {MANIFEST}",
-            self.shard.k,
-            self.shard.n,
-            self.range.0,
-            self.range.1.max(1) - 1
-        )
-    }
-
-    /// The shard's manifest over its `files` (hashed as they were
-    /// written), for a run on `backend` summed up by `summary`.
-    fn manifest(
-        &self,
-        files: &mut [AtomicFile],
-        backend: &str,
-        tol: f64,
-        summary: &run::Summary,
-        format: Format,
-    ) -> Result<Manifest> {
-        let mut digests = std::collections::BTreeMap::new();
-        for f in files {
-            let name = f
-                .dest()
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let d = f
-                .digest()?
-                .ok_or_else(|| Error::Internal(format!("{name} of a shard was not hashed")))?;
-            digests.insert(name, d);
-        }
-        Ok(Manifest {
-            tool: "tswm".into(),
-            version: env!("CARGO_PKG_VERSION").into(),
-            sweep_hash: self.hash.clone(),
-            lane_table_sha256: self.lane_table.clone(),
-            shard: self.shard.k,
-            shards: self.shard.n,
-            lane_start: self.range.0,
-            lane_end: self.range.1,
-            lanes_total: self.total,
-            rows: summary.lanes,
-            // Rows of one run come from one kind of backend at one f64
-            // tolerance: a shard run with another --tol is refused.
-            backend: if tol == crate::integrator::DEFAULT_TOL {
-                backend_kind(backend).into()
-            } else {
-                format!("{}, f64 tol {tol:e}", backend_kind(backend))
-            },
-            backend_name: backend.to_string(),
-            format,
-            seconds: summary.seconds,
-            files: digests,
-        })
-    }
-}
+use crate::run::shard::{Shard, ShardRun, ShardStart};
 
 /// Runs `tswm run`; prints its summary line.
 pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
@@ -138,9 +23,7 @@ pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
     let part = |n: u64| shard.map_or((0, n), |s| s.range(n));
     let plan = lanes.plan_part(&part, show)?;
     let done = execute(plan, shard, flags, show, false)?;
-    if !done.line.is_empty() {
-        sayln!("{}", done.line);
-    }
+    sayln!("{}", done.line);
     Ok(())
 }
 
@@ -170,10 +53,10 @@ pub fn execute(
     let shard = match shard {
         None => None,
         Some(s) => match ShardRun::start(s, &plan.source, trace.as_ref(), &dir, flags.format)? {
-            Some(run) => Some(run),
-            None => {
+            ShardStart::Run(run) => Some(run),
+            ShardStart::Complete(said) => {
                 return Ok(Done {
-                    line: String::new(),
+                    line: said,
                     batches: Vec::new(),
                 })
             }
@@ -330,12 +213,4 @@ fn small_file(path: &Path, text: &str, hashed: bool) -> Result<AtomicFile> {
         .write_all(text.as_bytes())
         .map_err(|e| Error::io(path, e))?;
     Ok(f)
-}
-
-fn remove_if_there(path: &PathBuf) -> Result<()> {
-    match std::fs::remove_file(path) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(Error::io(path, e)),
-    }
 }

@@ -141,7 +141,7 @@ fn append(cells: &mut Cells, a: &dyn Array) {
                 ($($t:ty),*) => {
                     match a.data_type() {
                         $(t if t == &<$t as arrow_array::types::ArrowPrimitiveType>::DATA_TYPE => {
-                            v.extend(a.as_primitive::<$t>().iter().map(|x| x.map(|x| x.as_f64())))
+                            v.extend(a.as_primitive::<$t>().iter().map(|x| x.map(|x| x.to_f64())))
                         })*
                         _ => {}
                     }
@@ -164,11 +164,11 @@ fn append(cells: &mut Cells, a: &dyn Array) {
 }
 
 /// A number of any of the types a column may hold, as f64.
-trait AsF64 {
-    fn as_f64(self) -> f64;
+trait ToF64 {
+    fn to_f64(self) -> f64;
 }
 
-macro_rules! as_f64 {
-    ($($t:ty),*) => { $(impl AsF64 for $t { fn as_f64(self) -> f64 { self as f64 } })* };
+macro_rules! to_f64 {
+    ($($t:ty),*) => { $(impl ToF64 for $t { fn to_f64(self) -> f64 { self as f64 } })* };
 }
-as_f64!(f64, f32, i64, i32, i16, i8, u64, u32, u16, u8);
+to_f64!(f64, f32, i64, i32, i16, i8, u64, u32, u16, u8);

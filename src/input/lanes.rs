@@ -12,7 +12,7 @@ pub use super::reader::LaneReader;
 use crate::error::{Error, Result};
 pub use crate::input::given::{SweepIn, TableIn};
 use crate::input::sweep::Sweep;
-use crate::model::FrictionTables;
+use crate::params::FrictionTables;
 use crate::params::{ParamColumns, Params, Spec};
 use crate::progress::{Phase, Show};
 

@@ -32,10 +32,11 @@
 //! result is run again at [`Settings::tighter`]; its row says
 //! `cpu:refined` and the run's summary counts it.
 
-use super::rhs::powers;
+use super::components::{powers, NY};
+use super::result::{LaneResult, Status};
+use super::settings::Settings;
 use super::stepper::Trial;
-use super::width::lanewise;
-use super::{LaneResult, Settings, NY};
+use crate::lanewise::{by_lane, Lanewise};
 
 /// Results the budget covers: x1, ẋ1, w_motor, w_load, w_friction, w1_in,
 /// w1_out, w2_in, w2_out (lanes.csv's order).
@@ -48,15 +49,19 @@ pub const BOUND: f64 = 1e-6;
 /// [`BOUND`] (the estimate overstates the error; see the module's text).
 pub const LIMIT: f64 = 3.0;
 
-/// The running error estimate of one lane's results.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ErrorBudget {
-    /// Σ (error estimate of ẋ1) / |a| over the steps so far, s.
-    lag: f64,
-    /// Phase term of each result.
-    phase: [f64; RESULTS],
-    /// Local term of each result.
-    local: [f64; RESULTS],
+crate::lanewise_struct! {
+    /// The running error estimate of one lane's results; [`Budgets`]
+    /// holds W lanes', so that the batch driver adds its lanes' common
+    /// steps as vector code ([`Budgets::add_steps`]).
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct ErrorBudget, Budgets {
+        /// Σ (error estimate of ẋ1) / |a| over the steps so far, s.
+        lag: f64,
+        /// Phase term of each result.
+        phase: [f64; RESULTS],
+        /// Local term of each result.
+        local: [f64; RESULTS],
+    }
 }
 
 /// Rates of the results at a derivative k of the state (x1, ẋ1, w_motor,
@@ -82,17 +87,18 @@ impl ErrorBudget {
     /// Adds an accepted step from derivative `k0` to `trial` (whose `k7`
     /// is the derivative at its end); `flow` is the step's share of
     /// (w1_in, w1_out, w2_in, w2_out), which says which parts it fed.
+    /// [`Budgets::add_steps`] of one lane.
     #[inline]
     pub fn add_step(&mut self, k0: &[f64; NY], trial: &Trial, flow: &[f64; 4]) {
-        self.lag = step_terms(
-            self.lag,
-            k0,
-            &trial.k7,
-            &trial.est,
-            flow,
-            &mut self.phase,
-            &mut self.local,
+        let mut b = self.one();
+        b.add_steps(
+            &[true],
+            &k0.map(|v| [v]),
+            &trial.k7.map(|v| [v]),
+            &trial.est.map(|v| [v]),
+            &flow.map(|v| [v]),
         );
+        *self = b.lane(0);
     }
 
     /// Whether every result of `r` is within [`LIMIT`] × [`BOUND`] by the
@@ -140,49 +146,12 @@ fn step_terms(
     }
 }
 
-/// The error budgets of N lanes, component-major, so that the batch
-/// driver adds its lanes' common steps as vector code (`add_steps`, the
-/// arithmetic of [`ErrorBudget::add_step`]).
-#[derive(Clone, Copy)]
-pub(crate) struct Budgets<const N: usize> {
-    lag: [f64; N],
-    phase: [[f64; N]; RESULTS],
-    local: [[f64; N]; RESULTS],
-}
-
 impl<const N: usize> Budgets<N> {
-    /// Empty budgets.
-    pub(crate) const ZERO: Budgets<N> = Budgets {
-        lag: [0.0; N],
-        phase: [[0.0; N]; RESULTS],
-        local: [[0.0; N]; RESULTS],
-    };
-
-    /// Column j from one lane's budget.
-    #[inline]
-    pub(crate) fn load(&mut self, j: usize, b: &ErrorBudget) {
-        self.lag[j] = b.lag;
-        for i in 0..RESULTS {
-            self.phase[i][j] = b.phase[i];
-            self.local[i][j] = b.local[i];
-        }
-    }
-
-    /// Column j into one lane's budget.
-    #[inline]
-    pub(crate) fn store(&self, j: usize, b: &mut ErrorBudget) {
-        b.lag = self.lag[j];
-        for i in 0..RESULTS {
-            b.phase[i] = self.phase[i][j];
-            b.local[i] = self.local[i][j];
-        }
-    }
-
     /// Adds an accepted step to each lane j with `take[j]`: its derivatives
     /// `k0` at the start and `k7` at the end, its error estimates `est` and
     /// its energy flow `flow`, all component-major.
     #[inline(always)]
-    pub(crate) fn add_steps(
+    pub fn add_steps(
         &mut self,
         take: &[bool; N],
         k0: &[[f64; N]; NY],
@@ -191,14 +160,14 @@ impl<const N: usize> Budgets<N> {
         flow: &[[f64; N]; 4],
     ) {
         for j in 0..N {
-            let mut phase: [f64; RESULTS] = lanewise(|i| self.phase[i][j]);
-            let mut local: [f64; RESULTS] = lanewise(|i| self.local[i][j]);
+            let mut phase: [f64; RESULTS] = by_lane(|i| self.phase[i][j]);
+            let mut local: [f64; RESULTS] = by_lane(|i| self.local[i][j]);
             let lag = step_terms(
                 self.lag[j],
-                &lanewise(|i| k0[i][j]),
-                &lanewise(|i| k7[i][j]),
-                &lanewise(|i| est[i][j]),
-                &lanewise(|q| flow[q][j]),
+                &by_lane(|i| k0[i][j]),
+                &by_lane(|i| k7[i][j]),
+                &by_lane(|i| est[i][j]),
+                &by_lane(|q| flow[q][j]),
                 &mut phase,
                 &mut local,
             );
@@ -215,5 +184,5 @@ impl<const N: usize> Budgets<N> {
 /// Whether a lane that ended with `r` and `budget` under `set` is to be
 /// run again at [`Settings::tighter`].
 pub fn needs_refining(set: &Settings, r: &LaneResult, budget: &ErrorBudget) -> bool {
-    set.refine && r.status == super::Status::Ok && !budget.within(r)
+    set.refine && r.status == Status::Ok && !budget.within(r)
 }

@@ -9,57 +9,71 @@
 //! between dispatches). No allocation, no recursion.
 
 use super::accuracy::ErrorBudget;
+use super::components::NY;
+use super::control::H_INITIAL;
 use super::result::{speeding_up, EndState, Status};
-use super::stepper::{rhs, Mode};
-use super::NY;
-use crate::model::{agma_upper, phi, side_of, stick_test, FrictionTable, Lane, FRICTION_AGMA};
+use super::rhs::rhs;
+use crate::model::kernel::sliding_speed;
+use crate::model::{agma_upper, phi, side_of, stick_test, FrictionKind, FrictionTable, Lane, Mode};
 
-/// First step after every start from rest, s: the friction law's
-/// derivative is unbounded at rest and the error estimate reads low there.
-pub const H_INITIAL: f64 = 1e-6;
-
-/// The complete state of one lane between calls to [`advance`](super::step::advance).
-#[derive(Clone, Copy, Debug)]
-pub struct LaneState {
-    pub t: f64,
-    pub y: [f64; NY],
-    /// Proposed size of the next step.
-    pub h: f64,
-    /// Contact side c: +1 a-a, −1 b-b (kept through stick phases).
-    pub side: i32,
-    /// Direction of motion s: +1, −1, or 0 before the first motion.
-    pub dir: i32,
-    pub stuck: bool,
-    pub motor_on: bool,
-    /// On the `agma` law's upper branch (Vs above 10 ft/min); always
-    /// false for the other laws.
-    pub upper: bool,
-    pub done: bool,
-    /// Running on past t_end towards t_max: the motor is cut and the lane
-    /// was still coasting at t_end (docs/model.md section 10).
-    pub running_on: bool,
-    /// Running on ended because the lane began to speed up.
-    pub speeding: bool,
-    pub status: Status,
-    pub switches: u32,
-    pub reversals: u32,
-    pub sticks: u32,
-    /// NaN until the first switch.
-    pub t_first_switch: f64,
-    pub steps: u32,
-    pub events: u32,
-    /// Derivative at (t, y), valid when `k1_valid` (first same as last).
-    pub k1: [f64; NY],
-    pub k1_valid: bool,
-    /// w1_in, w1_out, w2_in, w2_out so far (see `flow`).
-    pub flow: [f64; 4],
-    /// The estimate of the results' error so far (see `accuracy`).
-    pub budget: ErrorBudget,
+crate::lanewise_struct! {
+    /// The complete state of one lane between calls to
+    /// [`advance`](super::step::advance); [`LaneStates`] holds the states
+    /// of the lanes one thread steps in lockstep.
+    #[derive(Clone, Copy, Debug)]
+    pub struct LaneState, LaneStates {
+        /// Time, s.
+        pub t: f64,
+        /// The integrated state (`components`).
+        pub y: [f64; NY],
+        /// Proposed size of the next step.
+        pub h: f64,
+        /// Contact side c: +1 a-a, −1 b-b (kept through stick phases).
+        pub side: i32,
+        /// Direction of motion s: +1, −1, or 0 before the first motion.
+        pub dir: i32,
+        /// At rest, held by static friction.
+        pub stuck: bool,
+        /// The motor's force is on.
+        pub motor_on: bool,
+        /// On the `agma` law's upper branch (Vs above 10 ft/min); always
+        /// false for the other laws.
+        pub upper: bool,
+        /// Finished, or abandoned with `status`.
+        pub done: bool,
+        /// Running on past t_end towards t_max: the motor is cut and the lane
+        /// was still coasting at t_end (docs/model.md section 10).
+        pub running_on: bool,
+        /// Running on ended because the lane began to speed up.
+        pub speeding: bool,
+        /// Why the lane ended.
+        pub status: Status,
+        /// Contact side changes so far.
+        pub switches: u32,
+        /// Direction changes so far.
+        pub reversals: u32,
+        /// Stick phases so far.
+        pub sticks: u32,
+        /// NaN until the first switch.
+        pub t_first_switch: f64,
+        /// Accepted steps so far.
+        pub steps: u32,
+        /// Events so far (switches, stops, cut-offs, branch changes).
+        pub events: u32,
+        /// Derivative at (t, y), valid when `k1_valid` (first same as last).
+        pub k1: [f64; NY],
+        /// Whether `k1` is the derivative at the current state.
+        pub k1_valid: bool,
+        /// w1_in, w1_out, w2_in, w2_out so far (see `flow`).
+        pub flow: [f64; 4],
+        /// The estimate of the results' error so far (see `accuracy`).
+        pub budget: ErrorBudget,
+    }
 }
 
 impl LaneState {
     /// The mode the next step is taken in.
-    pub(super) fn mode(&self) -> Mode {
+    pub fn mode(&self) -> Mode {
         Mode {
             side: self.side,
             dir: self.dir,
@@ -112,7 +126,8 @@ pub fn init(lane: &Lane, tables: &[FrictionTable]) -> LaneState {
         },
         stuck: false,
         motor_on,
-        upper: lane.friction == FRICTION_AGMA && agma_upper(v.abs() * lane.inv_cos_g),
+        upper: lane.friction == FrictionKind::Agma
+            && agma_upper(sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
         done: false,
         running_on: false,
         speeding: false,

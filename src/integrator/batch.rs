@@ -6,9 +6,9 @@ use super::accuracy::{needs_refining, ErrorBudget};
 use super::automaton::init;
 use super::lockstep::{Done, Order, Slots};
 use super::result::{LaneResult, RowPath};
+use super::settings::Settings;
 use super::step::advance;
 use super::width::{best_isa, isas, width, Isa, Width};
-use super::Settings;
 use crate::model::{FrictionTable, Lane};
 
 /// Runs `lanes` to their ends, `out[i]` for `lanes[i]`, stepping
@@ -176,7 +176,7 @@ fn interleaved<const N: usize>(
     done: Done,
 ) {
     let Some(first) = lanes.first() else { return };
-    let mut slots = Slots::<N>::new(first, tables);
+    let mut slots = Slots::<N>::new(first);
     while slots.refill(lanes, order, tables, done) {
         slots.attempt(lanes, tables, set);
     }

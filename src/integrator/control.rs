@@ -1,7 +1,44 @@
-//! Step-size control: the factor a trial step's error norm asks the next
-//! step to grow or shrink by.
+//! Step-size control: the size a step is tried at, the factor a trial
+//! step's error norm asks the next step to grow or shrink by, the size
+//! tried again after a rejection, and where a step is too small to go on.
 
 use crate::model::vmath::{int_to_f64, pow2i, round_int, split_exponent};
+
+/// First step after every start from rest, s: the friction law's
+/// derivative is unbounded at rest and the error estimate reads low there.
+pub const H_INITIAL: f64 = 1e-6;
+
+/// A step below this fraction of max(t, 1) s is a step underflow: f64
+/// resolves a time to 2.2e-16 of itself, so below about 1e-15 of it the
+/// steps stop moving the lane (the shader's f32 stops at 1e-7).
+pub const STEP_UNDERFLOW: f64 = 1e-15;
+
+/// The size of the step to try from the proposed size `h`, at speed `v`
+/// and acceleration `a` in direction `dir`, `remaining` before the next
+/// time event; and whether the step lands on that event. `steep`: the
+/// lane's friction law is steep at rest (`FrictionKind::steep_at_rest`).
+#[inline(always)]
+pub fn step_size(h: f64, steep: bool, dir: f64, v: f64, a: f64, remaining: f64) -> (f64, bool) {
+    let mut h = h;
+    // Approaching rest under the paper and agma laws, ρ(Vs) has an
+    // unbounded derivative at the stop, as it has at a start, and the
+    // error estimate reads low there: grade the steps into the stop.
+    if steep && a * dir < 0.0 {
+        let t_rest = -v / a;
+        h = h.min((0.5 * t_rest).max(H_INITIAL));
+    }
+    let landing = h >= remaining;
+    (if landing { remaining } else { h }, landing)
+}
+
+/// The size to try again after a rejected trial of size `h` whose error
+/// asks for the factor `fac`, and whether it is too small to go on at
+/// time `t` (step underflow).
+#[inline(always)]
+pub fn retry_size(h: f64, fac: f64, t: f64) -> (f64, bool) {
+    let h = h * fac.min(1.0);
+    (h, h < STEP_UNDERFLOW * t.max(1.0))
+}
 
 /// Step-size factor from a trial's error norm: 0.9 err^(−1/5), kept
 /// within [0.2, 5]. The power is [`inv_fifth_root`], not the C library's
@@ -9,7 +46,7 @@ use crate::model::vmath::{int_to_f64, pow2i, round_int, split_exponent};
 /// arithmetic makes the factor the same bits on every platform and at
 /// every vector width.
 #[inline(always)]
-pub(crate) fn step_factor(err: f64) -> f64 {
+pub fn step_factor(err: f64) -> f64 {
     // Selects, not branches, so a loop over lanes stays vector code.
     // Below 1.9e-4, 0.9 err^(−1/5) is over 5: the clamp's value; an
     // infinite (or NaN) norm shrinks the step all it may.
@@ -31,7 +68,7 @@ pub(crate) fn step_factor(err: f64) -> f64 {
 /// x^(−1/5) for x in [1e-4, f64::MAX], within 1e-8 relative (a test
 /// compares it with `powf`): 2^(−log2(x)/5) with a series for each part.
 #[inline(always)]
-pub(crate) fn inv_fifth_root(x: f64) -> f64 {
+pub fn inv_fifth_root(x: f64) -> f64 {
     let (e, m) = split_exponent(x);
     // log2 m = (2 / ln 2) atanh(s), s = (m − 1)/(m + 1), |s| < 0.1716:
     // the series to s^7 leaves s^9/9 < 2e-8.

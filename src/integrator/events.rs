@@ -5,8 +5,9 @@
 //! sliding speed crossing 10 ft/min (the law's change of branch), located
 //! by the Illinois method on the step's dense output.
 
-use super::stepper::{Mode, Trial};
-use crate::model::{motion, phi, FrictionTable, Lane, AGMA_JUMP_M_S, FRICTION_AGMA};
+use super::stepper::Trial;
+use crate::model::kernel::sliding_speed;
+use crate::model::{motion, phi, FrictionKind, FrictionTable, Lane, Mode, AGMA_JUMP_M_S};
 
 /// Root-location tolerance for events, s.
 pub const T_ROOT_TOL: f64 = 1e-13;
@@ -70,7 +71,7 @@ fn speeding_value(dir: f64, acc: f64) -> f64 {
 /// distance from 10 ft/min on the side of the branch.
 #[inline(always)]
 fn branch_value(dir: f64, v: f64, inv_cos_g: f64, upper: bool) -> f64 {
-    let vs = (dir * v).max(0.0) * inv_cos_g;
+    let vs = sliding_speed(dir, v, inv_cos_g);
     if upper {
         vs - AGMA_JUMP_M_S
     } else {
@@ -78,17 +79,22 @@ fn branch_value(dir: f64, v: f64, inv_cos_g: f64, upper: bool) -> f64 {
     }
 }
 
-/// What a step checks for events: the lane's direction and, when they
-/// apply, the two events not every lane has.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Watch {
-    pub(crate) dir: f64,
-    /// Running on past t_end: speeding up is an event.
-    pub(crate) running_on: bool,
-    /// Under the `agma` law: the change of branch is an event.
-    pub(crate) agma: bool,
-    pub(crate) upper: bool,
-    pub(crate) inv_cos_g: f64,
+crate::lanewise_struct! {
+    /// What a step checks for events: the lane's direction and, when they
+    /// apply, the two events not every lane has.
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) struct Watch, Watches {
+        /// Direction of motion s.
+        pub(crate) dir: f64,
+        /// Running on past t_end: speeding up is an event.
+        pub(crate) running_on: bool,
+        /// Under the `agma` law: the change of branch is an event.
+        pub(crate) agma: bool,
+        /// The mode's `agma` branch.
+        pub(crate) upper: bool,
+        /// 1 / cos γ.
+        pub(crate) inv_cos_g: f64,
+    }
 }
 
 impl Watch {
@@ -98,7 +104,7 @@ impl Watch {
         Watch {
             dir: mode.dir as f64,
             running_on,
-            agma: lane.friction == FRICTION_AGMA,
+            agma: lane.friction == FrictionKind::Agma,
             upper: mode.upper,
             inv_cos_g: lane.inv_cos_g,
         }
@@ -243,7 +249,7 @@ mod tests {
         // A constant-force lane: ẋ1 is linear in time, so the rest event of
         // a decelerating lane is known exactly.
         let mut l = Lane::new(&Spec::default().resolve(&[]).unwrap(), &[]);
-        l.motor = crate::model::MOTOR_CONSTANT;
+        l.motor = crate::model::MotorKind::Constant;
         l.f1 = 0.0;
         let mode = Mode {
             side: 1,

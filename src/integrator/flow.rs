@@ -15,15 +15,14 @@
 //! the quadrature itself, w1_in − w1_out + w2_in − w2_out = w_friction
 //! holds to rounding, and no right-hand side is evaluated again.
 
+use super::components::{powers, NY};
 use super::events::{dense_v, illinois};
-use super::rhs::powers;
 use super::stepper::Trial;
-use super::NY;
 
 /// Root finding for the zero of p inside a step ends when the bracket is
-/// this narrow: 2^-52, the resolution of f64 on [0, 1] (2^-24 in the
-/// shader's f32).
-pub const THETA_TOL: f64 = f64::EPSILON;
+/// this narrow, as a fraction of the step: 2^-52, the resolution of f64
+/// on [0, 1] (the shader's `P_ZERO_TOL` is 2^-24, f32's).
+pub const P_ZERO_TOL: f64 = f64::EPSILON;
 
 /// Slope dW/dθ of a dense output W(θ) = r0 + θ(r1 + (1−θ)(r2 + θ(r3 +
 /// (1−θ) r4))) (see `events::dense_v`): h times the integrand there.
@@ -48,14 +47,14 @@ pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
 /// Whether p changes sign inside a step from `p0` to `p_end` (a zero at
 /// an end is no crossing).
 #[inline(always)]
-pub(crate) fn crosses(p0: f64, p_end: f64) -> bool {
+pub fn crosses(p0: f64, p_end: f64) -> bool {
     p0 * p_end < 0.0
 }
 
 /// [`split`] of an increment `total` where p keeps its sign: all of it
 /// goes to one part.
 #[inline(always)]
-pub(crate) fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
+pub fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
     let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
     if positive {
         [total, 0.0]
@@ -74,7 +73,7 @@ fn split_crossing(r: &[f64; 5], p0: f64) -> [f64; 2] {
     // a handful of iterations where bisection takes 52. (The shader
     // bisects: in f32 that is 24 halvings.)
     let g = |th: f64| sign * dense_slope(r, th);
-    let (a, b) = illinois(g, g(0.0), g(1.0), THETA_TOL);
+    let (a, b) = illinois(g, g(0.0), g(1.0), P_ZERO_TOL);
     let first = dense_v(r, 0.5 * (a + b));
     let rest = total - first;
     if sign > 0.0 {

@@ -2,16 +2,17 @@
 //! section 6), and the one conversion from a lane's end state to them,
 //! used by both backends.
 
+use super::components::NY;
 pub use super::outcome::{Contact, Drive, Hold};
 pub use super::path::{Recheck, RowPath};
-use super::NY;
+use crate::model::kernel::sliding_speed;
 use crate::model::{agma_upper, efficiency, motion, mu_at, FrictionTable, Lane, Mode};
 use crate::params::gear::rpm;
 
 /// Why a lane ended; `Ok` unless it could not be finished.
 ///
 /// The explicit values are the codes the shader writes (`S_*` in
-/// `shaders/tswm.wgsl`); a test reads them from the shader and compares.
+/// `shaders/integrator/result.wgsl`); a test reads them from the shader and compares.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[repr(u32)]
 pub enum Status {
@@ -28,6 +29,8 @@ pub enum Status {
     /// The step size fell below what the time resolution allows.
     StepUnderflow = 5,
 }
+
+crate::lanewise_scalar!(Status = Status::Ok);
 
 impl Status {
     /// Every status, in code order.
@@ -70,17 +73,27 @@ impl Status {
 /// What a lane reports (docs/model.md section 6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaneResult {
+    /// How the lane ended (`ok`, or why not).
     pub status: Status,
+    /// Contact side switches (a-a to b-b or back).
     pub switches: u32,
     /// NaN when none.
     pub t_first_switch: f64,
+    /// Reversals of the direction of motion.
     pub reversals: u32,
+    /// Stick phases: times the drive came to rest and held.
     pub sticks: u32,
+    /// The contact mode where the lane stopped.
     pub contact_end: Contact,
+    /// Worm (body 1) position where the lane stopped, m.
     pub x1_end: f64,
+    /// Worm (body 1) speed where the lane stopped, m/s.
     pub v1_end: f64,
+    /// Work done by the motor force, J.
     pub w_motor: f64,
+    /// Work done against the load force, J.
     pub w_load: f64,
+    /// Work lost to friction, J.
     pub w_friction: f64,
     /// Mesh efficiency at t_end (NaN when at rest).
     pub eta_end: f64,
@@ -89,8 +102,11 @@ pub struct LaneResult {
     /// J: ∫max(p1, 0), ∫max(−p1, 0), ∫max(p2, 0), ∫max(−p2, 0) with
     /// p1 = S1 ẋ1, p2 = S2 ẋ2 (docs/model.md section 10).
     pub w1_in: f64,
+    /// See [`LaneResult::w1_in`].
     pub w1_out: f64,
+    /// See [`LaneResult::w1_in`].
     pub w2_in: f64,
+    /// See [`LaneResult::w1_in`].
     pub w2_out: f64,
     /// w2_out / w1_in (NaN when w1_in is negligible).
     pub eta_direct: f64,
@@ -143,6 +159,19 @@ impl LaneResult {
         ]
     }
 
+    /// The row with its worm and wheel shaft speeds where the lane
+    /// stopped, rpm, from the pitch radii R1 and R2 of a lane given in
+    /// gear terms (docs/model.md section 12; NaN radii, a lane without a
+    /// geometry, give NaN: empty cells). The radii are no constant the
+    /// integrator reads, so the lane's row gets them here, from its
+    /// parameters, not from its [`Lane`].
+    #[inline]
+    pub fn with_shaft_speeds(mut self, lane: &Lane, (r1, r2): (f64, f64)) -> LaneResult {
+        self.n1_end = rpm(self.v1_end, r1);
+        self.n2_end = rpm(self.v1_end * lane.tan_g, r2);
+        self
+    }
+
     /// A row with no results, for buffers that every lane's result
     /// overwrites.
     pub const EMPTY: LaneResult = LaneResult {
@@ -188,7 +217,12 @@ pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end
     let ratio = |out: f64, inp: f64| if inp > fed { out / inp } else { f64::NAN };
     // Steady values at the final sliding speed (at rest: the start-up value).
     let g = lane.tan_g.atan();
-    let rho = mu_at(lane, tables, v_end.abs() * lane.inv_cos_g).atan();
+    let rho = mu_at(
+        lane,
+        tables,
+        sliding_speed(1.0, v_end.abs(), lane.inv_cos_g),
+    )
+    .atan();
     // The static friction angle ρs = atan(μs / cos αn) (`mu_s` holds the
     // division): breakaway from rest, and the static lock margin.
     let rho_s = lane.mu_s.atan();
@@ -208,22 +242,29 @@ pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end
 /// compensated sums folded in.
 #[derive(Clone, Copy, Debug)]
 pub struct EndState {
+    /// How the lane ended.
     pub status: Status,
+    /// At rest and held.
     pub stuck: bool,
     /// Contact side c: +1 a-a, −1 b-b.
     pub side: i32,
     /// Direction of motion s.
     pub dir: i32,
+    /// Whether the motor force is still on.
     pub motor_on: bool,
     /// x1, ẋ1, w_motor, w_load, w_friction, w_p1.
     pub y: [f64; NY],
     /// w1_in, w1_out, w2_in, w2_out.
     pub flow: [f64; 4],
+    /// Contact side switches.
     pub switches: u32,
+    /// Reversals of the direction of motion.
     pub reversals: u32,
+    /// Stick phases.
     pub sticks: u32,
     /// NaN until the first switch.
     pub t_first_switch: f64,
+    /// Accepted steps.
     pub steps: u32,
     /// Where the lane stopped, s.
     pub t: f64,
@@ -242,7 +283,7 @@ impl EndState {
             side: self.side,
             dir: self.dir,
             motor_on: self.motor_on,
-            upper: agma_upper(v.abs() * lane.inv_cos_g),
+            upper: agma_upper(sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
         };
         let m = motion(lane, tables, mode, v);
         let eta_end = if self.stuck || v == 0.0 || !ok {
@@ -296,9 +337,9 @@ impl EndState {
             hold,
             drive,
             t_stop: self.t,
-            // NaN radii (no geometry) give NaN speeds: empty cells.
-            n1_end: rpm(v, lane.r1),
-            n2_end: rpm(v * lane.tan_g, lane.r2),
+            // Set by `with_shaft_speeds` where the lane's radii are known.
+            n1_end: f64::NAN,
+            n2_end: f64::NAN,
             path: RowPath::Cpu,
         }
     }

@@ -1,16 +1,22 @@
 //! One step attempt of a lane: its plan (mode, size, the time event it
-//! may land on), the trial step's acceptance or rejection, the earliest
-//! event inside it and the restart from there in the new mode; and
-//! [`advance`], which runs attempts until the lane is done or its budget
-//! is spent.
+//! may land on), the trial step's verdict (`verdict`, shared with the
+//! lanes in lockstep), and for the attempts that are not common the
+//! automaton's part: the earliest event inside the step and the restart
+//! from there in the new mode, a landing on a time event, the step
+//! budget. [`advance`] runs attempts until the lane is done or its
+//! budget is spent.
 
 use super::automaton::{check_mode, come_to_rest, horizon, reach_time_event, set_side, LaneState};
-use super::events::{earliest_event, EventFn};
+use super::control::step_size;
+use super::events::{earliest_event, EventFn, Watch};
 use super::flow::step_flow;
 use super::result::Status;
-use super::stepper::{rhs, try_step, Mode, Trial};
-use super::{Settings, H_INITIAL};
-use crate::model::{FrictionTable, Lane, FRICTION_AGMA, FRICTION_PAPER};
+use super::rhs::rhs;
+use super::settings::Settings;
+use super::stepper::{try_step, Trial};
+use super::verdict::{end_common, verdicts};
+use crate::lanewise::Lanewise;
+use crate::model::{FrictionTable, Lane, Mode};
 
 /// A step about to be tried: its mode, its size, and the time event it
 /// may land on.
@@ -65,46 +71,6 @@ pub(crate) fn time_stop(lane: &Lane, st: &LaneState) -> f64 {
     }
 }
 
-/// Whether the lane's friction law has an unbounded derivative at rest
-/// (the paper and agma laws), so that steps into a stop are graded.
-#[inline]
-pub(crate) fn steep_at_rest(lane: &Lane) -> bool {
-    lane.friction == FRICTION_PAPER || lane.friction == FRICTION_AGMA
-}
-
-/// The size of the step to try from the proposed size `h`, at speed `v`
-/// and acceleration `a` in direction `dir`, `remaining` before the next
-/// time event; and whether the step lands on that event.
-#[inline(always)]
-pub(crate) fn step_size(
-    h: f64,
-    steep: bool,
-    dir: f64,
-    v: f64,
-    a: f64,
-    remaining: f64,
-) -> (f64, bool) {
-    let mut h = h;
-    // Approaching rest under the paper and agma laws, ρ(Vs) has an
-    // unbounded derivative at the stop, as it has at a start, and the
-    // error estimate reads low there: grade the steps into the stop.
-    if steep && a * dir < 0.0 {
-        let t_rest = -v / a;
-        h = h.min((0.5 * t_rest).max(H_INITIAL));
-    }
-    let landing = h >= remaining;
-    (if landing { remaining } else { h }, landing)
-}
-
-/// The size to try again after a rejected trial of size `h` whose error
-/// asks for the factor `fac`, and whether it is too small to go on at
-/// time `t` (step underflow).
-#[inline(always)]
-pub(crate) fn retry_size(h: f64, fac: f64, t: f64) -> (f64, bool) {
-    let h = h * fac.min(1.0);
-    (h, h < 1e-15 * t.max(1.0))
-}
-
 /// First half of one step attempt: a stick phase jumps to the next time
 /// event, the derivative at the step's start is made valid, and the step
 /// size is chosen. None when the attempt ends here (stuck, or finished).
@@ -129,7 +95,7 @@ pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Opt
     }
     let (h, landing) = step_size(
         st.h,
-        steep_at_rest(lane),
+        lane.friction.steep_at_rest(),
         st.dir as f64,
         st.y[1],
         st.k1[1],
@@ -143,9 +109,12 @@ pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Opt
     })
 }
 
-/// Second half of a step attempt: accept or reject the trial step, locate
-/// the earliest event inside it and restart from there in the new mode, or
-/// move to the step's end.
+/// Second half of a step attempt: the verdict on the trial step
+/// (`verdict::verdicts` of one lane); a common one ends as the lanes in
+/// lockstep end theirs (`verdict::end_common`), the others here: a step
+/// underflow, the step budget, the earliest event inside the step and the
+/// restart from there in the new mode, or the move to the step's end
+/// (landing on its time event, or sharing a mesh power's sign change).
 #[inline]
 pub fn finish_step(
     lane: &Lane,
@@ -156,16 +125,51 @@ pub fn finish_step(
     trial: &Trial,
 ) {
     let h = plan.h;
-    let fac = trial.fac;
-    if trial.err > 1.0 {
-        let (h_retry, underflow) = retry_size(h, fac, st.t);
-        st.h = h_retry;
-        if underflow {
-            st.finish(Status::StepUnderflow);
-        }
+    let watch = Watch::of(lane, plan.mode, st.running_on).one();
+    let one = |a: f64| [a];
+    let v = verdicts::<1>(
+        &[true],
+        &[h],
+        &[plan.landing],
+        &[st.t],
+        &[st.steps],
+        &watch,
+        &st.k1.map(one),
+        &trial.one(),
+        set,
+    );
+    if !v.slow[0] {
+        let mut s = st.one();
+        end_common(&mut s, &v, &[h], &trial.one());
+        *st = s.lane(0);
         return;
     }
-    let h_next = h * fac;
+    finish_uncommon(lane, tables, set, st, plan, trial, v.h_next[0]);
+}
+
+/// The automaton's end of an attempt that is not common (the verdict
+/// said so, and proposed the next size `h_next`): a step underflow, the
+/// step budget, the earliest event inside the step and the restart from
+/// there in the new mode, or the move to the step's end (landing on its
+/// time event, or sharing a mesh power's sign change). The lanes in
+/// lockstep call it for the lanes their verdict found uncommon.
+#[inline]
+pub(crate) fn finish_uncommon(
+    lane: &Lane,
+    tables: &[FrictionTable],
+    set: &Settings,
+    st: &mut LaneState,
+    plan: &StepPlan,
+    trial: &Trial,
+    h_next: f64,
+) {
+    let h = plan.h;
+    if trial.err > 1.0 {
+        // Rejected, and too small to try again.
+        st.h = h_next;
+        st.finish(Status::StepUnderflow);
+        return;
+    }
     st.steps += 1;
     if st.steps > set.max_steps {
         st.finish(Status::MaxSteps);

@@ -5,54 +5,62 @@
 //! `stage*_v`, `increment`, `error_term`, `error_scale` and `dense_coeffs`
 //! functions; `try_steps` runs them for N interleaved lanes and the
 //! shader's `try_step` (section `src/integrator/stepper.rs` of
-//! `shaders/tswm.wgsl`) for one, line for line.
+//! `shaders/integrator/stepper.wgsl`) for one, line for line.
 
+use super::components::{powers, NY};
 use super::control::step_factor;
-pub use super::rhs::rhs;
-use super::rhs::{powers, rhs_lanes, Coefs};
-use super::width::lanewise;
-use super::{Settings, NY};
-use crate::model::{FrictionTable, Lane};
+use super::rhs::rhs_lanes;
+use super::settings::Settings;
+use crate::lanewise::by_lane;
+use crate::model::{Coefs, FrictionTable, Lane, Mode};
 
-// Dormand–Prince 5(4) tableau. Keep in sync with the shader (a test reads
-// its constants and compares).
-// Stage times c2..c5 (1/5, 3/10, 4/5, 8/9) are not needed: between events
-// the right-hand side is autonomous.
-pub const A21: f64 = 1.0 / 5.0;
-pub const A31: f64 = 3.0 / 40.0;
-pub const A32: f64 = 9.0 / 40.0;
-pub const A41: f64 = 44.0 / 45.0;
-pub const A42: f64 = -56.0 / 15.0;
-pub const A43: f64 = 32.0 / 9.0;
-pub const A51: f64 = 19372.0 / 6561.0;
-pub const A52: f64 = -25360.0 / 2187.0;
-pub const A53: f64 = 64448.0 / 6561.0;
-pub const A54: f64 = -212.0 / 729.0;
-pub const A61: f64 = 9017.0 / 3168.0;
-pub const A62: f64 = -355.0 / 33.0;
-pub const A63: f64 = 46732.0 / 5247.0;
-pub const A64: f64 = 49.0 / 176.0;
-pub const A65: f64 = -5103.0 / 18656.0;
-pub const A71: f64 = 35.0 / 384.0;
-pub const A73: f64 = 500.0 / 1113.0;
-pub const A74: f64 = 125.0 / 192.0;
-pub const A75: f64 = -2187.0 / 6784.0;
-pub const A76: f64 = 11.0 / 84.0;
-pub const E1: f64 = 71.0 / 57600.0;
-pub const E3: f64 = -71.0 / 16695.0;
-pub const E4: f64 = 71.0 / 1920.0;
-pub const E5: f64 = -17253.0 / 339200.0;
-pub const E6: f64 = 22.0 / 525.0;
-pub const E7: f64 = -1.0 / 40.0;
-// Dense output (Hairer & Wanner's dopri5 contd5).
-pub const D1: f64 = -12715105075.0 / 11282082432.0;
-pub const D3: f64 = 87487479700.0 / 32700410799.0;
-pub const D4: f64 = -10690763975.0 / 1880347072.0;
-pub const D5: f64 = 701980252875.0 / 199316789632.0;
-pub const D6: f64 = -1453857185.0 / 822651844.0;
-pub const D7: f64 = 69997945.0 / 29380423.0;
+/// Declares the tableau's coefficients, each with its value as its doc.
+macro_rules! tableau {
+    ($($name:ident = $value:expr;)*) => {$(
+        #[doc = concat!("`", stringify!($name), " = ", stringify!($value), "`")]
+        pub const $name: f64 = $value;
+    )*};
+}
 
-pub use crate::model::Mode;
+// Dormand–Prince 5(4): the stages' coefficients a, the error weights e
+// (fifth minus fourth order) and the dense output's d (Hairer & Wanner's
+// dopri5 contd5). Keep in sync with the shader (a test reads its
+// constants and compares). Stage times c2..c5 (1/5, 3/10, 4/5, 8/9) are
+// not needed: between events the right-hand side is autonomous.
+tableau! {
+    A21 = 1.0 / 5.0;
+    A31 = 3.0 / 40.0;
+    A32 = 9.0 / 40.0;
+    A41 = 44.0 / 45.0;
+    A42 = -56.0 / 15.0;
+    A43 = 32.0 / 9.0;
+    A51 = 19372.0 / 6561.0;
+    A52 = -25360.0 / 2187.0;
+    A53 = 64448.0 / 6561.0;
+    A54 = -212.0 / 729.0;
+    A61 = 9017.0 / 3168.0;
+    A62 = -355.0 / 33.0;
+    A63 = 46732.0 / 5247.0;
+    A64 = 49.0 / 176.0;
+    A65 = -5103.0 / 18656.0;
+    A71 = 35.0 / 384.0;
+    A73 = 500.0 / 1113.0;
+    A74 = 125.0 / 192.0;
+    A75 = -2187.0 / 6784.0;
+    A76 = 11.0 / 84.0;
+    E1 = 71.0 / 57600.0;
+    E3 = -71.0 / 16695.0;
+    E4 = 71.0 / 1920.0;
+    E5 = -17253.0 / 339200.0;
+    E6 = 22.0 / 525.0;
+    E7 = -1.0 / 40.0;
+    D1 = -12715105075.0 / 11282082432.0;
+    D3 = 87487479700.0 / 32700410799.0;
+    D4 = -10690763975.0 / 1880347072.0;
+    D5 = 701980252875.0 / 199316789632.0;
+    D6 = -1453857185.0 / 822651844.0;
+    D7 = 69997945.0 / 29380423.0;
+}
 
 // ẋ1 at which stages 2 to 6 evaluate the right-hand side (only ẋ1 is
 // needed: the right-hand side depends on nothing else).
@@ -123,78 +131,38 @@ pub(crate) fn dense_r5(h: f64, k1: f64, k3: f64, k4: f64, k5: f64, k6: f64, k7: 
     h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7)
 }
 
-/// The outcome of a trial step.
-#[derive(Clone, Copy, Default, Debug)]
-pub struct Trial {
-    pub(crate) y1: [f64; NY],
-    pub(crate) k7: [f64; NY],
-    /// Error norm: <= 1 means accepted.
-    pub(crate) err: f64,
-    /// The step-size factor the norm asks for (`control::step_factor`).
-    pub(crate) fac: f64,
-    /// The switch event's function at the step's end (`events`).
-    pub(crate) g_switch: f64,
-    /// Dense-output coefficients of ẋ1 (r1..r5).
-    pub(crate) dense_v: [f64; 5],
-    /// The step's increments of ∫p1 and ∫p2 (w_p1, and w_friction −
-    /// w_p1), and the last coefficient of their dense outputs (the only
-    /// one that needs the inner stages; `flow::dense_w` forms the rest).
-    pub(crate) dw: [f64; 2],
-    pub(crate) dw_r4: [f64; 2],
-    /// The embedded error estimate of each component and, last, of ∫p2 dt
-    /// (absolute; the accuracy budget adds them up, see `accuracy`).
-    pub(crate) est: [f64; NY + 1],
-}
-
-/// Trial steps of N lanes, component-major (`y1[i][j]`: component i of
-/// lane j), as [`try_steps`] computes them: the batch driver reads the
-/// common outcome as vector code and takes one lane's [`Trial`] out
-/// ([`Trials::lane`]) only where the lane needs its automaton.
-#[derive(Clone, Copy)]
-pub(crate) struct Trials<const N: usize> {
-    pub(crate) y1: [[f64; N]; NY],
-    pub(crate) k7: [[f64; N]; NY],
-    pub(crate) err: [f64; N],
-    pub(crate) fac: [f64; N],
-    pub(crate) g_switch: [f64; N],
-    pub(crate) dense_v: [[f64; N]; 5],
-    pub(crate) dw: [[f64; N]; 2],
-    pub(crate) dw_r4: [[f64; N]; 2],
-    pub(crate) est: [[f64; N]; NY + 1],
-}
-
-impl<const N: usize> Trials<N> {
-    /// All zero (a driver's scratch before its first step).
-    pub(crate) const ZERO: Trials<N> = Trials {
-        y1: [[0.0; N]; NY],
-        k7: [[0.0; N]; NY],
-        err: [0.0; N],
-        fac: [0.0; N],
-        g_switch: [0.0; N],
-        dense_v: [[0.0; N]; 5],
-        dw: [[0.0; N]; 2],
-        dw_r4: [[0.0; N]; 2],
-        est: [[0.0; N]; NY + 1],
-    };
-
-    /// Lane j's trial.
-    #[inline]
-    pub(crate) fn lane(&self, j: usize) -> Trial {
-        Trial {
-            y1: std::array::from_fn(|i| self.y1[i][j]),
-            k7: std::array::from_fn(|i| self.k7[i][j]),
-            err: self.err[j],
-            fac: self.fac[j],
-            g_switch: self.g_switch[j],
-            dense_v: std::array::from_fn(|i| self.dense_v[i][j]),
-            dw: [self.dw[0][j], self.dw[1][j]],
-            dw_r4: [self.dw_r4[0][j], self.dw_r4[1][j]],
-            est: std::array::from_fn(|i| self.est[i][j]),
-        }
+crate::lanewise_struct! {
+    /// The outcome of a trial step; [`Trials`] holds W lanes' at once,
+    /// component-major (`y1[i][j]`: component i of lane j), as
+    /// `try_steps` computes them.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Trial, Trials {
+        /// The state at the step's end.
+        pub(crate) y1: [f64; NY],
+        /// The derivative at the step's end.
+        pub(crate) k7: [f64; NY],
+        /// Error norm: <= 1 means accepted.
+        pub(crate) err: f64,
+        /// The step-size factor the norm asks for (`control::step_factor`).
+        pub(crate) fac: f64,
+        /// The switch event's function at the step's end (`events`).
+        pub(crate) g_switch: f64,
+        /// Dense-output coefficients of ẋ1 (r1..r5).
+        pub(crate) dense_v: [f64; 5],
+        /// The step's increments of ∫p1 and ∫p2 (w_p1, and w_friction −
+        /// w_p1).
+        pub(crate) dw: [f64; 2],
+        /// The last coefficient of their dense outputs (the only one
+        /// that needs the inner stages; `flow::dense_w` forms the rest).
+        pub(crate) dw_r4: [f64; 2],
+        /// The embedded error estimate of each component and, last, of
+        /// ∫p2 dt (absolute; the accuracy budget adds them up, see
+        /// `accuracy`).
+        pub(crate) est: [f64; NY + 1],
     }
 }
 
-/// One trial step of size h from (y, k1).
+/// One trial step of size h from (y, k1): [`try_steps`] of one lane.
 #[inline]
 pub(crate) fn try_step(
     lane: &Lane,
@@ -205,13 +173,12 @@ pub(crate) fn try_step(
     h: f64,
     set: &Settings,
 ) -> Trial {
-    let mut tr = Trials::<1>::ZERO;
-    let col = |a: &[f64; NY]| -> [[f64; 1]; NY] { std::array::from_fn(|i| [a[i]]) };
+    let mut tr = Trials::<1>::zero();
+    let col = |a: &[f64; NY]| -> [[f64; 1]; NY] { a.map(|v| [v]) };
     try_steps::<1>(
         &Coefs::of(&[lane], &[mode]),
         [lane],
         tables,
-        [mode],
         &col(y),
         &col(k1),
         [h],
@@ -222,49 +189,40 @@ pub(crate) fn try_step(
 }
 
 /// Trial steps of N lanes at once from states `y` with derivatives `k1`
-/// (component-major), into `tr`; every lane is computed, its own `h[j]`
-/// (the caller ignores the lanes it has no step for). Each stage is
-/// computed for every lane before the next stage, lanes as vector
-/// elements; per lane the arithmetic is exactly that of one lane, so a
-/// lane's trial, and its row, do not depend on N or on the lanes beside
-/// it.
+/// (component-major), each lane in its mode (its constants `c`), into
+/// `tr`; every lane is computed, its own `h[j]` (the caller ignores the
+/// lanes it has no step for). Each stage is computed for every lane
+/// before the next stage, lanes as vector elements; per lane the
+/// arithmetic is exactly that of one lane, so a lane's trial, and its
+/// row, do not depend on N or on the lanes beside it.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn try_steps<const N: usize>(
     c: &Coefs<N>,
     lane: [&Lane; N],
     tables: &[FrictionTable],
-    mode: [Mode; N],
     y0: &[[f64; N]; NY],
     k1: &[[f64; N]; NY],
     h: [f64; N],
     set: &Settings,
     tr: &mut Trials<N>,
 ) {
-    // x1 and ẋ1 may be held tighter than the works (`Settings::traj_weight`).
-    let tol_of = |i: usize| {
-        if i < 2 {
-            set.tol * set.traj_weight
-        } else {
-            set.tol
-        }
-    };
     let z = [[0.0; N]; NY];
     let (mut k2, mut k3, mut k4, mut k5, mut k6) = (z, z, z, z, z);
     let k7 = &mut tr.k7;
     let v0 = &y0[1];
     let a1 = &k1[1];
-    let v: [f64; N] = lanewise(|j| stage2_v(v0[j], h[j], a1[j]));
-    rhs_lanes(c, &lane, tables, &mode, &v, &mut k2);
-    let v: [f64; N] = lanewise(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
-    rhs_lanes(c, &lane, tables, &mode, &v, &mut k3);
-    let v: [f64; N] = lanewise(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
-    rhs_lanes(c, &lane, tables, &mode, &v, &mut k4);
-    let v: [f64; N] = lanewise(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
-    rhs_lanes(c, &lane, tables, &mode, &v, &mut k5);
+    let v: [f64; N] = by_lane(|j| stage2_v(v0[j], h[j], a1[j]));
+    rhs_lanes(c, &lane, tables, &v, &mut k2, |_, _| {});
+    let v: [f64; N] = by_lane(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
+    rhs_lanes(c, &lane, tables, &v, &mut k3, |_, _| {});
+    let v: [f64; N] = by_lane(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
+    rhs_lanes(c, &lane, tables, &v, &mut k4, |_, _| {});
+    let v: [f64; N] = by_lane(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
+    rhs_lanes(c, &lane, tables, &v, &mut k5, |_, _| {});
     let v: [f64; N] =
-        lanewise(|j| stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j]));
-    rhs_lanes(c, &lane, tables, &mode, &v, &mut k6);
+        by_lane(|j| stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j]));
+    rhs_lanes(c, &lane, tables, &v, &mut k6, |_, _| {});
     let y1 = &mut tr.y1;
     for i in 0..NY {
         for j in 0..N {
@@ -272,13 +230,13 @@ pub(crate) fn try_steps<const N: usize>(
             y1[i][j] = y0[i][j] + dy;
         }
     }
-    let f1_end = rhs_lanes(c, &lane, tables, &mode, &y1[1], k7);
+    let f1_end = rhs_lanes(c, &lane, tables, &y1[1], k7, |_, _| {});
     // The rest component-major too, every lane, so each loop is vector
     // arithmetic.
     let est = &mut tr.est;
     let mut err = [0.0f64; N];
     for i in 0..NY {
-        let tol = tol_of(i);
+        let tol = set.tol_of(i);
         for j in 0..N {
             let et = error_term(
                 h[j], k1[i][j], k3[i][j], k4[i][j], k5[i][j], k6[i][j], k7[i][j],
@@ -287,7 +245,7 @@ pub(crate) fn try_steps<const N: usize>(
             err[j] = err[j].max(est[i][j] / error_scale(tol, y0[i][j], y1[i][j]));
         }
     }
-    tr.g_switch = c.switching(&f1_end);
+    tr.g_switch = c.switch_values(&f1_end);
     for (e, fac) in err.iter_mut().zip(&mut tr.fac) {
         *e = if e.is_finite() { *e } else { f64::INFINITY };
         *fac = step_factor(*e);

@@ -10,24 +10,33 @@
 use super::automaton::{init, LaneState};
 use super::events::dense_v;
 use super::result::{Contact, LaneResult};
+use super::settings::Settings;
 use super::step::{finish_step, prepare};
 use super::stepper::try_step;
-use super::Settings;
-use crate::model::{motion, motor_force, mu_sliding, phi, FrictionTable, Lane};
+use crate::model::{motion, motor_force, phi, FrictionTable, Lane};
 
-/// One row of a trace.
+/// One row of a trace (docs/model.md section 11).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TraceRow {
+    /// Time, s.
     pub t: f64,
+    /// Position x1, m.
     pub x1: f64,
+    /// Speed ẋ1, m/s.
     pub v1: f64,
+    /// Acceleration ẍ1, m/s².
     pub a1: f64,
+    /// Motor force F1, N.
     pub f1: f64,
+    /// Contact reaction S1, N.
     pub s1: f64,
+    /// Contact reaction S2, N.
     pub s2: f64,
-    /// NaN while stuck.
+    /// The force transfer function ψ; NaN while stuck.
     pub psi: f64,
+    /// The switching function φ.
     pub phi: f64,
+    /// The contact: a-a, b-b, or stuck.
     pub contact: Contact,
 }
 
@@ -50,8 +59,6 @@ fn row(lane: &Lane, tables: &[FrictionTable], st: &LaneState, t: f64, x: f64, v:
         };
     }
     let m = motion(lane, tables, st.mode(), v);
-    let vs = (st.dir as f64 * v).max(0.0) * lane.inv_cos_g;
-    let t_cs = (st.side * st.dir) as f64 * mu_sliding(lane, tables, vs, st.upper);
     TraceRow {
         t,
         x1: x,
@@ -60,7 +67,7 @@ fn row(lane: &Lane, tables: &[FrictionTable], st: &LaneState, t: f64, x: f64, v:
         f1: m.f1,
         s1: m.s1,
         s2: m.s2,
-        psi: -(lane.tan_g + t_cs) / (1.0 - lane.tan_g * t_cs),
+        psi: m.psi,
         phi: phi(lane, v, st.motor_on),
         contact: if st.side > 0 {
             Contact::Aa

@@ -165,18 +165,6 @@ pub fn parse(text: &str) -> Result<Width, String> {
     Ok(Width { lanes, isa })
 }
 
-/// The array of f(0), .., f(N − 1), by a plain loop that is always
-/// inlined: `std::array::from_fn` may be left out of line, and then runs
-/// without the caller's vector instructions.
-#[inline(always)]
-pub(crate) fn lanewise<T: Copy + Default, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
-    let mut a = [T::default(); N];
-    for (j, v) in a.iter_mut().enumerate() {
-        *v = f(j);
-    }
-    a
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

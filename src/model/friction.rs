@@ -3,13 +3,12 @@
 //! bronze wheel; each gives tan ρ, the wedge's friction, with the flank's
 //! pressure angle folded in for the laws that give a coefficient.
 
-use super::{Lane, FRICTION_AGMA, FRICTION_COULOMB, FRICTION_PAPER, FRICTION_TABLE};
+use super::kernel::paper_rho;
+use super::{FrictionKind, Lane};
 
 /// Most friction tables one run may hold (the GPU keeps them all in one
 /// fixed-size uniform).
 pub const MAX_TABLES: usize = 8;
-
-use crate::params::TableName;
 
 /// ft/min in one m/s: the `agma` law is stated in ft/min.
 pub const FT_PER_MIN_PER_M_PER_S: f64 = 196.850_393_700_787_4;
@@ -58,28 +57,6 @@ pub fn agma_upper(vs: f64) -> bool {
 /// Most points a friction table may hold (fixed so the GPU can keep it in a
 /// fixed-size uniform).
 pub const MAX_TABLE_POINTS: usize = 32;
-
-/// The friction tables of a run, each with its name (one unnamed table
-/// for a sweep's plain `[friction_table]`); a lane picks one by index.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FrictionTables {
-    /// The names, in the sweep file's order.
-    pub names: Vec<TableName>,
-    /// The tables, in the same order.
-    pub tables: Vec<FrictionTable>,
-}
-
-impl FrictionTables {
-    /// Whether the run has no table.
-    pub fn is_empty(&self) -> bool {
-        self.tables.is_empty()
-    }
-
-    /// Whether the run's one table is the unnamed `[friction_table]`.
-    pub fn unnamed(&self) -> bool {
-        self.names == [TableName::UNNAMED]
-    }
-}
 
 /// μ(Vs) as points, interpolated linearly and held constant past its ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -156,21 +133,16 @@ impl FrictionTable {
 #[inline]
 pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, upper: bool) -> f64 {
     match lane.friction {
-        FRICTION_PAPER => {
-            let rho = (std::f64::consts::PI / 180.0)
-                / (lane.fric_a * super::vmath::pow(vs, lane.fric_b) + lane.fric_c);
-            tan_small(rho)
-        }
-        FRICTION_COULOMB => lane.mu,
-        FRICTION_TABLE => {
+        FrictionKind::Paper => tan_small(paper_rho(lane.fric_a, lane.fric_b, lane.fric_c, vs)),
+        FrictionKind::Coulomb => lane.mu,
+        FrictionKind::Table => {
+            // No such table: NaN makes the lane `nonfinite`, never a number.
             tables
                 .get(lane.table as usize)
                 .map_or(f64::NAN, |t| t.mu_at(vs))
                 * lane.inv_cos_an
         }
-        FRICTION_AGMA => agma_mu(vs, upper) * lane.inv_cos_an,
-        // No such law: NaN makes the lane `nonfinite`, never a number.
-        _ => f64::NAN,
+        FrictionKind::Agma => agma_mu(vs, upper) * lane.inv_cos_an,
     }
 }
 

@@ -1,189 +1,53 @@
-//! The TSWM physics of docs/model.md sections 2 to 5: forces, the force transfer
-//! function ψ, the equation of motion, the switching function φ and the
-//! stick test. No integration here: the integrator calls these.
+//! The TSWM physics of docs/model.md sections 2 to 5: forces, the force
+//! transfer function ψ, the equation of motion, the switching function φ
+//! and the stick test. No integration here: the integrator calls these.
 //!
-//! Keep in sync with the shader's section `src/model/` in
-//! `shaders/tswm.wgsl` (functions of the same names, same order); the
-//! friction laws are in [`friction`].
+//! Each formula is written once, in [`kernel`]; [`coefs`] composes them
+//! into the equation of motion of W lanes at once, and the one-lane
+//! functions here ([`motion`], [`phi`], ...) are its W = 1 case or call
+//! the kernel with one lane's fields. The friction laws are in
+//! [`friction`], the laws' enums in [`laws`].
+//!
+//! The shader mirrors these files in `shaders/model.wgsl`.
 
+pub mod coefs;
 pub mod friction;
+pub mod kernel;
+pub mod lane;
+pub mod laws;
 pub mod vmath;
 
-use crate::params::{FrictionKind, LaneParams, MotorKind, Num};
+pub use coefs::{motions, Coef, Coefs};
 pub use friction::{
-    agma_mu, agma_upper, mu_at, mu_sliding, tan_small, FrictionTable, FrictionTables,
-    AGMA_JUMP_M_S, MAX_TABLES, MAX_TABLE_POINTS,
+    agma_mu, agma_upper, mu_at, mu_sliding, tan_small, FrictionTable, AGMA_JUMP_M_S, MAX_TABLES,
+    MAX_TABLE_POINTS,
 };
+pub use kernel::{Motion, Motions};
+pub use lane::Lane;
+pub use laws::{FrictionKind, MotorKind};
 
-/// A lane's constants in the form the integrator uses: fixed size, laws as
-/// codes, trigonometry done once.
-///
-/// Keep in sync with `GpuLane` in `src/backend/gpu/layout.rs` and `Lane` in the shader.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Lane {
-    pub m1: f64,
-    pub m2: f64,
-    pub tan_g: f64,
-    pub sin_g: f64,
-    pub cos_g: f64,
-    /// 1 / cos γ
-    pub inv_cos_g: f64,
-    pub f2: f64,
-    /// 0 = kloss, 1 = constant
-    pub motor: u32,
-    pub v_sync: f64,
-    /// critical slip σk
-    pub sigma_k: f64,
-    pub f_crit: f64,
-    pub f1: f64,
-    /// time the motor is cut; +inf for never
-    pub motor_off: f64,
-    /// 0 = paper, 1 = coulomb, 2 = table, 3 = agma
-    pub friction: u32,
-    /// Which of the run's friction tables (`friction = table`).
-    pub table: u32,
-    /// 1 / cos αn: a coefficient law's μ becomes the wedge's tan ρ = μ / cos αn.
-    pub inv_cos_an: f64,
-    pub fric_a: f64,
-    pub fric_b: f64,
-    pub fric_c: f64,
-    /// coulomb's tan ρ = μ / cos αn
-    pub mu: f64,
-    /// static tan ρs for every law (μs / cos αn, or tan ρ(0))
-    pub mu_s: f64,
-    pub x1_0: f64,
-    pub v1_0: f64,
-    pub t_end: f64,
-    /// Latest end of a lane still coasting at t_end with its motor cut
-    /// (docs/model.md section 10); t_end when unset (no running on).
-    pub t_max: f64,
-    /// Pitch radii R1, R2 (m) of a lane given in gear terms (docs/model.md
-    /// section 12), for its shaft speeds; NaN without a geometry. The
-    /// integrator never reads them.
-    pub r1: f64,
-    pub r2: f64,
-}
-
-/// Motor law codes shared with the shader (a test reads the shader's
-/// constants and compares).
-pub const MOTOR_KLOSS: u32 = 0;
-/// Constant motor force.
-pub const MOTOR_CONSTANT: u32 = 1;
-/// Friction law codes shared with the shader.
-pub const FRICTION_PAPER: u32 = 0;
-/// Constant μ.
-pub const FRICTION_COULOMB: u32 = 1;
-/// Tabulated μ(Vs).
-pub const FRICTION_TABLE: u32 = 2;
-/// AGMA's curve for a steel worm on a bronze wheel.
-pub const FRICTION_AGMA: u32 = 3;
-
-impl Lane {
-    /// Whether the motor is cut before t_end: only then does the lane
-    /// answer "does it hold?" (docs/model.md section 10).
-    #[inline]
-    pub fn motor_cut(&self) -> bool {
-        self.motor_off < self.t_end
-    }
-
-    /// The direction the motor drives body 1 (+1 or −1): +x1 for `kloss`,
-    /// the sign of `f1` for `constant`; None for a constant motor with
-    /// f1 = 0 (no motor). docs/model.md section 10, "Does the motor drive it?".
-    #[inline]
-    pub fn motor_direction(&self) -> Option<f64> {
-        match self.motor {
-            MOTOR_KLOSS => Some(1.0),
-            _ if self.f1 > 0.0 => Some(1.0),
-            _ if self.f1 < 0.0 => Some(-1.0),
-            _ => None,
-        }
-    }
-
-    /// Derives a lane's constants from validated parameters.
-    pub fn new(p: &impl LaneParams, tables: &[FrictionTable]) -> Lane {
-        let g = p.get(Num::GammaDeg).to_radians();
-        let inv_cos_an = match p.get(Num::AlphaNDeg) {
-            a if a.is_nan() => 1.0,
-            a => 1.0 / a.to_radians().cos(),
-        };
-        let (r1, r2) = p.radii();
-        let nan_to = |v: f64, d: f64| if v.is_nan() { d } else { v };
-        let (motor, v_sync, sigma_k, f_crit, f1) = match p.motor() {
-            MotorKind::Kloss => {
-                let vs = p.get(Num::VSync);
-                (
-                    MOTOR_KLOSS,
-                    vs,
-                    (vs - p.get(Num::VCrit)) / vs,
-                    p.get(Num::FCrit),
-                    0.0,
-                )
-            }
-            MotorKind::Constant => (MOTOR_CONSTANT, 1.0, 1.0, 0.0, p.get(Num::F1)),
-        };
-        let mut lane = Lane {
-            m1: p.get(Num::M1),
-            m2: p.get(Num::M2),
-            tan_g: g.tan(),
-            sin_g: g.sin(),
-            cos_g: g.cos(),
-            inv_cos_g: 1.0 / g.cos(),
-            f2: p.get(Num::F2),
-            motor,
-            v_sync,
-            sigma_k,
-            f_crit,
-            f1,
-            motor_off: nan_to(p.get(Num::MotorOff), f64::INFINITY),
-            friction: match p.friction() {
-                FrictionKind::Paper => FRICTION_PAPER,
-                FrictionKind::Coulomb => FRICTION_COULOMB,
-                FrictionKind::Table => FRICTION_TABLE,
-                FrictionKind::Agma => FRICTION_AGMA,
-            },
-            table: p.table() as u32,
-            inv_cos_an,
-            fric_a: nan_to(p.get(Num::FricA), 0.0),
-            fric_b: nan_to(p.get(Num::FricB), 1.0),
-            fric_c: nan_to(p.get(Num::FricC), 1.0),
-            mu: nan_to(p.get(Num::Mu), 0.0) * inv_cos_an,
-            mu_s: 0.0,
-            x1_0: p.get(Num::X10),
-            v1_0: p.get(Num::V10),
-            t_end: p.get(Num::TEnd),
-            t_max: nan_to(p.get(Num::TMax), p.get(Num::TEnd)),
-            r1,
-            r2,
-        };
-        lane.mu_s = match p.friction() {
-            FrictionKind::Coulomb => p.get(Num::MuStatic) * inv_cos_an,
-            FrictionKind::Agma => friction::AGMA_MU_STATIC * inv_cos_an,
-            _ => mu_sliding(&lane, tables, 0.0, false),
-        };
-        lane
-    }
-}
+use crate::lanewise::Lanewise;
+use kernel::{load_term, motor_force_of, switching};
 
 /// Motor force F1 at speed `v1`; zero once the motor is off.
 #[inline]
 pub fn motor_force(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
-    if !motor_on {
-        return 0.0;
-    }
-    if lane.motor == MOTOR_CONSTANT {
-        return lane.f1;
-    }
-    // Kloss in the form 2 f σ σk / (σ² + σk²): finite at σ = 0, negative
-    // above synchronous speed (generator braking).
-    let sigma = (lane.v_sync - v1) / lane.v_sync;
-    let sk = lane.sigma_k;
-    2.0 * lane.f_crit * sigma * sk / (sigma * sigma + sk * sk)
+    motor_force_of(
+        lane.motor,
+        motor_on,
+        lane.f1,
+        lane.v_sync,
+        lane.sigma_k,
+        lane.f_crit,
+        v1,
+    )
 }
 
 /// Switching function φ = F1/m1 − F2/(m2 tan γ): a-a when > 0, b-b when < 0.
 #[inline]
 pub fn phi(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
-    motor_force(lane, v1, motor_on) / lane.m1 - lane.f2 / (lane.m2 * lane.tan_g)
+    let load = load_term(lane.f2, lane.m2, lane.tan_g);
+    switching(motor_force(lane, v1, motor_on), lane.m1, load)
 }
 
 /// The contact side for φ: +1 (a-a) when φ >= 0, else −1 (b-b).
@@ -212,51 +76,19 @@ pub struct Mode {
     pub upper: bool,
 }
 
-/// What the equation of motion gives in one mode at one speed.
-#[derive(Clone, Copy, Debug)]
-pub struct Motion {
-    /// ẍ1
-    pub acc: f64,
-    /// D = m1 − ψ m2 tan γ; the mode is inconsistent when D <= 0.
-    pub d: f64,
-    /// motor force F1
-    pub f1: f64,
-    /// contact reactions S1, S2
-    pub s1: f64,
-    pub s2: f64,
-}
-
-/// Equation of motion in mode `mode` (side c, direction s) at speed `v1`.
-///
-/// ψ = −tan(γ + c s ρ) = −p/q by the tangent sum, with p = tan γ + c s μ and
-/// q = 1 − tan γ c s μ; multiplying through by q leaves one division on the
-/// path to ẍ1. The sliding speed is taken as max(s·v1, 0): inside a step
-/// the mode is frozen, and past a rest event this keeps the right-hand side
-/// finite and continuous for root finding.
+/// Equation of motion in mode `mode` (side c, direction s) at speed `v1`:
+/// [`motions`] of one lane.
 #[inline]
 pub fn motion(lane: &Lane, tables: &[FrictionTable], mode: Mode, v1: f64) -> Motion {
-    let f1 = motor_force(lane, v1, mode.motor_on);
-    let vs = (mode.dir as f64 * v1).max(0.0) * lane.inv_cos_g;
-    let t = (mode.side * mode.dir) as f64 * mu_sliding(lane, tables, vs, mode.upper);
-    motion_parts(f1, t, lane.tan_g, lane.m1, lane.m2, lane.f2)
-}
-
-/// The motion from the motor force `f1` and the signed tan ρ `t`: the
-/// arithmetic `motion` and the stepper's lanes share.
-#[inline(always)]
-pub fn motion_parts(f1: f64, t: f64, tan_g: f64, m1: f64, m2: f64, f2: f64) -> Motion {
-    let p = tan_g + t;
-    let q = 1.0 - tan_g * t;
-    // D·q = m1 q + p m2 tan γ
-    let dq = m1 * q + p * m2 * tan_g;
-    let acc = (f1 * q + p * f2) / dq;
-    Motion {
-        acc,
-        d: dq / q,
-        f1,
-        s1: f1 - m1 * acc,
-        s2: f2 - m2 * tan_g * acc,
-    }
+    let mut out = Motion::default();
+    motions::<1>(
+        &Coef::of(lane, mode).one(),
+        &[lane],
+        tables,
+        &[v1],
+        |_, m| out = m,
+    );
+    out
 }
 
 /// Stick test at rest (docs/model.md section 4): returns (sticks, T), where T is

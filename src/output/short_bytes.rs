@@ -7,7 +7,7 @@
 /// Longest slice [`push`] copies itself.
 const MAX: usize = 32;
 
-/// Appends `s` to `out`: up to [`MAX`] bytes as two overlapping copies of
+/// Appends `s` to `out`: up to `MAX` bytes as two overlapping copies of
 /// a fixed size, longer ones as `extend_from_slice` does.
 #[inline(always)]
 pub fn push(out: &mut Vec<u8>, s: &[u8]) {

@@ -9,6 +9,7 @@
 
 mod check;
 pub mod gear;
+mod lane;
 mod resolve;
 pub mod table;
 pub mod table_name;
@@ -16,5 +17,5 @@ mod validated;
 
 pub use resolve::{ParamError, Spec};
 pub use table::{Bound, Def, Fallback, FrictionKind, MotorKind, Num, Owner, Param, N_NUM};
-pub use table_name::TableName;
+pub use table_name::{FrictionTables, TableName};
 pub use validated::{LaneParams, ParamColumns, Params, Row};

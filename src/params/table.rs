@@ -6,67 +6,7 @@
 //! guide's table) belong together; split, the one place that states each
 //! parameter's facts would become two.
 
-/// Which motor law drives body 1.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum MotorKind {
-    /// Kloss characteristic of an induction motor (`v_sync`, `v_crit`, `f_crit`).
-    Kloss,
-    /// A constant force `f1`.
-    Constant,
-}
-
-/// Which friction law acts on the contact surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum FrictionKind {
-    /// The paper's fit: rho in degrees = 1/(a Vs^b + c).
-    Paper,
-    /// Constant μ, with an optional static `mu_static`.
-    Coulomb,
-    /// μ(Vs) from one of the sweep's friction tables, interpolated linearly.
-    Table,
-    /// AGMA's curve for a hardened steel worm on a bronze wheel.
-    Agma,
-}
-
-impl MotorKind {
-    /// Every motor law.
-    pub const ALL: [MotorKind; 2] = [MotorKind::Kloss, MotorKind::Constant];
-    /// The spelling used in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            MotorKind::Kloss => "kloss",
-            MotorKind::Constant => "constant",
-        }
-    }
-}
-
-impl FrictionKind {
-    /// Every friction law.
-    pub const ALL: [FrictionKind; 4] = [
-        FrictionKind::Paper,
-        FrictionKind::Coulomb,
-        FrictionKind::Table,
-        FrictionKind::Agma,
-    ];
-    /// The spelling used in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            FrictionKind::Paper => "paper",
-            FrictionKind::Coulomb => "coulomb",
-            FrictionKind::Table => "table",
-            FrictionKind::Agma => "agma",
-        }
-    }
-
-    /// Whether the law gives a friction coefficient μ (so the flank's
-    /// pressure angle turns it into the wedge's tan ρ = μ / cos αn), not
-    /// the friction angle itself.
-    pub fn gives_coefficient(self) -> bool {
-        self != FrictionKind::Paper
-    }
-}
+pub use crate::model::laws::{FrictionKind, MotorKind};
 
 /// Which law a numeric parameter belongs to: set under another law it is
 /// refused rather than ignored (a user who sets `mu` but forgets
@@ -194,7 +134,7 @@ macro_rules! parameter_table {
         /// The discriminant indexes [`NUMERIC`], `Spec::num` and `Params::num`.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(usize)]
-        pub enum Num { $($v,)* }
+        pub enum Num { $(#[doc = concat!("The parameter `", stringify!($v), "` (its file name and meaning are in [`NUMERIC`]).")] $v,)* }
         /// Number of numeric parameters.
         pub const N_NUM: usize = [$(Num::$v),*].len();
         impl Num {

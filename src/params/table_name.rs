@@ -1,8 +1,11 @@
 //! The name of a friction table (`[friction_table.bronze]`, chosen per
 //! lane by `friction_table = "bronze"`), held inline so parameter sets stay
-//! `Copy` and a million lanes cost no allocation.
+//! `Copy` and a million lanes cost no allocation; and a run's tables by
+//! name ([`FrictionTables`]).
 
 use std::fmt;
+
+use crate::model::FrictionTable;
 
 /// Longest table name, bytes.
 pub const MAX_NAME: usize = 31;
@@ -59,6 +62,28 @@ impl fmt::Display for TableName {
 impl fmt::Debug for TableName {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{:?}", self.as_str())
+    }
+}
+
+/// The friction tables of a run, each with its name (one unnamed table
+/// for a sweep's plain `[friction_table]`); a lane picks one by index.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrictionTables {
+    /// The names, in the sweep file's order.
+    pub names: Vec<TableName>,
+    /// The tables, in the same order.
+    pub tables: Vec<FrictionTable>,
+}
+
+impl FrictionTables {
+    /// Whether the run has no table.
+    pub fn is_empty(&self) -> bool {
+        self.tables.is_empty()
+    }
+
+    /// Whether the run's one table is the unnamed `[friction_table]`.
+    pub fn unnamed(&self) -> bool {
+        self.names == [TableName::UNNAMED]
     }
 }
 

@@ -9,8 +9,11 @@ use super::plots::{chart, err, inline, Axis, Coord, SIZE};
 /// One curve of a line chart: name, points, and an optional band (x,
 /// low, high) around it.
 pub struct Curve<'a> {
+    /// Its name in the legend.
     pub name: &'a str,
+    /// (x, y) points, joined in order.
     pub points: Vec<(f64, f64)>,
+    /// (x, low, high): a shaded band around the curve; empty for none.
     pub band: Vec<(f64, f64, f64)>,
     /// Its colour (None: the palette's, by position).
     pub colour: Option<RGBColor>,
@@ -128,7 +131,9 @@ pub fn line_chart(
 /// One series of a points chart: a name and, per category, a value with
 /// an optional interval (low, high); NaN for none.
 pub struct Series<'a> {
+    /// Its name in the legend.
     pub name: &'a str,
+    /// Per category: (value, low, high); NaN for none.
     pub values: Vec<(f64, f64, f64)>,
     /// Its colour (None: the palette's, by position).
     pub colour: Option<RGBColor>,

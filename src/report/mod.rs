@@ -51,7 +51,7 @@ pub fn write(dir: &mut OutDir) -> Result<()> {
     write_with(dir, None)
 }
 
-/// Writes `DIR/report.html` as [`write`] does, from the aggregates `scan`
+/// Writes `DIR/report.html` as [`write()`] does, from the aggregates `scan`
 /// gathered while the run's rows streamed past when given (the same page,
 /// without reading the table back).
 pub fn write_with(dir: &mut OutDir, scan: Option<Scan>) -> Result<()> {

@@ -40,13 +40,21 @@ const MAX_LABELS: usize = 8;
 #[derive(Clone, Debug)]
 pub enum Axis {
     /// Numbers on a linear scale (values in the range's plotted units).
-    Num { label: String, range: Range },
+    Num {
+        /// The axis title.
+        label: String,
+        /// The plotted range.
+        range: Range,
+    },
     /// Categories at positions 0, 1, ..., labelled with their names, or
     /// at `ticks` (position, label) where given: round values along a
     /// grid range too long to label each value.
     Cat {
+        /// The axis title.
         label: String,
+        /// The categories' names, at positions 0, 1, ...
         names: Vec<String>,
+        /// (position, label) of the ticks shown, where not every name is.
         ticks: Vec<(f64, String)>,
     },
 }

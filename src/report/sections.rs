@@ -190,8 +190,8 @@ fn map_panel(page: &mut Page, f: &Folder, p: &super::aggregates::Panel, x: &Axis
             };
             figs.push(heat_map(
                 c.quantity,
-                &x,
-                &y,
+                x,
+                y,
                 &p.means(r),
                 &crate::columns::label(c.name, "", c.unit),
                 marks,
@@ -206,8 +206,8 @@ fn map_panel(page: &mut Page, f: &Folder, p: &super::aggregates::Panel, x: &Axis
         }
         figs.push(category_map(
             "outcome (most lanes)",
-            &x,
-            &y,
+            x,
+            y,
             &cells,
             &OUTCOMES,
             outcome::NONE_COLOUR,

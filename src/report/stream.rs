@@ -71,7 +71,7 @@ struct Cols<'a> {
 
 impl Scan {
     /// The pass of a run of `sweep` stating `stated` lanes, into `folder`
-    /// ([`Folder::start`], with `summary.csv` read for a study).
+    /// (`Folder::start`, with `summary.csv` read for a study).
     pub fn new(folder: Folder, sweep: &Sweep, stated: u64) -> Scan {
         let words = results()
             .iter()

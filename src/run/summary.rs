@@ -30,6 +30,7 @@ pub struct Summary {
     /// The largest t_end of a lane still coasting, and whether one had a
     /// t_max.
     pub coasting_t_end: f64,
+    /// See [`Summary::coasting_t_end`].
     pub coasting_with_t_max: bool,
     /// Time spent on the sensitivity indices (a sensitivity design), s.
     pub sensitivity_seconds: Option<f64>,

@@ -21,7 +21,7 @@ use crate::output::names::{SUMMARY, TRACES};
 use crate::output::table::{Format, LanesWriter};
 use crate::output::traces::TracesCsv;
 use crate::output::AtomicFile;
-use crate::params::ParamColumns;
+use crate::params::{LaneParams, ParamColumns};
 use crate::progress::Show;
 use crate::report::Scan;
 use crate::stats::{Grouping, Stats};
@@ -91,11 +91,12 @@ impl Tracer {
             if let Some(e) = failed {
                 return Err(e);
             }
+            let radii = params.row((lane - first) as usize).radii();
             let row = &mut results[(lane - first) as usize];
             if row.path == RowPath::Gpu {
                 *row = LaneResult {
                     path: RowPath::Recomputed(Recheck::Traced),
-                    ..r
+                    ..r.with_shaft_speeds(&l, radii)
                 };
             }
             self.next += 1;

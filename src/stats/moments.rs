@@ -6,7 +6,8 @@
 //! eight columns' updates run as the elements of one vector, and their
 //! divisions overlap instead of each waiting on the one before.
 
-use crate::integrator::width::{best_isa, lanewise, Isa};
+use crate::integrator::width::{best_isa, Isa};
+use crate::lanewise::by_lane;
 
 /// The running moments of a column's finite values.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -99,29 +100,29 @@ impl Block {
     #[inline(always)]
     fn add(&mut self, x: &[f64; W]) {
         let keep = |j: usize| x[j].is_finite();
-        let n: [f64; W] = lanewise(|j| self.n[j] + 1.0);
-        let d: [f64; W] = lanewise(|j| x[j] - self.mean[j]);
-        let mean: [f64; W] = lanewise(|j| self.mean[j] + d[j] / n[j]);
-        let m2: [f64; W] = lanewise(|j| self.m2[j] + d[j] * (x[j] - mean[j]));
+        let n: [f64; W] = by_lane(|j| self.n[j] + 1.0);
+        let d: [f64; W] = by_lane(|j| x[j] - self.mean[j]);
+        let mean: [f64; W] = by_lane(|j| self.mean[j] + d[j] / n[j]);
+        let m2: [f64; W] = by_lane(|j| self.m2[j] + d[j] * (x[j] - mean[j]));
         // `f64::min` and `max` of a finite value, as they compare: the
         // value where it is lower (higher), else the one held.
-        self.min = lanewise(|j| {
+        self.min = by_lane(|j| {
             if keep(j) & ((n[j] == 1.0) | (x[j] < self.min[j])) {
                 x[j]
             } else {
                 self.min[j]
             }
         });
-        self.max = lanewise(|j| {
+        self.max = by_lane(|j| {
             if keep(j) & ((n[j] == 1.0) | (x[j] > self.max[j])) {
                 x[j]
             } else {
                 self.max[j]
             }
         });
-        self.n = lanewise(|j| if keep(j) { n[j] } else { self.n[j] });
-        self.mean = lanewise(|j| if keep(j) { mean[j] } else { self.mean[j] });
-        self.m2 = lanewise(|j| if keep(j) { m2[j] } else { self.m2[j] });
+        self.n = by_lane(|j| if keep(j) { n[j] } else { self.n[j] });
+        self.mean = by_lane(|j| if keep(j) { mean[j] } else { self.mean[j] });
+        self.m2 = by_lane(|j| if keep(j) { m2[j] } else { self.m2[j] });
     }
 }
 

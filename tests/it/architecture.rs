@@ -278,3 +278,127 @@ fn each_column_and_file_name_is_spelled_once() {
     }
     assert!(bad.is_empty(), "{bad:#?}");
 }
+
+/// How often `fn NAME` is defined (followed by `(` or `<`) in `text`.
+fn definitions(text: &str, name: &str) -> usize {
+    let pat = format!("fn {name}");
+    text.match_indices(&pat)
+        .filter(|(i, _)| {
+            let before = text[..*i].chars().next_back();
+            let after = text[i + pat.len()..].chars().next();
+            !before.is_some_and(|c| c.is_alphanumeric() || c == '_')
+                && matches!(after, Some('(') | Some('<'))
+        })
+        .count()
+}
+
+/// The model's kernel (the Kloss force, the friction laws, φ, ψ, the
+/// sliding speed, ...) is written once in `src/`, and the shader has a
+/// function of each name; so has every helper the shader mirrors.
+#[test]
+fn each_kernel_formula_is_written_once_and_mirrored_in_the_shader() {
+    use tswm::backend::gpu::shader::{MIRRORED, SHADER};
+    use tswm::model::kernel::KERNEL;
+    let rust: String = sources()
+        .iter()
+        .map(|(p, _)| without_comments(&code(p)))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let wgsl = without_comments(SHADER);
+    let mut bad = Vec::new();
+    for name in KERNEL {
+        let n = definitions(&rust, name);
+        if n != 1 {
+            bad.push(format!(
+                "kernel `{name}`: defined {n} times in src/, not once"
+            ));
+        }
+    }
+    for &name in KERNEL.iter().chain(MIRRORED) {
+        if definitions(&rust, name) == 0 {
+            bad.push(format!("`{name}`: no `fn {name}` in src/"));
+        }
+        let n = definitions(&wgsl, name);
+        if n != 1 {
+            bad.push(format!(
+                "`{name}`: defined {n} times in the shader, not once"
+            ));
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
+
+/// The kernel's formulas are not restated inline: a line of code outside
+/// `src/model/kernel.rs` that computes the Kloss slip, the paper law's ρ,
+/// the load's term of φ, ψ's tangent sum or the sliding speed's clamp is
+/// a second copy. (Each pattern finds every copy the code had before the
+/// kernel was written once.)
+#[test]
+fn kernel_expressions_appear_only_in_the_kernel() {
+    type Finds = fn(&str) -> bool;
+    let copies: [(&str, Finds); 5] = [
+        ("the Kloss slip (v_sync − v)/v_sync", |l| {
+            l.contains("v_sync") && l.contains('-') && l.contains('/')
+        }),
+        ("the paper law's ρ = (π/180)/(a Vs^b + c)", |l| {
+            l.contains("180.0") && l.contains("PI")
+        }),
+        ("φ's load term F2/(m2 tan γ)", |l| {
+            l.contains("m2") && l.contains("tan_g") && l.contains("/ (")
+        }),
+        ("ψ's tangent sum 1 − tan γ t", |l| {
+            l.contains("1.0 -") && l.contains("tan_g")
+        }),
+        ("the sliding speed max(s v, 0)/cos γ", |l| {
+            l.contains(".max(0.0)") && l.contains("inv_cos_g")
+        }),
+    ];
+    let mut bad = Vec::new();
+    for (path, _) in sources() {
+        if path.ends_with("model/kernel.rs") {
+            continue;
+        }
+        let name = path.strip_prefix(root()).unwrap().display().to_string();
+        for (n, line) in without_comments(&code(&path)).lines().enumerate() {
+            for (what, finds) in copies {
+                if finds(line) {
+                    bad.push(format!("{name}:{}: {what}: {}", n + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
+
+/// Each shader file is listed once, exists, and names the Rust file it
+/// mirrors, which exists.
+#[test]
+fn each_shader_file_names_the_rust_file_it_mirrors() {
+    use tswm::backend::gpu::shader::SHADER_FILES;
+    let mut on_disk: Vec<String> = Vec::new();
+    for sub in ["model", "integrator"] {
+        for e in std::fs::read_dir(root().join("shaders").join(sub)).unwrap() {
+            let p = e.unwrap().path();
+            on_disk.push(format!(
+                "{sub}/{}",
+                p.file_name().unwrap().to_string_lossy()
+            ));
+        }
+    }
+    on_disk.sort();
+    let mut listed: Vec<String> = SHADER_FILES.iter().map(|s| s.to_string()).collect();
+    listed.sort();
+    assert_eq!(listed, on_disk, "shaders/ and SHADER_FILES differ");
+    for f in SHADER_FILES {
+        let text = std::fs::read_to_string(root().join("shaders").join(f)).unwrap();
+        let first = text.lines().next().unwrap_or("");
+        let rust = first
+            .strip_prefix("// Mirrors ")
+            .and_then(|r| r.split([':', ' ']).next())
+            .unwrap_or_else(|| panic!("shaders/{f}: first line does not say what it mirrors"));
+        assert!(
+            root().join(rust).exists(),
+            "shaders/{f} mirrors {rust}, which does not exist"
+        );
+    }
+}

@@ -112,6 +112,13 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
         "max_storage_buffer_binding_size",
     ];
     known.extend(other.map(str::to_string));
+    // The kernel's functions and those the shader mirrors, as code names them.
+    known.extend(tswm::model::kernel::KERNEL.map(str::to_string));
+    known.extend(
+        tswm::backend::gpu::shader::MIRRORED
+            .iter()
+            .map(|s| s.to_string()),
+    );
     known.extend(
         tswm::stats::summary::SUMMARY_COLUMNS
             .split(',')
@@ -388,7 +395,10 @@ fn every_python_and_sql_block_runs_as_written() {
         for b in bs.iter().filter(|b| b.lang == "python" || b.lang == "sql") {
             let py = if b.text.contains("import tswm") {
                 let found = with_tswm.get_or_init(|| {
-                    crate::reference::python_for(&NEEDS_TSWM, "the docs' snippets of tswm in Python")
+                    crate::reference::python_for(
+                        &NEEDS_TSWM,
+                        "the docs' snippets of tswm in Python",
+                    )
                 });
                 match found {
                     Some(p) => p,
@@ -436,7 +446,10 @@ fn every_python_and_sql_block_runs_as_written() {
     }
     assert!(ran >= 4, "{ran} snippets ran");
     if with_tswm.get().is_some_and(Option::is_some) {
-        assert!(ran >= 14, "{ran} snippets ran, those of tswm in Python with them");
+        assert!(
+            ran >= 14,
+            "{ran} snippets ran, those of tswm in Python with them"
+        );
     }
 }
 

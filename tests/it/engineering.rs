@@ -11,8 +11,7 @@ fn fixture_lanes() -> Vec<tswm::params::Params> {
     let src = Source::open(None, Some(&fixture("paper_lanes.csv"))).unwrap();
     let mut cols = tswm::params::ParamColumns::default();
     src.reader().unwrap().fill(100, &mut cols).unwrap();
-    let params = cols.rows();
-    params
+    cols.rows()
 }
 
 /// The section 10 columns against `paper_engineering.csv`: energies

@@ -70,7 +70,10 @@ fn every_fuzz_input_is_read_or_refused_in_one_line() {
         corpus + regressions + crashes
     );
     assert!(corpus >= 18, "the corpus holds {corpus} inputs");
-    assert!(regressions >= 13, "fuzz/regressions/ holds {regressions} inputs");
+    assert!(
+        regressions >= 13,
+        "fuzz/regressions/ holds {regressions} inputs"
+    );
 }
 
 /// The one-line refusal of the regression input `target/name`.

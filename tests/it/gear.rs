@@ -13,8 +13,7 @@ fn read_lanes(name: &str) -> Vec<Params> {
     let src = Source::open(None, Some(&fixture(name))).unwrap();
     let mut cols = tswm::params::ParamColumns::default();
     src.reader().unwrap().fill(100, &mut cols).unwrap();
-    let params = cols.rows();
-    params
+    cols.rows()
 }
 
 fn run_cpu(params: &[Params]) -> Vec<LaneResult> {

@@ -42,8 +42,7 @@ fn heterogeneous(n: usize) -> Vec<Params> {
     let src = Source::open(Some(&root().join("sweeps/heterogeneous.toml")), None).unwrap();
     let mut cols = tswm::params::ParamColumns::default();
     src.reader().unwrap().fill(n, &mut cols).unwrap();
-    let params = cols.rows();
-    params
+    cols.rows()
 }
 
 fn run_both(gpu: &mut GpuBackend, params: &[Params]) -> (Vec<LaneResult>, Vec<LaneResult>) {

@@ -84,27 +84,56 @@ fn u32_const(m: &naga::Module, name: &str) -> u32 {
 }
 
 /// Every constant the shader shares with the host: law codes, flag bits,
-/// status codes, event codes and the Dormand–Prince tableau.
+/// status codes, event codes, the Dormand–Prince tableau, the agma law
+/// and the f32 limits.
 #[test]
 fn shared_constants_match_the_shader() {
+    let m = module();
+    for (name, want) in shared_u32() {
+        assert_eq!(u32_const(&m, &name), want, "shader `const {name}`");
+    }
+    for (name, want) in shared_f32() {
+        match shader_const(&m, name) {
+            naga::Literal::F32(v) => assert_eq!(v, want, "shader `const {name}`"),
+            l => panic!("`const {name}` is not an f32: {l:?}"),
+        }
+    }
+    // Every status the host knows has its code in the shader, once.
+    let mut seen: Vec<u32> = shared_u32()
+        .into_iter()
+        .filter(|(n, _)| n.starts_with("S_"))
+        .map(|(_, c)| c)
+        .collect();
+    seen.sort();
+    assert_eq!(seen, Status::ALL.map(|s| s.code()));
+}
+
+use tswm::integrator::Status;
+
+/// The integer constants the shader shares with the host, by name.
+fn shared_u32() -> Vec<(String, u32)> {
     use tswm::backend::gpu::layout::flags;
     use tswm::integrator::events::EventFn;
-    use tswm::integrator::stepper as dp;
-    use tswm::integrator::Status;
-    use tswm::model;
-    let m = module();
+    use tswm::model::{FrictionKind, MotorKind};
+    // Every law the enums know has its code in the shader, under its name.
+    let mut out: Vec<(String, u32)> = MotorKind::ALL
+        .iter()
+        .map(|k| (format!("MOTOR_{}", k.name().to_uppercase()), k.code()))
+        .chain(
+            FrictionKind::ALL
+                .iter()
+                .map(|k| (format!("FRICTION_{}", k.name().to_uppercase()), k.code())),
+        )
+        .collect();
     let codes: &[(&str, u32)] = &[
-        ("MOTOR_KLOSS", model::MOTOR_KLOSS),
-        ("MOTOR_CONSTANT", model::MOTOR_CONSTANT),
-        ("FRICTION_PAPER", model::FRICTION_PAPER),
-        ("FRICTION_COULOMB", model::FRICTION_COULOMB),
-        ("FRICTION_TABLE", model::FRICTION_TABLE),
-        ("FRICTION_AGMA", model::FRICTION_AGMA),
         ("F_STUCK", flags::STUCK),
         ("F_MOTOR_ON", flags::MOTOR_ON),
         ("F_DONE", flags::DONE),
         ("F_K1_VALID", flags::K1_VALID),
         ("F_STARTED", flags::STARTED),
+        ("F_RUNNING_ON", flags::RUNNING_ON),
+        ("F_SPEEDING", flags::SPEEDING),
+        ("F_UPPER", flags::UPPER),
         ("S_OK", Status::Ok as u32),
         ("S_INCONSISTENT", Status::Inconsistent as u32),
         ("S_NONFINITE", Status::NonFinite as u32),
@@ -115,22 +144,19 @@ fn shared_constants_match_the_shader() {
         ("EV_SWITCH", EventFn::Switch as u32),
         ("EV_REST", EventFn::Rest as u32),
         ("EV_SPEEDING", EventFn::Speeding as u32),
-        ("F_RUNNING_ON", flags::RUNNING_ON),
-        ("F_SPEEDING", flags::SPEEDING),
-        ("F_UPPER", flags::UPPER),
         ("EV_BRANCH", EventFn::Branch as u32),
-        ("TABLE_VEC4S", (model::MAX_TABLE_POINTS / 4) as u32),
+        ("TABLE_VEC4S", (tswm::model::MAX_TABLE_POINTS / 4) as u32),
     ];
-    for &(name, want) in codes {
-        assert_eq!(u32_const(&m, name), want, "shader `const {name}`");
-    }
-    // Every status the host knows has its code in the shader, once.
-    let mut seen: Vec<u32> = codes[11..17].iter().map(|c| c.1).collect();
-    assert!(codes[11].0 == "S_OK" && codes[16].0 == "S_STEP_UNDERFLOW");
-    seen.sort();
-    assert_eq!(seen, Status::ALL.map(|s| s.code()));
+    out.extend(codes.iter().map(|&(n, v)| (n.to_string(), v)));
+    out
+}
 
-    let tableau: &[(&str, f64)] = &[
+/// The f32 constants the shader shares with the host, by name.
+fn shared_f32() -> Vec<(&'static str, f32)> {
+    use tswm::backend::gpu::shader as gpu;
+    use tswm::integrator::stepper as dp;
+    use tswm::model::friction as fr;
+    let f64s: &[(&str, f64)] = &[
         ("A21", dp::A21),
         ("A31", dp::A31),
         ("A32", dp::A32),
@@ -163,10 +189,7 @@ fn shared_constants_match_the_shader() {
         ("D5", dp::D5),
         ("D6", dp::D6),
         ("D7", dp::D7),
-    ];
-    // The agma law's constants.
-    use tswm::model::friction as fr;
-    let agma: &[(&str, f64)] = &[
+        // The agma law's constants.
         ("FT_PER_MIN_PER_M_PER_S", fr::FT_PER_MIN_PER_M_PER_S),
         ("AGMA_LOW_A", fr::AGMA_LOW_A),
         ("AGMA_LOW_B", fr::AGMA_LOW_B),
@@ -176,11 +199,72 @@ fn shared_constants_match_the_shader() {
         ("AGMA_HIGH_E", fr::AGMA_HIGH_E),
         ("AGMA_HIGH_C", fr::AGMA_HIGH_C),
         ("AGMA_JUMP_M_S", fr::AGMA_JUMP_M_S),
+        ("PI", std::f64::consts::PI),
     ];
-    for &(name, want) in tableau.iter().chain(agma) {
-        match shader_const(&m, name) {
-            naga::Literal::F32(v) => assert_eq!(v, want as f32, "shader `const {name}`"),
-            l => panic!("`const {name}` is not an f32: {l:?}"),
+    let mut out: Vec<(&str, f32)> = f64s.iter().map(|&(n, v)| (n, v as f32)).collect();
+    // Limits whose f32 value differs from the f64 path's: the host states
+    // them in `backend::gpu::shader`.
+    out.extend([
+        ("STEP_UNDERFLOW", gpu::STEP_UNDERFLOW),
+        ("ROOT_THETA_TOL", gpu::ROOT_THETA_TOL),
+        ("P_ZERO_TOL", gpu::P_ZERO_TOL),
+    ]);
+    out
+}
+
+/// No name means two things: a shader constant whose name is also a
+/// constant of `src/` is one of the shared constants the test above
+/// compares; the rest are the shader's own.
+#[test]
+fn a_shader_constant_named_as_a_host_constant_is_compared() {
+    let m = module();
+    let rust = rust_const_names();
+    let compared: Vec<String> = shared_u32()
+        .into_iter()
+        .map(|(n, _)| n)
+        .chain(shared_f32().into_iter().map(|(n, _)| n.to_string()))
+        .collect();
+    let mut bad = Vec::new();
+    for (_, c) in m.constants.iter() {
+        let Some(name) = c.name.as_deref() else {
+            continue;
+        };
+        if rust.contains(name) && !compared.iter().any(|n| n == name) {
+            bad.push(name.to_string());
         }
     }
+    assert!(
+        bad.is_empty(),
+        "shader constants named as host constants, not compared: {bad:?}"
+    );
+    // And every shared one exists in the shader.
+    for n in &compared {
+        shader_const(&m, n);
+    }
+}
+
+/// The names of `const NAME` items anywhere under `src/`.
+fn rust_const_names() -> std::collections::BTreeSet<String> {
+    fn walk(dir: &std::path::Path, out: &mut std::collections::BTreeSet<String>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                let text = std::fs::read_to_string(&p).unwrap();
+                for (i, _) in text.match_indices("const ") {
+                    let name: String = text[i + 6..]
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                        .collect();
+                    if !name.is_empty() && text[i + 6 + name.len()..].starts_with(':') {
+                        out.insert(name);
+                    }
+                }
+            }
+        }
+    }
+    let mut out = Default::default();
+    walk(&crate::common::root().join("src"), &mut out);
+    out
 }

@@ -10,7 +10,7 @@ use crate::backend::{Backend, CpuBackend};
 use crate::error::Result;
 use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
-use crate::params::ParamColumns;
+use crate::params::{LaneParams, ParamColumns};
 
 /// The GPU as a [`Backend`] of the runner.
 pub struct GpuBackend {
@@ -138,7 +138,7 @@ impl Backend for GpuBackend {
             let finished = st.flags & flags::DONE != 0;
             match verify::recheck(&self.lanes64[i], &r, finished) {
                 Some(why) if self.self_check => self.redo.push((i, why)),
-                _ => out[i] = r,
+                _ => out[i] = r.with_shaft_speeds(&self.lanes64[i], lanes.row(i).radii()),
             }
         }
         self.recompute(first, lanes, tables, out)

@@ -1,4 +1,4 @@
-//! The structs and constants shared with `shaders/tswm.wgsl`, byte for
+//! The structs and constants shared with the shader (`shaders/`), byte for
 //! byte. Tests parse the shader with naga and fail when sizes, offsets or
 //! constant values drift.
 
@@ -10,31 +10,53 @@ use crate::model::{FrictionTable, Lane, MAX_TABLES, MAX_TABLE_POINTS};
 /// "Never" for f32 times: WGSL may assume there are no infinities.
 pub const NEVER: f32 = 3.0e38;
 
-/// A lane's constants, f32. Keep in sync with `Lane` in shaders/tswm.wgsl.
+/// A lane's constants, f32. Keep in sync with `Lane` in shaders/model/lane.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuLane {
+    /// [`Lane::m1`] in f32.
     pub m1: f32,
+    /// [`Lane::m2`] in f32.
     pub m2: f32,
+    /// [`Lane::tan_g`] in f32.
     pub tan_g: f32,
+    /// [`Lane::sin_g`] in f32.
     pub sin_g: f32,
+    /// [`Lane::cos_g`] in f32.
     pub cos_g: f32,
+    /// [`Lane::inv_cos_g`] in f32.
     pub inv_cos_g: f32,
+    /// [`Lane::f2`] in f32.
     pub f2: f32,
+    /// [`Lane::motor`] as its code ([`MotorKind::code`](crate::model::MotorKind::code)).
     pub motor: u32,
+    /// [`Lane::v_sync`] in f32.
     pub v_sync: f32,
+    /// [`Lane::sigma_k`] in f32.
     pub sigma_k: f32,
+    /// [`Lane::f_crit`] in f32.
     pub f_crit: f32,
+    /// [`Lane::f1`] in f32.
     pub f1: f32,
+    /// [`Lane::motor_off`] in f32; [`NEVER`] when the motor is never cut.
     pub motor_off: f32,
+    /// [`Lane::friction`] as its code ([`FrictionKind::code`](crate::model::FrictionKind::code)).
     pub friction: u32,
+    /// [`Lane::fric_a`] in f32.
     pub fric_a: f32,
+    /// [`Lane::fric_b`] in f32.
     pub fric_b: f32,
+    /// [`Lane::fric_c`] in f32.
     pub fric_c: f32,
+    /// [`Lane::mu`] in f32.
     pub mu: f32,
+    /// [`Lane::mu_s`] in f32.
     pub mu_s: f32,
+    /// [`Lane::x1_0`] in f32.
     pub x1_0: f32,
+    /// [`Lane::v1_0`] in f32.
     pub v1_0: f32,
+    /// [`Lane::t_end`] in f32.
     pub t_end: f32,
     /// t_end when the lane does not run on (see `model::Lane::t_max`).
     pub t_max: f32,
@@ -42,6 +64,7 @@ pub struct GpuLane {
     pub table: u32,
     /// 1 / cos αn (see `model::Lane::inv_cos_an`).
     pub inv_cos_an: f32,
+    /// Padding: the shader's struct is a whole number of 16-byte rows.
     pub pad0: u32,
 }
 
@@ -55,7 +78,7 @@ impl From<&Lane> for GpuLane {
             cos_g: l.cos_g as f32,
             inv_cos_g: l.inv_cos_g as f32,
             f2: l.f2 as f32,
-            motor: l.motor,
+            motor: l.motor.code(),
             v_sync: l.v_sync as f32,
             sigma_k: l.sigma_k as f32,
             f_crit: l.f_crit as f32,
@@ -65,7 +88,7 @@ impl From<&Lane> for GpuLane {
             } else {
                 NEVER
             },
-            friction: l.friction,
+            friction: l.friction.code(),
             fric_a: l.fric_a as f32,
             fric_b: l.fric_b as f32,
             fric_c: l.fric_c as f32,
@@ -103,12 +126,15 @@ pub mod flags {
 }
 
 /// A lane's integration state between dispatches. Keep in sync with
-/// `State` in shaders/tswm.wgsl.
+/// `State` in shaders/integrator/automaton.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuState {
+    /// The time, s: a compensated (Kahan) sum whose value is t_hi − t_lo.
     pub t_hi: f32,
+    /// The compensation of `t_hi`.
     pub t_lo: f32,
+    /// The step size to try next, s.
     pub h: f32,
     /// < 0 until the first switch.
     pub t_first_switch: f32,
@@ -116,23 +142,39 @@ pub struct GpuState {
     pub flow: [f32; 4],
     /// Kahan compensations of `flow`.
     pub flow_c: [f32; 4],
+    /// The integrated components (x1, v1, w_motor, w_load, w_friction, w_p1; `NY`).
     pub y: [f32; NY],
     /// Kahan compensations of `y`: the value is y − yc.
     pub yc: [f32; NY],
+    /// The derivative at the current state, when [`flags::K1_VALID`] is set.
     pub k1: [f32; NY],
+    /// The contact side: 1 (a-a) or −1 (b-b).
     pub side: i32,
+    /// The direction of motion: 1, −1, or 0 before the first start.
     pub dir: i32,
+    /// Bits of [`flags`].
     pub flags: u32,
+    /// How the lane ended ([`Status::code`]), once [`flags::DONE`] is set.
     pub status: u32,
+    /// Contact side switches so far.
     pub switches: u32,
+    /// Reversals of the direction of motion so far.
     pub reversals: u32,
+    /// Stick phases so far.
     pub sticks: u32,
+    /// Accepted steps so far.
     pub steps: u32,
+    /// Events (switches, rests, motor cut-off, ...) so far.
     pub events: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad0: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad1: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad2: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad3: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad4: u32,
 }
 
@@ -186,16 +228,21 @@ impl GpuState {
 const TABLE_VEC4S: usize = MAX_TABLE_POINTS / 4;
 
 /// Run-wide values and the friction tables. Keep in sync with `Globals` in
-/// shaders/tswm.wgsl.
+/// shaders/integrator/batch.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuGlobals {
+    /// Lanes in the chunk.
     pub n_lanes: u32,
     /// Step attempts per lane per dispatch.
     pub budget: u32,
+    /// A lane's step limit ([`Settings::max_steps`]).
     pub max_steps: u32,
+    /// A lane's event limit ([`Settings::max_events`]).
     pub max_events: u32,
+    /// The per-step tolerance ([`GPU_TOL`]).
     pub tol: f32,
+    /// The first step after every start from rest, s (`integrator::control::H_INITIAL`).
     pub h_initial: f32,
     /// Number of friction tables.
     pub n_tables: u32,
@@ -203,18 +250,22 @@ pub struct GpuGlobals {
     pub row_lanes: u32,
     /// Slots (invocations) working through the chunk's lanes.
     pub n_slots: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad0: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad1: u32,
+    /// Padding to the shader's 16-byte rows.
     pub pad2: u32,
     /// Points of each table (a vec4 array in the shader: 16-aligned).
     pub table_n: [[u32; 4]; MAX_TABLES / 4],
     /// Table t's point i is at `[t * TABLE_VEC4S + i / 4][i % 4]`.
     pub table_vs: [[f32; 4]; MAX_TABLES * TABLE_VEC4S],
+    /// μ of table t's point i, at `[t * TABLE_VEC4S + i / 4][i % 4]`.
     pub table_mu: [[f32; 4]; MAX_TABLES * TABLE_VEC4S],
 }
 
 /// The counters slots share. Keep in sync with `Control` in
-/// shaders/tswm.wgsl.
+/// shaders/integrator/batch.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuControl {

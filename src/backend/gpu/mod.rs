@@ -1,4 +1,5 @@
-//! The GPU path: `shaders/tswm.wgsl` on wgpu, one lane per invocation.
+//! The GPU path: the shader (`shaders/`, [`shader`]) on wgpu, one lane per
+//! invocation.
 //!
 //! Getting a device ([`Gpu::new`]) is separate from running work on it
 //! ([`Gpu::run`]), so tests and benchmarks share one device. A chunk of
@@ -10,10 +11,12 @@ mod backend;
 pub mod cost;
 mod dispatch;
 pub mod layout;
+pub mod shader;
 pub mod verify;
 mod work;
 
 pub use backend::GpuBackend;
+pub use shader::SHADER;
 pub use work::{
     max_chunk_lanes, Phase, Span, WorkSize, HW_IN_FLIGHT, HW_LANES_PER_SLOT, HW_RESIDENT,
     SW_IN_FLIGHT, SW_LANES_PER_SLOT, SW_SLOTS_PER_CORE,
@@ -23,9 +26,6 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use crate::error::{Error, Result};
-
-/// The shader source.
-pub const SHADER: &str = include_str!("../../../shaders/tswm.wgsl");
 
 /// Invocations per workgroup (`@workgroup_size` in the shader).
 pub const WORKGROUP: u32 = 64;
@@ -150,7 +150,7 @@ impl Gpu {
         });
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("tswm.wgsl"),
+            label: Some("tswm shader"),
             source: wgpu::ShaderSource::Wgsl(SHADER.into()),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

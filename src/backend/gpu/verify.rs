@@ -11,7 +11,7 @@
 //! the check no row off by more than 5e-3 stays uncaught in any set.
 
 use crate::integrator::{LaneResult, Recheck, Status};
-use crate::model::{Lane, MOTOR_KLOSS};
+use crate::model::{Lane, MotorKind};
 
 /// Largest energy-balance residual (relative to the largest energy term)
 /// a trusted row may have.
@@ -79,7 +79,7 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     {
         return Some(Recheck::NonFinite);
     }
-    if lane.motor == MOTOR_KLOSS && lane.sigma_k < STIFF_SIGMA_K {
+    if lane.motor == MotorKind::Kloss && lane.sigma_k < STIFF_SIGMA_K {
         return Some(Recheck::StiffMotor);
     }
     // docs/model.md section 6: w_motor + w_load − w_friction = ΔKE.

@@ -22,7 +22,7 @@ mod study;
 mod text;
 
 use crate::input::sampling::Uniforms;
-use crate::model::FrictionTables;
+use crate::params::FrictionTables;
 use crate::params::{Param, Spec};
 
 pub use design::{Sensitivity, Study, Tolerance};

@@ -13,7 +13,8 @@ use super::study::parse_study;
 use super::text::{read_text, suggest_in, toml_error};
 use super::{Axis, AxisValues, Sweep};
 use crate::error::{did_you_mean, Error, Result};
-use crate::model::{FrictionTable, FrictionTables, MAX_TABLES};
+use crate::model::{FrictionTable, MAX_TABLES};
+use crate::params::FrictionTables;
 use crate::params::{Param, Spec, TableName};
 
 impl Sweep {

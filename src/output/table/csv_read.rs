@@ -313,7 +313,7 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(i, c)| match c.1 {
-                Kind::Float if (i + k) % 3 == 0 => String::new(),
+                Kind::Float if (i + k).is_multiple_of(3) => String::new(),
                 Kind::Float => format!("{}", 0.5 + (i * k) as f64),
                 Kind::Int => (i + k).to_string(),
                 Kind::Text if quoted => format!("\"w{}\"", k % 2),

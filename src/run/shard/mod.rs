@@ -9,6 +9,10 @@
 //! committed last, `shard.toml`: the manifest, whose presence says the
 //! shard is complete.
 
+mod policy;
+
+pub use policy::{ShardRun, ShardStart};
+
 use std::collections::BTreeMap;
 use std::path::Path;
 

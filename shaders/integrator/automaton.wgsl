@@ -1,0 +1,150 @@
+// Mirrors src/integrator/automaton.rs: a lane's state and the switching
+// automaton's moves between contact modes.
+
+// Keep in sync with `GpuState` in src/backend/gpu/layout.rs.
+struct State {
+    t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
+    flow: vec4<f32>,    // w1_in, w1_out, w2_in, w2_out
+    flow_c: vec4<f32>,  // their Kahan compensations
+    y: array<f32, NY>,
+    yc: array<f32, NY>,
+    k1: array<f32, NY>,
+    side: i32, dir: i32, flags: u32, status: u32,
+    switches: u32, reversals: u32, sticks: u32, steps: u32,
+    events: u32, pad0: u32, pad1: u32, pad2: u32,
+    pad3: u32, pad4: u32,
+}
+
+// Flag bits of State.flags: keep in sync with `flags` in src/backend/gpu/layout.rs.
+const F_STUCK: u32 = 1u;
+const F_MOTOR_ON: u32 = 2u;
+const F_DONE: u32 = 4u;
+const F_K1_VALID: u32 = 8u;
+const F_STARTED: u32 = 16u;
+const F_RUNNING_ON: u32 = 32u;
+const F_SPEEDING: u32 = 64u;
+const F_UPPER: u32 = 128u;
+
+const NO_FIRST_SWITCH: f32 = -1.0;
+
+fn has(st: ptr<function, State>, f: u32) -> bool { return ((*st).flags & f) != 0u; }
+fn set_flag(st: ptr<function, State>, f: u32, on: bool) {
+    if (on) { (*st).flags |= f; } else { (*st).flags &= ~f; }
+}
+
+fn time_of(st: ptr<function, State>) -> f32 { return (*st).t_hi - (*st).t_lo; }
+
+fn time_add(st: ptr<function, State>, h: f32) {
+    let y = h - (*st).t_lo;
+    let t = (*st).t_hi + y;
+    (*st).t_lo = (t - (*st).t_hi) - y;
+    (*st).t_hi = t;
+}
+
+fn time_set(st: ptr<function, State>, t: f32) {
+    (*st).t_hi = t;
+    (*st).t_lo = 0.0;
+}
+
+fn mode_of(st: ptr<function, State>) -> Mode {
+    return Mode((*st).side, (*st).dir, has(st, F_MOTOR_ON), has(st, F_UPPER));
+}
+
+fn finish(st: ptr<function, State>, status: u32) {
+    (*st).status = status;
+    set_flag(st, F_DONE, true);
+}
+
+fn init(l: Lane, st: ptr<function, State>) {
+    let motor_on = !(l.motor_off <= 0.0);
+    let v = l.v1_0;
+    (*st).t_hi = 0.0;
+    (*st).t_lo = 0.0;
+    (*st).y = array<f32, NY>(l.x1_0, v, 0.0, 0.0, 0.0, 0.0);
+    (*st).yc = array<f32, NY>();
+    (*st).flow = vec4<f32>();
+    (*st).flow_c = vec4<f32>();
+    (*st).h = min(g.h_initial, l.t_end);
+    (*st).side = side_of(phi(l, v, motor_on));
+    (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
+    (*st).flags = F_STARTED;
+    set_flag(st, F_MOTOR_ON, motor_on);
+    set_flag(st, F_UPPER, l.friction == FRICTION_AGMA && agma_upper(sliding_speed(1.0, abs(v), l.inv_cos_g)));
+    (*st).status = S_OK;
+    (*st).switches = 0u;
+    (*st).reversals = 0u;
+    (*st).sticks = 0u;
+    (*st).t_first_switch = NO_FIRST_SWITCH;
+    (*st).steps = 0u;
+    (*st).events = 0u;
+    if (v == 0.0) { come_to_rest(l, st); } else { check_mode(l, st); }
+}
+
+fn set_side(st: ptr<function, State>, side: i32) {
+    if (side != (*st).side) {
+        (*st).switches += 1u;
+        if ((*st).t_first_switch < 0.0) { (*st).t_first_switch = time_of(st); }
+        (*st).side = side;
+    }
+}
+
+fn check_mode(l: Lane, st: ptr<function, State>) {
+    if (has(st, F_STUCK) || has(st, F_DONE)) { return; }
+    let dv = rhs(l, mode_of(st), (*st).y[1]);
+    if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); }
+    (*st).k1 = dv.k;
+    set_flag(st, F_K1_VALID, true);
+}
+
+fn come_to_rest(l: Lane, st: ptr<function, State>) {
+    (*st).y[1] = 0.0;
+    (*st).yc[1] = 0.0;
+    set_flag(st, F_UPPER, false);
+    let s = stick_test(l, has(st, F_MOTOR_ON));
+    if (s.x > 0.5) {
+        set_flag(st, F_STUCK, true);
+        (*st).sticks += 1u;
+        set_flag(st, F_K1_VALID, false);
+        return;
+    }
+    depart(l, st, s.y);
+}
+
+fn depart(l: Lane, st: ptr<function, State>, tf: f32) {
+    let dir = select(-1, 1, tf > 0.0);
+    if ((*st).dir != 0 && dir != (*st).dir) { (*st).reversals += 1u; }
+    (*st).dir = dir;
+    set_flag(st, F_STUCK, false);
+    (*st).h = g.h_initial;
+    set_side(st, side_of(phi(l, 0.0, has(st, F_MOTOR_ON))));
+    check_mode(l, st);
+}
+
+fn cut_motor(l: Lane, st: ptr<function, State>) {
+    set_flag(st, F_MOTOR_ON, false);
+    (*st).events += 1u;
+    set_flag(st, F_K1_VALID, false);
+    if (has(st, F_STUCK)) {
+        let s = stick_test(l, false);
+        if (s.x < 0.5) { depart(l, st, s.y); }
+    } else {
+        set_side(st, side_of(phi(l, (*st).y[1], false)));
+        check_mode(l, st);
+    }
+}
+
+fn horizon(l: Lane, st: ptr<function, State>) -> f32 {
+    return select(l.t_end, l.t_max, has(st, F_RUNNING_ON));
+}
+
+fn reach_time_event(l: Lane, st: ptr<function, State>, t_stop: f32) {
+    time_set(st, t_stop);
+    if (t_stop < horizon(l, st)) {
+        cut_motor(l, st);
+    } else if (!has(st, F_RUNNING_ON) && l.t_max > l.t_end && l.motor_off < l.t_end
+        && !has(st, F_STUCK) && has(st, F_K1_VALID) && f32((*st).dir) * (*st).k1[1] < 0.0) {
+        set_flag(st, F_RUNNING_ON, true);
+    } else {
+        set_flag(st, F_DONE, true);
+    }
+}

@@ -1,0 +1,77 @@
+// Mirrors src/integrator/events.rs: the events inside a step and their roots.
+
+// Root finding ends when the bracket is this narrow, as a fraction of the
+// step (the f64 path locates roots to `T_ROOT_TOL` = 1e-13 s).
+const ROOT_THETA_TOL: f32 = 1e-6;
+
+fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
+    let th1 = 1.0 - th;
+    return r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])));
+}
+
+// Event functions: keep in sync with `EventFn` in src/integrator/events.rs.
+const EV_SWITCH: u32 = 0u;
+const EV_REST: u32 = 1u;
+const EV_SPEEDING: u32 = 2u;
+const EV_BRANCH: u32 = 3u;
+
+fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
+    if (which == EV_SWITCH) { return f32(m.side) * phi(l, v, m.motor_on); }
+    if (which == EV_REST) { return f32(m.dir) * v; }
+    if (which == EV_BRANCH) {
+        let vs = sliding_speed(f32(m.dir), v, l.inv_cos_g);
+        return select(AGMA_JUMP_M_S - vs, vs - AGMA_JUMP_M_S, m.upper);
+    }
+    return -f32(m.dir) * motion(l, m, v).acc;
+}
+
+fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f32 {
+    var a = 0.0;
+    var fa = event_value(l, m, which, r[0]);
+    var b = 1.0;
+    var fb = g_end;
+    if (fa <= 0.0) { return 0.0; }
+    var side = 0;
+    for (var it = 0; it < 100; it++) {
+        if (b - a <= ROOT_THETA_TOL) { break; }
+        var c = (a * fb - b * fa) / (fb - fa);
+        if (!(c > a && c < b)) { c = 0.5 * (a + b); }
+        let fc = event_value(l, m, which, dense_v(r, c));
+        if (fc >= 0.0) {
+            a = c; fa = fc;
+            if (side == -1) { fb *= 0.5; }
+            side = -1;
+        } else {
+            b = c; fb = fc;
+            if (side == 1) { fa *= 0.5; }
+            side = 1;
+        }
+    }
+    return a;
+}
+
+// x: θ of the earliest event (> 1: none), y: which (EV_*)
+fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<f32> {
+    let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
+    let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
+    var theta = 2.0;
+    var which = EV_REST;
+    if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
+    if (g_switch < 0.0) {
+        let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
+        if (th < theta) { theta = th; which = EV_SWITCH; }
+    }
+    let g_speeding = -f32(m.dir) * tr.k7[1];
+    if (running_on && g_speeding < 0.0) {
+        let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
+        if (th < theta) { theta = th; which = EV_SPEEDING; }
+    }
+    if (l.friction == FRICTION_AGMA) {
+        let g_branch = event_value(l, m, EV_BRANCH, tr.y1[1]);
+        if (g_branch < 0.0) {
+            let th = locate_root(l, m, EV_BRANCH, tr.dense, g_branch);
+            if (th < theta) { theta = th; which = EV_BRANCH; }
+        }
+    }
+    return vec2<f32>(theta, f32(which));
+}

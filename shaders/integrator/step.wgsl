@@ -1,0 +1,112 @@
+// Mirrors src/integrator/step.rs: one step attempt, prepared, tried and
+// finished.
+
+struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
+
+// The lane's next time event: its motor's cut-off, else the end of its run.
+fn time_stop(l: Lane, st: ptr<function, State>) -> f32 {
+    let end = horizon(l, st);
+    if (has(st, F_MOTOR_ON) && l.motor_off < end) { return l.motor_off; }
+    return end;
+}
+
+fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
+    var plan: StepPlan;
+    plan.ok = false;
+    let t_stop = time_stop(l, st);
+    if (has(st, F_STUCK)) {
+        reach_time_event(l, st, t_stop);
+        return plan;
+    }
+    let m = mode_of(st);
+    if (!has(st, F_K1_VALID)) {
+        let dv = rhs(l, m, (*st).y[1]);
+        if (!(dv.d > 0.0)) { finish(st, S_INCONSISTENT); return plan; }
+        (*st).k1 = dv.k;
+        set_flag(st, F_K1_VALID, true);
+    }
+    let remaining = (t_stop - (*st).t_hi) + (*st).t_lo;
+    let s = step_size((*st).h, steep_at_rest(l.friction), f32((*st).dir), (*st).y[1], (*st).k1[1], remaining);
+    return StepPlan(true, m, s.h, t_stop, s.landing);
+}
+
+
+fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
+    let h = plan.h;
+    let fac = step_factor(tr.err);
+    if (tr.err > 1.0) {
+        let retry = retry_size(h, fac, time_of(st));
+        (*st).h = retry.h;
+        if (retry.underflow) { finish(st, S_STEP_UNDERFLOW); }
+        return;
+    }
+    let h_next = h * fac;
+    (*st).steps += 1u;
+    if ((*st).steps > g.max_steps) { finish(st, S_MAX_STEPS); return; }
+    let ev = earliest_event(l, plan.mode, tr, has(st, F_RUNNING_ON));
+    if (ev.x <= 1.0) {
+        step_to_event(l, st, plan, ev.x, u32(ev.y), h_next);
+    } else {
+        add_flow(st, tr, h);
+        (*st).y = tr.y1;
+        (*st).yc = tr.y1c;
+        (*st).k1 = tr.k7;
+        (*st).h = h_next;
+        if (plan.landing) {
+            reach_time_event(l, st, plan.t_stop);
+        } else {
+            time_add(st, h);
+        }
+    }
+    // One test per component with constant indices (see try_step); NaN
+    // fails `<=` where max() might drop it.
+    let y = (*st).y;
+    if (!(abs(y[0]) <= 3.0e38 && abs(y[1]) <= 3.0e38 && abs(y[2]) <= 3.0e38
+        && abs(y[3]) <= 3.0e38 && abs(y[4]) <= 3.0e38 && abs(y[5]) <= 3.0e38)) {
+        finish(st, S_NONFINITE);
+    }
+}
+
+// Compensated (Kahan) sum of an accepted step's energy flow, before the
+// state moves.
+fn add_flow(st: ptr<function, State>, tr: Trial, h: f32) {
+    let yy = step_flow((*st).k1, tr, h) - (*st).flow_c;
+    let s = (*st).flow + yy;
+    (*st).flow_c = (s - (*st).flow) - yy;
+    (*st).flow = s;
+}
+
+fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, which: u32, h_next: f32) {
+    let h_ev = theta * plan.h;
+    let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
+    add_flow(st, ev, h_ev);
+    time_add(st, h_ev);
+    (*st).y = ev.y1;
+    (*st).yc = ev.y1c;
+    set_flag(st, F_K1_VALID, false);
+    (*st).events += 1u;
+    (*st).h = max(h_next, h_ev);
+    if (which == EV_REST) {
+        come_to_rest(l, st);
+    } else if (which == EV_SWITCH) {
+        set_side(st, -(*st).side);
+        check_mode(l, st);
+    } else if (which == EV_BRANCH) {
+        set_flag(st, F_UPPER, !has(st, F_UPPER));
+        check_mode(l, st);
+    } else {
+        set_flag(st, F_SPEEDING, true);
+    }
+    if (has(st, F_RUNNING_ON) && (which == EV_REST || which == EV_SPEEDING)) { set_flag(st, F_DONE, true); }
+    if ((*st).events > g.max_events) { finish(st, S_MAX_EVENTS); }
+}
+
+// One step attempt (accepted or rejected). The Rust `advance` loops over
+// it; here `main` does, refilling slots between attempts.
+fn attempt(l: Lane, st: ptr<function, State>) {
+    let plan = prepare(l, st);
+    if (plan.ok) {
+        let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol);
+        finish_step(l, st, plan, tr);
+    }
+}

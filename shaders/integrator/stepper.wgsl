@@ -1,0 +1,138 @@
+// Mirrors src/integrator/stepper.rs: one Dormand–Prince 5(4) trial step,
+// its error norm and its dense output.
+
+
+// Dormand-Prince 5(4): keep in sync with src/integrator/stepper.rs.
+const A21: f32 = 1.0 / 5.0;
+const A31: f32 = 3.0 / 40.0;
+const A32: f32 = 9.0 / 40.0;
+const A41: f32 = 44.0 / 45.0;
+const A42: f32 = -56.0 / 15.0;
+const A43: f32 = 32.0 / 9.0;
+const A51: f32 = 19372.0 / 6561.0;
+const A52: f32 = -25360.0 / 2187.0;
+const A53: f32 = 64448.0 / 6561.0;
+const A54: f32 = -212.0 / 729.0;
+const A61: f32 = 9017.0 / 3168.0;
+const A62: f32 = -355.0 / 33.0;
+const A63: f32 = 46732.0 / 5247.0;
+const A64: f32 = 49.0 / 176.0;
+const A65: f32 = -5103.0 / 18656.0;
+const A71: f32 = 35.0 / 384.0;
+const A73: f32 = 500.0 / 1113.0;
+const A74: f32 = 125.0 / 192.0;
+const A75: f32 = -2187.0 / 6784.0;
+const A76: f32 = 11.0 / 84.0;
+const E1: f32 = 71.0 / 57600.0;
+const E3: f32 = -71.0 / 16695.0;
+const E4: f32 = 71.0 / 1920.0;
+const E5: f32 = -17253.0 / 339200.0;
+const E6: f32 = 22.0 / 525.0;
+const E7: f32 = -1.0 / 40.0;
+const D1: f32 = -12715105075.0 / 11282082432.0;
+const D3: f32 = 87487479700.0 / 32700410799.0;
+const D4: f32 = -10690763975.0 / 1880347072.0;
+const D5: f32 = 701980252875.0 / 199316789632.0;
+const D6: f32 = -1453857185.0 / 822651844.0;
+const D7: f32 = 69997945.0 / 29380423.0;
+
+fn stage2_v(v0: f32, h: f32, k1: f32) -> f32 {
+    return v0 + h * (A21 * k1);
+}
+fn stage3_v(v0: f32, h: f32, k1: f32, k2: f32) -> f32 {
+    return v0 + h * (A31 * k1 + A32 * k2);
+}
+fn stage4_v(v0: f32, h: f32, k1: f32, k2: f32, k3: f32) -> f32 {
+    return v0 + h * (A41 * k1 + A42 * k2 + A43 * k3);
+}
+fn stage5_v(v0: f32, h: f32, k1: f32, k2: f32, k3: f32, k4: f32) -> f32 {
+    return v0 + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4);
+}
+fn stage6_v(v0: f32, h: f32, k1: f32, k2: f32, k3: f32, k4: f32, k5: f32) -> f32 {
+    return v0 + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5);
+}
+
+fn increment(h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32) -> f32 {
+    return h * (A71 * k1 + A73 * k3 + A74 * k4 + A75 * k5 + A76 * k6);
+}
+
+fn error_term(h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32, k7: f32) -> f32 {
+    return h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7);
+}
+
+fn error_scale(tol: f32, y0: f32, y1: f32) -> f32 {
+    return tol * (1.0 + max(abs(y0), abs(y1)));
+}
+
+fn dense_coeffs(v0: f32, v1: f32, h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32, k7: f32) -> array<f32, 5> {
+    let r2 = v1 - v0;
+    let r3 = h * k1 - r2;
+    let r4 = r2 - h * k7 - r3;
+    return array<f32, 5>(v0, r2, r3, r4, dense_r5(h, k1, k3, k4, k5, k6, k7));
+}
+
+fn dense_r5(h: f32, k1: f32, k3: f32, k4: f32, k5: f32, k6: f32, k7: f32) -> f32 {
+    return h * (D1 * k1 + D3 * k3 + D4 * k4 + D5 * k5 + D6 * k6 + D7 * k7);
+}
+
+struct Trial {
+    y1: array<f32, NY>,
+    y1c: array<f32, NY>,
+    k7: array<f32, NY>,
+    err: f32,
+    dense: array<f32, 5>,
+    // increments of the integrals of p1 and p2, and the last coefficient
+    // of their dense outputs, for `step_flow`
+    dw: vec2<f32>,
+    dw_r4: vec2<f32>,
+}
+
+// Compensated (Kahan) y1 = y + dy of component i; the value is y1 - y1c.
+fn step_component(tr: ptr<function, Trial>, i: u32, dy: f32, y: f32, yc: f32) {
+    let yy = dy - yc;
+    let s = y + yy;
+    (*tr).y1c[i] = (s - y) - yy;
+    (*tr).y1[i] = s;
+}
+
+fn try_step(l: Lane, m: Mode, y: array<f32, NY>, yc: array<f32, NY>, k1: array<f32, NY>, h: f32, tol: f32) -> Trial {
+    let v0 = y[1];
+    let k2 = rhs(l, m, stage2_v(v0, h, k1[1])).k;
+    let k3 = rhs(l, m, stage3_v(v0, h, k1[1], k2[1])).k;
+    let k4 = rhs(l, m, stage4_v(v0, h, k1[1], k2[1], k3[1])).k;
+    let k5 = rhs(l, m, stage5_v(v0, h, k1[1], k2[1], k3[1], k4[1])).k;
+    let k6 = rhs(l, m, stage6_v(v0, h, k1[1], k2[1], k3[1], k4[1], k5[1])).k;
+    var tr: Trial;
+    // Written out component by component (constant indices): with a loop
+    // over the components lavapipe's compiler keeps these arrays in
+    // memory and runs ten times slower.
+    step_component(&tr, 0u, increment(h, k1[0], k3[0], k4[0], k5[0], k6[0]), y[0], yc[0]);
+    step_component(&tr, 1u, increment(h, k1[1], k3[1], k4[1], k5[1], k6[1]), y[1], yc[1]);
+    step_component(&tr, 2u, increment(h, k1[2], k3[2], k4[2], k5[2], k6[2]), y[2], yc[2]);
+    step_component(&tr, 3u, increment(h, k1[3], k3[3], k4[3], k5[3], k6[3]), y[3], yc[3]);
+    step_component(&tr, 4u, increment(h, k1[4], k3[4], k4[4], k5[4], k6[4]), y[4], yc[4]);
+    step_component(&tr, 5u, increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), y[5], yc[5]);
+    tr.k7 = rhs(l, m, tr.y1[1]).k;
+    var err = 0.0;
+    err = max(err, abs(error_term(h, k1[0], k3[0], k4[0], k5[0], k6[0], tr.k7[0])) / error_scale(tol, y[0], tr.y1[0]));
+    err = max(err, abs(error_term(h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1])) / error_scale(tol, y[1], tr.y1[1]));
+    err = max(err, abs(error_term(h, k1[2], k3[2], k4[2], k5[2], k6[2], tr.k7[2])) / error_scale(tol, y[2], tr.y1[2]));
+    err = max(err, abs(error_term(h, k1[3], k3[3], k4[3], k5[3], k6[3], tr.k7[3])) / error_scale(tol, y[3], tr.y1[3]));
+    err = max(err, abs(error_term(h, k1[4], k3[4], k4[4], k5[4], k6[4], tr.k7[4])) / error_scale(tol, y[4], tr.y1[4]));
+    err = max(err, abs(error_term(h, k1[5], k3[5], k4[5], k5[5], k6[5], tr.k7[5])) / error_scale(tol, y[5], tr.y1[5]));
+    // NaN and infinity fail this test: the step is rejected.
+    if (!(err <= 3.0e38)) { err = 3.0e38; }
+    tr.err = err;
+    tr.dense = dense_coeffs(v0, tr.y1[1], h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1]);
+    // The integral of p1 is component 5; that of p2 the difference of 4 and 5.
+    let k7 = tr.k7;
+    let q1 = k1[4] - k1[5];
+    let q3 = k3[4] - k3[5];
+    let q4 = k4[4] - k4[5];
+    let q5 = k5[4] - k5[5];
+    let q6 = k6[4] - k6[5];
+    tr.dw = vec2<f32>(increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), increment(h, q1, q3, q4, q5, q6));
+    tr.dw_r4 = vec2<f32>(dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
+        dense_r5(h, q1, q3, q4, q5, q6, k7[4] - k7[5]));
+    return tr;
+}

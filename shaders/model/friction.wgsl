@@ -1,0 +1,68 @@
+// Mirrors src/model/friction.rs: the friction laws' μ(Vs).
+
+// The agma law: keep in sync with src/model/friction.rs.
+const FT_PER_MIN_PER_M_PER_S: f32 = 196.8503937007874;
+const AGMA_LOW_A: f32 = 0.124;
+const AGMA_LOW_B: f32 = 0.074;
+const AGMA_LOW_E: f32 = 0.645;
+const AGMA_HIGH_A: f32 = 0.103;
+const AGMA_HIGH_B: f32 = 0.110;
+const AGMA_HIGH_E: f32 = 0.450;
+const AGMA_HIGH_C: f32 = 0.012;
+const AGMA_JUMP_M_S: f32 = 0.0508;
+
+fn tan_small(x: f32) -> f32 {
+    if (abs(x) > 0.15) { return tan(x); }
+    let x2 = x * x;
+    var p = 62.0 / 2835.0;
+    p = p * x2 + 17.0 / 315.0;
+    p = p * x2 + 2.0 / 15.0;
+    p = p * x2 + 1.0 / 3.0;
+    return x + x * x2 * p;
+}
+
+// Point i of table t (see `GpuGlobals`).
+fn table_at(t: u32, i: u32) -> vec2<f32> {
+    let k = t * TABLE_VEC4S + i / 4u;
+    return vec2<f32>(g.table_vs[k][i % 4u], g.table_mu[k][i % 4u]);
+}
+
+fn agma_mu(vs: f32, upper: bool) -> f32 {
+    let v = max(vs, 0.0) * FT_PER_MIN_PER_M_PER_S;
+    // pow(0, e) is not defined in WGSL: Vs^e = 0 at rest.
+    let e = select(AGMA_LOW_E, AGMA_HIGH_E, upper);
+    var pw = 0.0;
+    if (v > 0.0) { pw = pow(v, e); }
+    if (upper) { return AGMA_HIGH_A * exp(-AGMA_HIGH_B * pw) + AGMA_HIGH_C; }
+    return AGMA_LOW_A * exp(-AGMA_LOW_B * pw);
+}
+
+fn agma_upper(vs: f32) -> bool {
+    return vs > AGMA_JUMP_M_S;
+}
+
+fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
+    if (l.friction == FRICTION_PAPER) {
+        return tan_small(paper_rho(l.fric_a, l.fric_b, l.fric_c, vs));
+    }
+    if (l.friction == FRICTION_COULOMB) { return l.mu; }
+    if (l.friction == FRICTION_AGMA) { return agma_mu(vs, upper) * l.inv_cos_an; }
+    if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
+        // No such law or table: NaN makes the lane `nonfinite`, never a number.
+        return bitcast<f32>(0x7fc00000u);
+    }
+    // table: linear between points, flat past the ends
+    let t = l.table;
+    let n = g.table_n[t / 4u][t % 4u];
+    var prev = table_at(t, 0u);
+    if (vs <= prev.x) { return prev.y * l.inv_cos_an; }
+    for (var i = 1u; i < n; i++) {
+        let cur = table_at(t, i);
+        if (vs < cur.x) {
+            let w = (vs - prev.x) / (cur.x - prev.x);
+            return (prev.y + w * (cur.y - prev.y)) * l.inv_cos_an;
+        }
+        prev = cur;
+    }
+    return prev.y * l.inv_cos_an;
+}
