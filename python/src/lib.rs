@@ -114,37 +114,44 @@ impl Lanes {
     }
 }
 
-/// The lanes of the arguments: a sweep (a file, or TOML text named
-/// `sweep_name`) and a lane table (a file, or an Arrow stream named
-/// `lanes_name`).
-#[allow(clippy::too_many_arguments)]
-fn lanes(
-    sweep_path: Option<PathBuf>,
-    sweep_text: Option<String>,
-    sweep_name: &str,
-    lanes_path: Option<PathBuf>,
-    lanes_table: Option<PyArrowType<Table>>,
-    lanes_name: &str,
-    threads: Option<usize>,
-    tol: Option<f64>,
-) -> PyResult<Lanes> {
-    let frame = match lanes_table {
-        Some(PyArrowType(t)) => {
-            let (batches, schema) = t.into_inner();
-            Some(Arc::new(
-                Frame::from_batches(Path::new(lanes_name), &schema, &batches).map_err(failure)?,
-            ))
-        }
-        None => None,
-    };
-    Ok(Lanes {
-        sweep_path,
-        sweep_text: sweep_text.map(|t| (PathBuf::from(sweep_name), t)),
-        table_path: lanes_path,
-        frame,
-        threads,
-        tol,
-    })
+/// Where a call's lanes come from, as the package packs them once
+/// (`_engine` in `tswm/__init__.py`): a sweep (a file, or TOML text named
+/// by the third item) and a lane table (a file, or an Arrow table named by
+/// the sixth).
+#[derive(FromPyObject)]
+struct LaneSource(
+    Option<PathBuf>,
+    Option<String>,
+    String,
+    Option<PathBuf>,
+    Option<PyArrowType<Table>>,
+    String,
+);
+
+impl LaneSource {
+    /// The lanes, to run on `threads` threads at tolerance `tol`.
+    fn lanes(self, threads: Option<usize>, tol: Option<f64>) -> PyResult<Lanes> {
+        let LaneSource(sweep_path, sweep_text, sweep_name, lanes_path, lanes_table, lanes_name) =
+            self;
+        let frame = match lanes_table {
+            Some(PyArrowType(t)) => {
+                let (batches, schema) = t.into_inner();
+                Some(Arc::new(
+                    Frame::from_batches(Path::new(&lanes_name), &schema, &batches)
+                        .map_err(failure)?,
+                ))
+            }
+            None => None,
+        };
+        Ok(Lanes {
+            sweep_path,
+            sweep_text: sweep_text.map(|t| (PathBuf::from(sweep_name), t)),
+            table_path: lanes_path,
+            frame,
+            threads,
+            tol,
+        })
+    }
 }
 
 /// A backend by its name on the command line.
@@ -171,16 +178,11 @@ fn table(batches: Vec<RecordBatch>) -> PyResult<PyArrowType<Table>> {
 /// folder `tswm run` writes too. `progress(phase, done, total)` is
 /// called from time to time.
 #[pyfunction]
-#[pyo3(signature = (sweep_path, sweep_text, sweep_name, lanes_path, lanes_table, lanes_name, backend_name, threads, tol, out, format, report, progress))]
+#[pyo3(signature = (source, backend_name, threads, tol, out, format, report, progress))]
 #[allow(clippy::too_many_arguments)]
 fn run(
     py: Python<'_>,
-    sweep_path: Option<PathBuf>,
-    sweep_text: Option<String>,
-    sweep_name: &str,
-    lanes_path: Option<PathBuf>,
-    lanes_table: Option<PyArrowType<Table>>,
-    lanes_name: &str,
+    source: LaneSource,
     backend_name: &str,
     threads: Option<usize>,
     tol: Option<f64>,
@@ -189,16 +191,7 @@ fn run(
     report: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<PyArrowType<Table>> {
-    let lanes = lanes(
-        sweep_path,
-        sweep_text,
-        sweep_name,
-        lanes_path,
-        lanes_table,
-        lanes_name,
-        threads,
-        tol,
-    )?;
+    let lanes = source.lanes(threads, tol)?;
     let choice = backend(backend_name)?;
     let format = match format {
         "csv" => Format::Csv,
@@ -259,32 +252,17 @@ fn report(py: Python<'_>, dir: PathBuf) -> PyResult<String> {
 /// Integrates the lanes on a backend, writing nothing: lanes, seconds,
 /// lanes/s and the backend's name.
 #[pyfunction]
-#[pyo3(signature = (sweep_path, sweep_text, sweep_name, lanes_path, lanes_table, lanes_name, backend_name, threads, tol, progress))]
+#[pyo3(signature = (source, backend_name, threads, tol, progress))]
 #[pyo3(name = "bench")]
-#[allow(clippy::too_many_arguments)]
 fn bench_lanes<'py>(
     py: Python<'py>,
-    sweep_path: Option<PathBuf>,
-    sweep_text: Option<String>,
-    sweep_name: &str,
-    lanes_path: Option<PathBuf>,
-    lanes_table: Option<PyArrowType<Table>>,
-    lanes_name: &str,
+    source: LaneSource,
     backend_name: &str,
     threads: Option<usize>,
     tol: Option<f64>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let lanes = lanes(
-        sweep_path,
-        sweep_text,
-        sweep_name,
-        lanes_path,
-        lanes_table,
-        lanes_name,
-        threads,
-        tol,
-    )?;
+    let lanes = source.lanes(threads, tol)?;
     let choice = backend(backend_name)?;
     let b = drive::drive(py, progress, move |show| {
         tswm::commands::bench::measure(&lanes.plan(&show)?, choice, &show)
@@ -301,30 +279,15 @@ fn bench_lanes<'py>(
 /// lanes, the two backends, whether every bound held, and the table of
 /// deviations `tswm check` prints.
 #[pyfunction]
-#[pyo3(signature = (sweep_path, sweep_text, sweep_name, lanes_path, lanes_table, lanes_name, threads, tol, progress))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (source, threads, tol, progress))]
 fn check<'py>(
     py: Python<'py>,
-    sweep_path: Option<PathBuf>,
-    sweep_text: Option<String>,
-    sweep_name: &str,
-    lanes_path: Option<PathBuf>,
-    lanes_table: Option<PyArrowType<Table>>,
-    lanes_name: &str,
+    source: LaneSource,
     threads: Option<usize>,
     tol: Option<f64>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let lanes = lanes(
-        sweep_path,
-        sweep_text,
-        sweep_name,
-        lanes_path,
-        lanes_table,
-        lanes_name,
-        threads,
-        tol,
-    )?;
+    let lanes = source.lanes(threads, tol)?;
     let c = drive::drive(py, progress, move |show| {
         let checked = tswm::commands::check::compare(&lanes.plan(&show)?, None, &show)?;
         Ok((

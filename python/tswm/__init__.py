@@ -190,15 +190,14 @@ def _engine(
     progress: Optional[bool],
     *args: Any,
 ) -> Any:
-    """`call(sweep and lanes arguments, *args, progress)` with the
-    package's errors and progress bar."""
+    """`call(source, *args, progress)` with the package's errors and
+    progress bar; `source` is where the lanes come from, packed once."""
     sweep_path, sweep_text, lines = _sweep_args(sweep)
     lanes_path, lanes_table = _lanes_args(lanes)
     bar = _Bar(progress)
     try:
-        return call(
-            sweep_path, sweep_text, "sweep", lanes_path, lanes_table, "lanes", *args, bar
-        )
+        source = (sweep_path, sweep_text, "sweep", lanes_path, lanes_table, "lanes")
+        return call(source, *args, bar)
     except _tswm.Failure as e:
         _raise(e, lines)
     finally:

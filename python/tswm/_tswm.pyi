@@ -2,7 +2,7 @@
 Its functions take the arguments the package has normalised; call the
 package's functions (tswm.run, ...) instead."""
 
-from typing import Any, Callable, Dict, Optional
+from typing import Any, Callable, Dict, Optional, Tuple
 
 import pyarrow as pa
 
@@ -13,13 +13,12 @@ class Failure(Exception):
 
 Progress = Optional[Callable[[str, int, int], None]]
 
+# Where a call's lanes come from: (sweep path, sweep TOML text, the name
+# the text is called in errors, lane-table path, lane table, its name).
+LaneSource = Tuple[Optional[str], Optional[str], str, Optional[str], Optional[pa.Table], str]
+
 def run(
-    sweep_path: Optional[str],
-    sweep_text: Optional[str],
-    sweep_name: str,
-    lanes_path: Optional[str],
-    lanes_table: Optional[pa.Table],
-    lanes_name: str,
+    source: LaneSource,
     backend_name: str,
     threads: Optional[int],
     tol: Optional[float],
@@ -31,24 +30,14 @@ def run(
 def read(dir: str) -> pa.Table: ...
 def report(dir: str) -> str: ...
 def bench(
-    sweep_path: Optional[str],
-    sweep_text: Optional[str],
-    sweep_name: str,
-    lanes_path: Optional[str],
-    lanes_table: Optional[pa.Table],
-    lanes_name: str,
+    source: LaneSource,
     backend_name: str,
     threads: Optional[int],
     tol: Optional[float],
     progress: Progress,
 ) -> Dict[str, Any]: ...
 def check(
-    sweep_path: Optional[str],
-    sweep_text: Optional[str],
-    sweep_name: str,
-    lanes_path: Optional[str],
-    lanes_table: Optional[pa.Table],
-    lanes_name: str,
+    source: LaneSource,
     threads: Optional[int],
     tol: Optional[float],
     progress: Progress,
