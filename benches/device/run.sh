@@ -37,8 +37,10 @@ sweep() { # kind n -> file
   echo "$f"
 }
 
-rate() { # the lanes/s of a tswm summary line
-  sed -n 's/.*(\([0-9]*\) lanes\/s.*/\1/p' | head -1
+rate() { # the lanes/s of a tswm summary line: its first figure, the whole
+  # command's (a line where writing set the pace names the integration's
+  # rate after it, which is not the end-to-end figure)
+  sed -n 's/^tswm[^(]*(\([0-9]*\) lanes\/s.*/\1/p' | head -1
 }
 
 {
