@@ -112,6 +112,12 @@ pub struct Column {
     /// One of the integrated results that the f64 path's error estimate
     /// covers and the GPU row check tests (x1, v1, the works, the energies).
     pub integrated: bool,
+    /// A running value (the `_ss` efficiencies at the final sliding
+    /// speed): a lane at rest at its end has no running point, so
+    /// `summary.csv` and the report leave such lanes out of its
+    /// statistics, ranges and maps (the table keeps the cell, the value's
+    /// limit at zero speed, docs/model.md section 10).
+    pub running: bool,
     /// How a lane's cell is read from its end state (and so the cells'
     /// type, [`Column::kind`]).
     pub value: Value,
@@ -199,6 +205,7 @@ const ROW: Column = Column {
     compare: Compare::None,
     plotted: false,
     integrated: false,
+    running: false,
     value: float!(|_| f64::NAN),
 };
 
@@ -435,9 +442,13 @@ pub const RESULTS: &[Column] = &[
     Column {
         name: ETA_DIRECT_SS,
         plotted: true,
+        running: true,
         quantity: "running direct efficiency",
         meaning: "tan(gamma) / tan(gamma + rho): steady (running) direct efficiency at the final \
-                  sliding speed (at rest: the start-up value, as eta_direct_start)",
+                  sliding speed; at rest, rho's limit at zero speed (the sliding mu, not the \
+                  breakaway mu_static: the starting values are eta_direct_start and \
+                  eta_inverse_start), which summary.csv and the report leave out: a lane at rest \
+                  has no running point",
         empty: NOT_OK,
         value: float!(|r| ok(r, r.eta_direct_ss)),
         ..ROW
@@ -445,10 +456,11 @@ pub const RESULTS: &[Column] = &[
     Column {
         name: ETA_INVERSE_SS,
         plotted: true,
+        running: true,
         quantity: "running inverse efficiency",
         meaning: "tan(gamma - rho) / tan(gamma): steady (running) inverse efficiency at the final \
                   sliding speed; <= 0 means the wheel cannot drive the worm at that speed \
-                  (self-locking)",
+                  (self-locking); at rest as eta_direct_ss, left out of summary.csv and the report",
         empty: NOT_OK,
         value: float!(|r| ok(r, r.eta_inverse_ss)),
         ..ROW
@@ -500,7 +512,9 @@ pub const RESULTS: &[Column] = &[
     Column {
         name: DRIVE,
         quantity: "does the motor drive it",
-        meaning: "for a lane whose motor runs to the end: runs (sliding in the motor's direction), \
+        meaning: "for a lane whose motor runs to the end: runs (sliding in the motor's direction, \
+                  the worm side feeding the mesh: p1 = S1 v1 >= 0), overhauled (sliding in the \
+                  motor's direction with p1 < 0: the load overhauls and the motor brakes it), \
                   stalled (at rest and stuck: the motor cannot start or keep moving the load) or \
                   back_driven (sliding against the motor: the load drives the worm backwards)",
         empty: "the motor is cut before t_end (see hold), a constant motor has f1 = 0, or the \
@@ -566,6 +580,12 @@ pub fn results() -> &'static [Column] {
 /// A result column by name.
 pub fn result(name: &str) -> Option<&'static Column> {
     results().iter().find(|c| c.name == name)
+}
+
+/// Whether a lane whose final contact is `contact` (the word) is at
+/// rest: a running column ([`Column::running`]) has no running point there.
+pub fn at_rest(contact: &str) -> bool {
+    contact == Contact::Stick.name()
 }
 
 /// The result columns the report plots unless told otherwise.

@@ -59,8 +59,12 @@ impl Hold {
 /// column. A motor-on lane at rest is stalled, never "held".
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Drive {
-    /// Sliding in the motor's direction.
+    /// Sliding in the motor's direction with the worm side feeding the
+    /// mesh (p1 = S1 ẋ1 >= 0): the motor drives the load.
     Runs,
+    /// Sliding in the motor's direction with the mesh driving the worm
+    /// side (p1 < 0): the load overhauls and the motor brakes it.
+    Overhauled,
     /// At rest and stuck: the motor cannot start (or keep moving) the load.
     Stalled,
     /// Sliding against the motor: the load drives the worm backwards.
@@ -69,12 +73,18 @@ pub enum Drive {
 
 impl Drive {
     /// Every outcome, in the order the tables list them.
-    pub const ALL: [Drive; 3] = [Drive::Runs, Drive::Stalled, Drive::BackDriven];
+    pub const ALL: [Drive; 4] = [
+        Drive::Runs,
+        Drive::Overhauled,
+        Drive::Stalled,
+        Drive::BackDriven,
+    ];
 
     /// The word of the results table.
     pub fn name(self) -> &'static str {
         match self {
             Drive::Runs => "runs",
+            Drive::Overhauled => "overhauled",
             Drive::Stalled => "stalled",
             Drive::BackDriven => "back_driven",
         }

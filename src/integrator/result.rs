@@ -215,7 +215,8 @@ pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end
     let [w1_in, w1_out, w2_in, w2_out] = *flow;
     let fed = 1e-6 * (w1_in + w2_in);
     let ratio = |out: f64, inp: f64| if inp > fed { out / inp } else { f64::NAN };
-    // Steady values at the final sliding speed (at rest: the start-up value).
+    // Steady values at the final sliding speed (at rest: the sliding law's
+    // limit at zero speed, which summary.csv and the report leave out).
     // γ from tan γ, not the lane's own γ: atan(tan γ) differs from γ in
     // the last bit for about 2 % of lead angles, and these columns keep
     // the bits of every earlier release.
@@ -303,7 +304,7 @@ impl EndState {
                 Hold::Coasting
             }
         });
-        let drive = if ok { self.drive(lane) } else { None };
+        let drive = if ok { self.drive(lane, m.s1 * v) } else { None };
         let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg, eta_direct_start, eta_inverse_start] =
             engineering(lane, tables, &self.flow, v);
         LaneResult {
@@ -350,9 +351,11 @@ impl EndState {
 
 impl EndState {
     /// What the motor achieved, for a lane whose motor runs to the end
-    /// and drives (docs/model.md section 10): stalled at rest, else runs
-    /// or is back-driven by the direction of motion against the motor's.
-    fn drive(&self, lane: &Lane) -> Option<Drive> {
+    /// and drives (docs/model.md section 10): stalled at rest, else by the
+    /// direction of motion against the motor's, and in the motor's
+    /// direction by the power `p1` = S1 ẋ1 the worm side puts into the
+    /// mesh (negative: the load overhauls and the motor brakes it).
+    fn drive(&self, lane: &Lane, p1: f64) -> Option<Drive> {
         let d = lane.motor_direction().filter(|_| !lane.motor_cut())?;
         if self.stuck {
             return Some(Drive::Stalled);
@@ -365,10 +368,12 @@ impl EndState {
         } else {
             self.dir as f64
         };
-        Some(if s == d {
-            Drive::Runs
-        } else {
+        Some(if s != d {
             Drive::BackDriven
+        } else if p1 < 0.0 {
+            Drive::Overhauled
+        } else {
+            Drive::Runs
         })
     }
 }

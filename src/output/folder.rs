@@ -10,7 +10,11 @@
 //!   lists the files tswm committed there, and a run refuses a folder
 //!   that holds anything else (a user's own `report.html`, say), so it
 //!   never replaces a file it did not write.
-//! - Whoever holds the lock removes partial files left by a killed run.
+//! - Whoever commits files removes partial files left by a killed run.
+//! - A command that is refused, fails or is stopped before it commits
+//!   anything leaves the folder as it found it: a folder it created goes,
+//!   and so does a lock file it created (taken with the check below, so
+//!   removing it never lets two commands hold one folder).
 
 use std::fs::{File, TryLockError};
 use std::io::Write as _;
@@ -70,18 +74,30 @@ pub struct OutDir {
     earlier: Vec<String>,
     /// Holds the lock for as long as the run lives.
     _lock: File,
-    /// Whether this run created the folder and has committed nothing to
-    /// it yet: dropped so (the run failed or was stopped), the folder is
-    /// removed again.
+    /// Whether this run created the folder: dropped before it committed
+    /// anything (refused, failed or stopped), the folder is removed again.
     fresh: bool,
+    /// Whether this run created the lock file: dropped before it
+    /// committed anything, the lock file is removed again.
+    made_lock: bool,
+    /// Whether this run committed a file here.
+    committed: bool,
 }
 
 impl Drop for OutDir {
     fn drop(&mut self) {
-        if self.fresh {
-            // Only the lock is ours to remove; the folder goes if that
-            // leaves it empty.
+        if self.committed {
+            return;
+        }
+        // Nothing committed: leave the folder as it was. The lock file is
+        // removed while still held; a command that opened it before the
+        // removal finds, once it holds it, that the name no longer leads
+        // to it, and takes the lock again (`lock`).
+        if self.made_lock || self.fresh {
             let _ = std::fs::remove_file(self.path.join(LOCK_NAME));
+        }
+        if self.fresh {
+            // The folder goes if that leaves it empty.
             let _ = std::fs::remove_dir(&self.path);
         }
     }
@@ -135,7 +151,6 @@ impl OutDir {
                 }
             )));
         }
-        dir.remove_stale_partials()?;
         Ok(dir)
     }
 
@@ -151,36 +166,54 @@ impl OutDir {
                 "is not a folder; allowed: a folder written by `tswm run` or `tswm merge`",
             ));
         }
-        let dir = OutDir::lock(path)?;
-        dir.remove_stale_partials()?;
-        Ok(dir)
+        OutDir::lock(path)
     }
 
+    /// Takes the folder's lock: the lock file, created if missing (and
+    /// then removed again if nothing is committed), locked, and checked to
+    /// be still the file of that name once held (an earlier holder may
+    /// have removed it; then the lock is taken again on the new file).
     fn lock(path: &Path) -> Result<OutDir> {
         let lock_path = path.join(LOCK_NAME);
-        let lock = File::options()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(&lock_path)
-            .map_err(|e| Error::io(&lock_path, e))?;
-        match lock.try_lock() {
-            Ok(()) => {}
-            Err(TryLockError::WouldBlock) => return Err(Error::input(
-                path,
-                None,
-                None,
-                "another tswm command is writing to this folder; wait for it or choose another folder",
-            )),
-            Err(TryLockError::Error(e)) => return Err(Error::io(&lock_path, e)),
+        loop {
+            let (lock, made_lock) = match File::options()
+                .create_new(true)
+                .write(true)
+                .open(&lock_path)
+            {
+                Ok(f) => (f, true),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => (
+                    File::options()
+                        .write(true)
+                        .open(&lock_path)
+                        .map_err(|e| Error::io(&lock_path, e))?,
+                    false,
+                ),
+                Err(e) => return Err(Error::io(&lock_path, e)),
+            };
+            match lock.try_lock() {
+                Ok(()) => {}
+                Err(TryLockError::WouldBlock) => return Err(Error::input(
+                    path,
+                    None,
+                    None,
+                    "another tswm command is writing to this folder; wait for it or choose another folder",
+                )),
+                Err(TryLockError::Error(e)) => return Err(Error::io(&lock_path, e)),
+            }
+            if !same_file(&lock, &lock_path) {
+                continue;
+            }
+            let earlier = read_marker(path)?;
+            return Ok(OutDir {
+                path: path.to_path_buf(),
+                earlier,
+                _lock: lock,
+                fresh: false,
+                made_lock,
+                committed: false,
+            });
         }
-        let earlier = read_marker(path)?;
-        Ok(OutDir {
-            path: path.to_path_buf(),
-            earlier,
-            _lock: lock,
-            fresh: false,
-        })
     }
 
     /// Entries of the folder that tswm did not write: anything but the
@@ -241,7 +274,9 @@ impl OutDir {
                 listed.push(name);
             }
         }
+        self.remove_stale_partials()?;
         self.fresh = false;
+        self.committed = true;
         write_marker(&self.path, &listed)?;
         let stale: Vec<&Path> = stale.iter().map(|p| p.as_path()).collect();
         commit_together(files, &stale)?;
@@ -261,17 +296,38 @@ impl OutDir {
         self.path.join(name)
     }
 
-    /// Partial files of earlier runs (killed with no chance to clean up):
-    /// no run but ours holds the folder, so none of them is being written.
+    /// Partial files of earlier runs (killed with no chance to clean up),
+    /// removed when this run commits (not before: a refused command
+    /// changes nothing): no run but ours holds the folder, so none of
+    /// them is being written, and this run's own carry its process id.
     fn remove_stale_partials(&self) -> Result<()> {
+        let ours = format!(".{}-", std::process::id());
         let entries = std::fs::read_dir(&self.path).map_err(|e| Error::io(&self.path, e))?;
         for e in entries.flatten() {
-            if is_partial_name(&e.file_name().to_string_lossy(), names::written) {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if is_partial_name(&name, names::written) && !name.contains(&ours) {
                 let _ = std::fs::remove_file(e.path());
             }
         }
         Ok(())
     }
+}
+
+/// Whether the open file `f` is still the file named `path` (same device
+/// and inode): a lock file removed and made again is another file.
+#[cfg(unix)]
+fn same_file(f: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (f.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+/// Elsewhere an open file cannot be removed, so the name still leads to it.
+#[cfg(not(unix))]
+fn same_file(_: &File, path: &Path) -> bool {
+    path.exists()
 }
 
 fn file_name(p: &Path) -> String {

@@ -60,11 +60,12 @@ impl Panel {
             .collect()
     }
 
-    /// Per cell, whether any of its finished lanes is stalled.
-    pub fn stalled_cells(&self) -> Vec<bool> {
+    /// Per cell, whether any of its finished lanes is at rest at its end
+    /// (stalled, held, or at rest without a motor): no running point.
+    pub fn at_rest_cells(&self) -> Vec<bool> {
         self.outcome
             .iter()
-            .map(|c| c[super::outcome::STALLED] > 0)
+            .map(|c| super::outcome::AT_REST.iter().any(|&k| c[k] > 0))
             .collect()
     }
 

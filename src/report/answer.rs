@@ -62,8 +62,9 @@ pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
     if stalled > 0 {
         page.warning(&format!(
             "{stalled} of {ok} finished lane{} {} stalled: at rest and stuck with the motor on, the \
-             motor cannot start (or keep moving) the load. They have not \"held\" anything; their \
-             steady (_ss) values are start-up values, not a running point.",
+             motor cannot start (or keep moving) the load. They have not \"held\" anything, and \
+             have no running point: their running (_ss) efficiencies are left out of the ranges \
+             and maps (the starting values are eta_direct_start and eta_inverse_start).",
             super::plural(ok),
             if stalled == 1 { "is" } else { "are" }
         ));
@@ -91,11 +92,22 @@ fn ranges(page: &mut Page, f: &Folder, sweep: &Sweep) {
         .results
         .iter()
         .zip(&f.extremes)
-        .filter(|(_, e)| e.count > 0)
+        .filter(|(_, e)| e.count > 0 || e.at_rest > 0)
         .map(|(c, e)| {
-            let mut note = String::new();
+            let mut notes = Vec::new();
             if crate::columns::is_inverse_efficiency(c.name) && e.at_most_zero > 0 {
-                note = format!("<= 0 (self-locking) in {} of {}", e.at_most_zero, e.count);
+                notes.push(format!("<= 0 (self-locking) in {} of {}", e.at_most_zero, e.count));
+            }
+            if e.at_rest > 0 {
+                notes.push(format!(
+                    "{} at rest left out (no running point)",
+                    super::lanes_text(e.at_rest).trim_end_matches('.')
+                ));
+            }
+            let note = notes.join("; ");
+            if e.count == 0 {
+                let none = "none".to_string();
+                return vec![c.label(), none.clone(), String::new(), none, String::new(), note];
             }
             vec![
                 c.label(),

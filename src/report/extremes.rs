@@ -10,6 +10,9 @@ pub struct Extreme {
     pub count: u64,
     /// Values <= 0 (an inverse efficiency's self-locking lanes).
     pub at_most_zero: u64,
+    /// Finished lanes at rest, left out of a running value's range (no
+    /// running point).
+    pub at_rest: u64,
 }
 
 impl Default for Extreme {
@@ -19,6 +22,7 @@ impl Default for Extreme {
             max: (f64::NEG_INFINITY, 0),
             count: 0,
             at_most_zero: 0,
+            at_rest: 0,
         }
     }
 }

@@ -211,12 +211,12 @@ fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
          (statistics), {SENSITIVITY} (sensitivity indices, for a sensitivity design), {TRACES} \
          (traced lanes) and {RESOLVED}. Efficiencies are energy-averaged \
          over each lane's run: eta_direct = w2_out / w1_in (worm drives wheel), eta_inverse = \
-         w1_out / w2_in (wheel drives worm); the _ss values are the steady efficiencies at the \
-         final sliding speed (for a stalled lane, at rest with the motor on, the start-up values), \
-         the _start values the starting (breakaway) efficiencies with static friction; \
-         lock_margin_deg = atan(mu_s / cos alpha_n) - gamma > 0 means the drive holds its load at \
-         rest with the motor off; drive says what the motor achieved (runs, stalled, back_driven) \
-         in a lane whose motor runs to the end, hold what became of the load of a lane whose \
+         w1_out / w2_in (wheel drives worm); the _ss values are the running efficiencies at the \
+         final sliding speed (a lane at rest at its end has no running point: this page leaves it \
+         out of their ranges, maps and statistics), the _start values the starting (breakaway) \
+         efficiencies with static friction; lock_margin_deg = atan(mu_s / cos alpha_n) - gamma > \
+         0 means the drive holds its load at rest with the motor off; drive says what the motor \
+         achieved (runs, overhauled, stalled, back_driven) in a lane whose motor runs to the end, hold what became of the load of a lane whose \
          motor is cut. Grey cells have no value (the lane did not finish, or the efficiency is \
          undefined).",
         folder.table

@@ -7,8 +7,9 @@
 use plotters::style::RGBColor;
 
 /// The outcomes, in the order of the legends: (word shown, colour).
-pub const OUTCOMES: [(&str, RGBColor); 8] = [
+pub const OUTCOMES: [(&str, RGBColor); 9] = [
     ("runs", RGBColor(44, 160, 44)),
+    ("overhauled", RGBColor(23, 190, 207)),
     ("stalled", RGBColor(214, 39, 40)),
     ("back-driven", RGBColor(255, 127, 14)),
     ("held", RGBColor(31, 119, 180)),
@@ -22,7 +23,11 @@ pub const OUTCOMES: [(&str, RGBColor); 8] = [
 pub const N: usize = OUTCOMES.len();
 
 /// The index of "stalled" in [`OUTCOMES`].
-pub const STALLED: usize = 1;
+pub const STALLED: usize = 2;
+
+/// The outcomes of a lane at rest at its end (stalled, held, at rest
+/// with no motor): it has no running point.
+pub const AT_REST: [usize; 3] = [STALLED, 4, 7];
 
 /// The colour of a cell with no finished lane.
 pub const NONE_COLOUR: RGBColor = RGBColor(200, 200, 200);
@@ -31,14 +36,15 @@ pub const NONE_COLOUR: RGBColor = RGBColor(200, 200, 200);
 /// `drive` cells (words as the results table spells them).
 pub fn of(contact: &str, hold: &str, drive: &str) -> usize {
     match (hold, drive) {
-        ("held", _) => 3,
-        ("runs_away", _) => 4,
-        ("coasting", _) => 5,
+        ("held", _) => 4,
+        ("runs_away", _) => 5,
+        ("coasting", _) => 6,
         (_, "runs") => 0,
+        (_, "overhauled") => 1,
         (_, "stalled") => STALLED,
-        (_, "back_driven") => 2,
-        _ if contact == "stick" => 6,
-        _ => 7,
+        (_, "back_driven") => 3,
+        _ if contact == "stick" => 7,
+        _ => 8,
     }
 }
 
@@ -61,6 +67,9 @@ mod tests {
         assert_eq!(OUTCOMES[of("stick", "", "stalled")].0, "stalled");
         assert_eq!(OUTCOMES[of("stick", "held", "")].0, "held");
         assert_eq!(OUTCOMES[of("aa", "", "back_driven")].0, "back-driven");
+        assert_eq!(OUTCOMES[of("bb", "", "overhauled")].0, "overhauled");
+        let rest: Vec<&str> = AT_REST.iter().map(|&k| OUTCOMES[k].0).collect();
+        assert_eq!(rest, ["stalled", "held", "at rest, no motor"]);
         assert_eq!(OUTCOMES[of("stick", "", "")].0, "at rest, no motor");
     }
 }

@@ -70,10 +70,11 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
         page.heading("Does the motor drive it? (lanes whose motor runs to the end)");
         share_table(page, f, DRIVE, &words(&f.by_drive), f.drive_lanes);
         page.note(
-            "runs: sliding in the motor's direction; stalled: at rest and stuck with the motor on, \
-             the motor cannot start (or keep moving) the load, and the lane's steady (_ss) values \
-             are start-up values, not a running point; back_driven: sliding against the motor, \
-             the load drives the worm backwards.",
+            "runs: sliding in the motor's direction, the motor driving the load; overhauled: \
+             sliding in the motor's direction with the mesh driving the worm side, the load \
+             overhauls and the motor brakes it; stalled: at rest and stuck with the motor on, the \
+             motor cannot start (or keep moving) the load, and the lane has no running point; \
+             back_driven: sliding against the motor, the load drives the worm backwards.",
         );
     }
     if f.hold_lanes > 0 {
@@ -155,12 +156,13 @@ pub(super) fn maps(page: &mut Page, f: &Folder) {
 /// What the marks of the maps mean: struck-through stalled cells, and
 /// inverse efficiencies <= 0.
 fn map_notes(page: &mut Page, f: &Folder) {
-    let stalled = f.by_outcome[outcome::STALLED];
-    let steady = f.results.iter().any(|c| c.name.ends_with("_ss"));
-    if stalled > 0 && steady {
+    let at_rest: u64 = outcome::AT_REST.iter().map(|&k| f.by_outcome[k]).sum();
+    let running = f.results.iter().any(|c| c.running);
+    if at_rest > 0 && running {
         page.note(&format!(
-            "Struck-through cells (a diagonal) hold stalled lanes ({stalled} in all): at rest with \
-             the motor on, so their steady (_ss) values are start-up values, not a running point."
+            "Struck-through cells (a diagonal) of a running efficiency (_ss) hold lanes at rest at \
+             their end ({at_rest} in all: stalled, held or at rest without a motor): they have no \
+             running point, so the cell shows the mean of its sliding lanes, or none."
         ));
     }
     if f.results
@@ -180,11 +182,11 @@ fn map_panel(page: &mut Page, f: &Folder, p: &super::aggregates::Panel, x: &Axis
         page.heading(&p.label);
         let mut figs = Vec::new();
         let line = p.lock_line();
-        let struck = p.stalled_cells();
+        let struck = p.at_rest_cells();
         for (r, c) in f.results.iter().enumerate() {
             let marks = HeatMarks {
                 line: Some(&line),
-                struck: c.name.ends_with("_ss").then_some((&struck[..], "stalled")),
+                struck: c.running.then_some((&struck[..], "at rest")),
                 at_most_zero: crate::columns::is_inverse_efficiency(c.name)
                     .then_some("self-locking"),
             };

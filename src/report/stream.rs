@@ -223,11 +223,20 @@ impl Scan {
                 .push((lane, if tm.is_finite() { tm.max(te) } else { te }));
         }
         count_outcomes(f, lane, c, row, w);
-        for (v, col) in self.vals.iter_mut().zip(&c.results) {
-            *v = col.number(row);
+        for ((v, col), r) in self.vals.iter_mut().zip(&c.results).zip(&f.results) {
+            // A lane at rest has no running point: its running values are
+            // left out of the ranges, maps, lines and groups (counted).
+            *v = if r.running && w.at_rest {
+                f64::NAN
+            } else {
+                col.number(row)
+            };
         }
         if w.ok {
-            for (e, &v) in f.extremes.iter_mut().zip(&self.vals) {
+            for ((e, &v), r) in f.extremes.iter_mut().zip(&self.vals).zip(&f.results) {
+                if r.running && w.at_rest {
+                    e.at_rest += 1;
+                }
                 e.add(lane, v);
             }
         }
@@ -284,6 +293,8 @@ struct RowWords<'a> {
     drive: &'a str,
     drive_at: Option<usize>,
     contact: Option<usize>,
+    /// At rest at its end (final contact `stick`).
+    at_rest: bool,
     outcome: usize,
 }
 
@@ -301,6 +312,7 @@ impl<'a> RowWords<'a> {
             drive,
             drive_at: at(&f.by_drive, drive),
             contact: CONTACT_NAMES.iter().position(|x| x.0 == contact),
+            at_rest: crate::columns::at_rest(contact),
             outcome: super::outcome::of(contact, hold, drive),
         }
     }

@@ -64,6 +64,10 @@ struct Layout {
     words: Vec<(usize, Shares)>,
     /// The status cell.
     status: usize,
+    /// Which number columns are running values (`Column::running`), left
+    /// out for a lane at rest, and the final contact's cell that says so.
+    running: Vec<bool>,
+    contact: usize,
     /// Each parameter's cell, by `Num` index.
     params: [usize; N_NUM],
 }
@@ -96,6 +100,8 @@ impl Layout {
             numbers: number_columns().map(|c| at(c.name)).collect(),
             words,
             status: at(crate::columns::STATUS),
+            running: number_columns().map(|c| c.running).collect(),
+            contact: at(crate::columns::CONTACT_END),
             params: std::array::from_fn(|k| {
                 Param::COLUMNS
                     .iter()

@@ -84,8 +84,8 @@ const TABLE: &str = "[friction_table]\nvs = [0.0, 0.5, 2.0]\nmu = [0.11, 0.06, 0
 
 /// Checks every row of `dir/o/lanes.csv` against section 10; returns how
 /// many lanes had each drive word.
-fn check_rows(h: &[String], rows: &[Vec<String>]) -> [usize; 4] {
-    let mut seen = [0usize; 4];
+fn check_rows(h: &[String], rows: &[Vec<String>]) -> [usize; 5] {
+    let mut seen = [0usize; 5];
     for r in rows {
         let lane = col(h, r, "lane");
         let num = |k: &str| col(h, r, k).parse::<f64>().unwrap_or(f64::NAN);
@@ -99,17 +99,28 @@ fn check_rows(h: &[String], rows: &[Vec<String>]) -> [usize; 4] {
             "kloss" => 1.0,
             _ => num("f1").signum() * (num("f1") != 0.0) as i32 as f64,
         };
+        // In the motor's direction, p1 = S1 v1 = psi S2 v1 has the sign of
+        // c s tan(gamma + c s rho) (S2 = -m1 m2 tan(gamma) phi / D, c =
+        // sign(phi), D > 0; sections 2 and 3): p1 < 0, overhauled, exactly
+        // when c s = -1 and gamma > rho(Vs_end), i.e. eta_inverse_ss > 0.
+        let c = match col(h, r, "contact_end") {
+            "aa" => 1.0,
+            _ => -1.0,
+        };
+        let s = num("v1_end").signum();
         let want = if cut || dir == 0.0 {
             ""
         } else if col(h, r, "contact_end") == "stick" {
             "stalled"
-        } else if num("v1_end").signum() == dir {
-            "runs"
-        } else {
+        } else if s != dir {
             "back_driven"
+        } else if c * s < 0.0 && num("eta_inverse_ss") > 0.0 {
+            "overhauled"
+        } else {
+            "runs"
         };
         assert_eq!(drive, want, "lane {lane}: {r:?}");
-        seen[["", "runs", "stalled", "back_driven"]
+        seen[["", "runs", "overhauled", "stalled", "back_driven"]
             .iter()
             .position(|w| *w == drive)
             .unwrap()] += 1;
@@ -173,8 +184,8 @@ fn drive_and_the_starting_efficiencies_follow_the_model_on_every_lane() {
     }
 }
 
-/// The section 7 cases: case 1 and 2 run (the motor drives; in case 1
-/// the load overhauls and the motor brakes, still turning its way), the
+/// The section 7 cases: case 1 is overhauled (after its switch the load
+/// overhauls and the motor brakes above synchronous speed), case 2 runs, the
 /// stall is stalled from t = 0, the hold and back-drive lanes have their
 /// motor cut (no drive).
 #[test]
@@ -182,7 +193,7 @@ fn the_reference_cases_drive_as_the_model_says() {
     let dir = tempfile::tempdir().unwrap();
     let (h, rows) = run_fixture_lanes(dir.path());
     let drives: Vec<&str> = rows.iter().map(|r| col(&h, r, "drive")).collect();
-    assert_eq!(drives, ["runs", "runs", "", "", "stalled"]);
+    assert_eq!(drives, ["overhauled", "runs", "", "", "stalled"]);
 }
 
 /// A report of motor-on lanes that stall says "stalled", and no chart or

@@ -17,11 +17,17 @@ fn type7(s: &[f64], q: f64) -> f64 {
 }
 
 /// lanes.csv columns as f64 (empty cells left out), by name.
+/// A lane at rest at its end has no running point (docs/model.md section
+/// 10): its `_ss` cells are left out of the statistics.
 fn columns(dir: &Path) -> BTreeMap<String, Vec<f64>> {
     let (h, rows) = read_csv(&dir.join("lanes.csv"));
     let mut m: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     for r in &rows {
+        let at_rest = col(&h, r, "contact_end") == "stick";
         for (name, cell) in h.iter().zip(r) {
+            if at_rest && name.ends_with("_ss") {
+                continue;
+            }
             if let Ok(x) = cell.parse::<f64>() {
                 m.entry(name.clone()).or_default().push(x);
             }

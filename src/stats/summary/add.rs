@@ -174,7 +174,19 @@ fn add_numbers(
     use rayon::prelude::*;
     let numbers = layout.numbers.len();
     let (kept_numbers, kept_inputs) = g.kept.split_at_mut(numbers);
-    let xs: Vec<&Col<'_>> = layout.numbers.iter().map(|&i| &cols[i]).collect();
+    let xs: Vec<(&Col<'_>, bool)> = layout
+        .numbers
+        .iter()
+        .zip(&layout.running)
+        .map(|(&i, &running)| (&cols[i], running))
+        .collect();
+    // Lanes at rest, whose running values are no running point: left out
+    // (as empty cells, so the kept values stay aligned lane by lane).
+    let contact = &cols[layout.contact];
+    let at_rest: Vec<bool> = rows
+        .clone()
+        .map(|r| crate::columns::at_rest(contact.word(r)))
+        .collect();
     let jobs: Vec<_> = g
         .cols
         .chunks_mut(COLUMNS_A_TASK)
@@ -183,7 +195,20 @@ fn add_numbers(
         .collect();
     pool.install(|| {
         jobs.into_par_iter().for_each(|((cs, kept), xs)| {
-            let xs: Vec<_> = xs.iter().map(|c| c.numbers(rows.clone())).collect();
+            let xs: Vec<_> = xs
+                .iter()
+                .map(|&(c, running)| {
+                    let mut v = c.numbers(rows.clone());
+                    if running && at_rest.contains(&true) {
+                        for (x, &rest) in v.to_mut().iter_mut().zip(&at_rest) {
+                            if rest {
+                                *x = f64::NAN;
+                            }
+                        }
+                    }
+                    v
+                })
+                .collect();
             let slices: Vec<&[f64]> = xs.iter().map(|x| &x[..]).collect();
             let mut ms: Vec<Moments> = cs.iter().map(|c| c.m).collect();
             add_columns(&mut ms, &slices);
