@@ -66,6 +66,10 @@ pub struct RunFlags {
     /// Format of the results table: lanes.csv or lanes.parquet.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     pub format: Format,
+    /// Say what the run would cost (time, and the size of its table, from
+    /// a trial of its lanes) and stop: nothing is run or written.
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 /// Subcommands.

@@ -426,6 +426,7 @@ pub const RESULTS: &[Column] = &[
         empty: "the worm side put (almost) no energy into the mesh (w1_in <= 1e-6 of w1_in + w2_in), \
                 or the status is not ok",
         value: float!(|r| ok(r, r.eta_direct)),
+        compare: Compare::Relative(VALUE_BOUND),
         ..ROW
     },
     Column {
@@ -437,6 +438,7 @@ pub const RESULTS: &[Column] = &[
         empty: "the wheel side put (almost) no energy into the mesh (w2_in <= 1e-6 of w1_in + w2_in), \
                 or the status is not ok",
         value: float!(|r| ok(r, r.eta_inverse)),
+        compare: Compare::Relative(VALUE_BOUND),
         ..ROW
     },
     Column {
@@ -451,6 +453,7 @@ pub const RESULTS: &[Column] = &[
                   has no running point",
         empty: NOT_OK,
         value: float!(|r| ok(r, r.eta_direct_ss)),
+        compare: Compare::Relative(VALUE_BOUND),
         ..ROW
     },
     Column {
@@ -463,6 +466,7 @@ pub const RESULTS: &[Column] = &[
                   (self-locking); at rest as eta_direct_ss, left out of summary.csv and the report",
         empty: NOT_OK,
         value: float!(|r| ok(r, r.eta_inverse_ss)),
+        compare: Compare::Relative(VALUE_BOUND),
         ..ROW
     },
     Column {
@@ -475,6 +479,7 @@ pub const RESULTS: &[Column] = &[
                   self-locking)",
         empty: NOT_OK,
         value: float!(|r| ok(r, r.lock_margin_deg)),
+        compare: Compare::Relative(VALUE_BOUND),
         ..ROW
     },
     Column {

@@ -189,6 +189,7 @@ pub fn base_folders(base: &Path) {
             no_report: true,
             shard: shard.map(str::to_string),
             format: tswm::output::table::Format::Csv,
+            dry_run: false,
         };
         // `execute`, not `run`: the same run without its summary line.
         let shard = flags.shard.as_deref().map(tswm::run::shard::Shard::parse);

@@ -23,6 +23,7 @@ use pyo3::types::PyDict;
 
 use tswm::backend::Choice;
 use tswm::cli::{LanesArgs, Plan, RunFlags};
+use tswm::columns::Kind;
 use tswm::error::Error;
 use tswm::input::frame::Frame;
 use tswm::input::lanes::{Source, SweepIn, TableIn};
@@ -215,6 +216,7 @@ fn run(
                     no_report: !report,
                     shard: None,
                     format,
+                    dry_run: false,
                 };
                 Ok(tswm::commands::run::execute(plan, None, &flags, &show, true)?.batches)
             }
@@ -241,12 +243,72 @@ fn read(py: Python<'_>, dir: PathBuf) -> PyResult<PyArrowType<Table>> {
     table(batches)
 }
 
-/// Writes the folder's `report.html` again; its path.
+/// Writes the folder's `report.html` again; its path, as the OS names it
+/// (a name that is not UTF-8 comes back as `os.fsdecode` gives it, so
+/// `os.fsencode` gives its bytes again).
 #[pyfunction]
-fn report(py: Python<'_>, dir: PathBuf) -> PyResult<String> {
+fn report(py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
     py.detach(move || tswm::commands::report::rebuild(&dir))
-        .map(|p| p.display().to_string())
         .map_err(failure)
+}
+
+/// The one line of bad input in `file` (at `at`, of `param`): the
+/// command line's, made one line as it makes it.
+#[pyfunction]
+#[pyo3(signature = (file, at, param, msg))]
+fn input_line(file: PathBuf, at: Option<String>, param: Option<String>, msg: String) -> String {
+    tswm::error::one_line(&Error::input(&file, at, param.as_deref(), msg).to_string())
+}
+
+/// Input quoted in a message: one line, at most `max` characters.
+#[pyfunction]
+fn shown(text: &str, max: usize) -> String {
+    tswm::error::shown(text, max)
+}
+
+/// A column kind's name in Python: "float", "int" or "text".
+fn kind_name(k: Kind) -> &'static str {
+    match k {
+        Kind::Float => "float",
+        Kind::Int => "int",
+        Kind::Text => "text",
+    }
+}
+
+/// The parameters' columns (as a lane table, the results table or a
+/// grid axis of `summary.csv` holds them), with their kinds.
+#[pyfunction]
+fn param_columns() -> Vec<(&'static str, &'static str)> {
+    tswm::output::batch::columns()
+        .into_iter()
+        .take(tswm::params::Param::COLUMNS.len())
+        .map(|(n, k)| (n, kind_name(k)))
+        .collect()
+}
+
+/// The columns of a run folder's `summary.csv` or `sensitivity.csv`
+/// (`file`) with their kinds, as the crate declares them: those before
+/// the grid's axes (a summary's axes are parameters, [`param_columns`])
+/// and those after them.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn stats_columns(
+    file: &str,
+) -> PyResult<(Vec<(String, &'static str)>, Vec<(String, &'static str)>)> {
+    use tswm::stats::{sensitivity, summary};
+    let named = |f: &mut dyn Iterator<Item = (&'static str, Kind)>| -> Vec<(String, &'static str)> {
+        f.map(|(n, k)| (n.to_string(), kind_name(k))).collect()
+    };
+    match file {
+        "summary.csv" => Ok((
+            vec![("group".to_string(), kind_name(summary::GROUP_KIND))],
+            named(&mut summary::summary_fields()),
+        )),
+        "sensitivity.csv" => Ok((named(&mut sensitivity::sensitivity_fields()), Vec::new())),
+        other => Err(failure(Error::Internal(format!(
+            "{other}: not a statistics file"
+        )))),
+    }
 }
 
 /// Integrates the lanes on a backend, writing nothing: lanes, seconds,
@@ -350,11 +412,16 @@ fn devices(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 fn _tswm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Failure", m.py().get_type::<Failure>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MAX_THREADS", tswm::cli::MAX_THREADS)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(report, m)?)?;
     m.add_function(wrap_pyfunction!(bench_lanes, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(devices, m)?)?;
+    m.add_function(wrap_pyfunction!(input_line, m)?)?;
+    m.add_function(wrap_pyfunction!(shown, m)?)?;
+    m.add_function(wrap_pyfunction!(param_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(stats_columns, m)?)?;
     Ok(())
 }

@@ -94,7 +94,7 @@ def test_bad_arguments_are_input_errors(root, tmp_path):
     for kw, want in [
         ({"backend": "tpu"}, "backend: `tpu` is not a backend; allowed: auto, cpu, gpu"),
         ({"format": "xlsx"}, "format: `xlsx` is not a format; allowed: csv, parquet"),
-        ({"threads": 0}, "--threads must be >= 1"),
+        ({"threads": 0}, "threads: 0 is not allowed; allowed: 1 to 1024 (this machine runs"),
         ({"tol": 1.0}, "--tol: 1e0 is not allowed"),
     ]:
         msg = input_error(lambda: tswm.run(paper, out=tmp_path / "o", progress=False, **kw))

@@ -9,6 +9,18 @@ from typing import Any, Dict, List, Tuple
 
 __all__ = ["dict_to_toml"]
 
+#: Tables and lists nested deeper than this are no sweep's (a sweep file
+#: nests two tables, `[friction_table.NAME]`, and lists of numbers in them).
+MAX_DEPTH = 16
+
+
+def _too_deep(path: str) -> TypeError:
+    shown = path if len(path) <= 80 else path[:80] + "..."
+    return TypeError(
+        f"{shown}: nested more than {MAX_DEPTH} deep; allowed: a sweep file's tables and lists "
+        "(docs/guide.md)"
+    )
+
 
 def _key(k: str) -> str:
     """A TOML key: bare where TOML allows it, else quoted."""
@@ -36,8 +48,10 @@ def _string(s: str) -> str:
     return "".join(out)
 
 
-def _value(v: Any, path: str) -> str:
+def _value(v: Any, path: str, depth: int = 0) -> str:
     """A TOML value (no tables: those are written as sections)."""
+    if depth > MAX_DEPTH:
+        raise _too_deep(path)
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):
@@ -51,7 +65,7 @@ def _value(v: Any, path: str) -> str:
     if isinstance(v, str):
         return _string(v)
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x, f"{path}[{i}]") for i, x in enumerate(v)) + "]"
+        return "[" + ", ".join(_value(x, f"{path}[{i}]", depth + 1) for i, x in enumerate(v)) + "]"
     if hasattr(v, "item") and callable(v.item):
         # A numpy scalar.
         return _value(v.item(), path)
@@ -72,9 +86,12 @@ def dict_to_toml(sweep: Dict[str, Any], name: str = "sweep") -> Tuple[str, List[
         lines.append(text)
         paths.append(path)
 
-    def table(d: Dict[str, Any], dotted: str, array: bool, path: str) -> None:
+    def table(d: Dict[str, Any], dotted: str, array: bool, path: str, depth: int) -> None:
         """Table `d` named `dotted` ("" for the top), an element of an
-        array of tables when `array`, its values' key paths under `path`."""
+        array of tables when `array`, its values' key paths under `path`,
+        `depth` tables and lists deep."""
+        if depth > MAX_DEPTH:
+            raise _too_deep(path)
         if dotted:
             emit(f"[[{dotted}]]" if array else f"[{dotted}]", path)
         plain = [(k, v) for k, v in d.items() if not isinstance(v, dict) and not _is_table_list(v)]
@@ -84,17 +101,17 @@ def dict_to_toml(sweep: Dict[str, Any], name: str = "sweep") -> Tuple[str, List[
                 raise TypeError(f"{path}: key {k!r} is not a string")
         for k, v in plain:
             p = f"{path}[{k!r}]"
-            emit(f"{_key(k)} = {_value(v, p)}", p)
+            emit(f"{_key(k)} = {_value(v, p, depth + 1)}", p)
         for k, v in nested:
             full = f"{dotted}.{_key(k)}" if dotted else _key(k)
             p = f"{path}[{k!r}]"
             if isinstance(v, dict):
-                table(v, full, False, p)
+                table(v, full, False, p, depth + 1)
             else:
                 for i, item in enumerate(v):
-                    table(item, full, True, f"{p}[{i}]")
+                    table(item, full, True, f"{p}[{i}]", depth + 2)
 
     if not isinstance(sweep, dict):
         raise TypeError(f"{name}: a dict with the sweep file's structure is required")
-    table(sweep, "", False, name)
+    table(sweep, "", False, name, 0)
     return "\n".join(lines) + "\n", paths

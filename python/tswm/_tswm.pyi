@@ -2,11 +2,14 @@
 Its functions take the arguments the package has normalised; call the
 package's functions (tswm.run, ...) instead."""
 
-from typing import Any, Callable, Dict, Optional, Tuple
+import os
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import pyarrow as pa
 
 __version__: str
+#: The most CPU threads a run takes.
+MAX_THREADS: int
 
 class Failure(Exception):
     """(kind, message, file, at, param, msg); kind: "input", "stopped" or "error"."""
@@ -28,7 +31,12 @@ def run(
     progress: Progress,
 ) -> pa.Table: ...
 def read(dir: str) -> pa.Table: ...
-def report(dir: str) -> str: ...
+def report(dir: str) -> "os.PathLike[str]": ...  # a pathlib.Path, as the OS names the file
+def input_line(file: str, at: Optional[str], param: Optional[str], msg: str) -> str: ...
+def shown(text: str, max: int) -> str: ...
+# (name, kind): kind "float", "int" or "text".
+def param_columns() -> List[Tuple[str, str]]: ...
+def stats_columns(file: str) -> Tuple[List[Tuple[str, str]], List[Tuple[str, str]]]: ...
 def bench(
     source: LaneSource,
     backend_name: str,

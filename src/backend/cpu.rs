@@ -122,7 +122,12 @@ pub fn run_cpu_lanes(
 
 impl Backend for CpuBackend {
     fn name(&self) -> String {
-        format!("cpu ({} threads, {})", self.threads(), self.width.name())
+        let n = self.threads();
+        format!(
+            "cpu ({n} thread{}, {})",
+            if n == 1 { "" } else { "s" },
+            self.width.name()
+        )
     }
     fn tolerance(&self) -> f64 {
         self.settings.tol

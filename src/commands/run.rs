@@ -14,6 +14,7 @@ use crate::output::table::Format;
 use crate::output::{AtomicFile, OutDir};
 use crate::progress::Show;
 use crate::run;
+use crate::run::estimate::{estimate, ESTIMATE_FROM};
 use crate::run::shard::{Shard, ShardRun, ShardStart};
 
 /// Runs `tswm run`; prints its summary line.
@@ -21,7 +22,20 @@ pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
     let shard = flags.shard.as_deref().map(Shard::parse).transpose()?;
     // Only the lanes that run are checked: a shard's.
     let part = |n: u64| shard.map_or((0, n), |s| s.range(n));
-    let plan = lanes.plan_part(&part, show)?;
+    let plan = match (&lanes.sweep, &lanes.lanes, flags.dry_run) {
+        // A dry run of a sweep checks only its trial's lanes: the whole
+        // check of a large sweep takes minutes, and the estimate is what
+        // was asked for (a lane table is read whole to count its rows).
+        (Some(file), None, true) => {
+            let (threads, settings) = lanes.settings()?;
+            Plan {
+                source: crate::input::lanes::Source::sweep(file)?,
+                threads,
+                settings,
+            }
+        }
+        _ => lanes.plan_part(&part, show)?,
+    };
     let done = execute(plan, shard, flags, show, false)?;
     sayln!("{}", done.line);
     Ok(())
@@ -48,8 +62,11 @@ pub fn execute(
 ) -> Result<Done> {
     let report = !flags.no_report;
     let trace = trace_plan(&flags.trace, flags.trace_dt, &plan.source)?;
-    let mut dir = OutDir::open(&flags.out)?;
     let total = plan.source.lane_count();
+    if flags.dry_run {
+        return dry_run(&plan, shard, flags);
+    }
+    let mut dir = OutDir::open(&flags.out)?;
     let shard = match shard {
         None => None,
         Some(s) => match ShardRun::start(s, &plan.source, trace.as_ref(), &dir, flags.format)? {
@@ -63,6 +80,12 @@ pub fn execute(
         },
     };
     let mut be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
+    let range = shard.as_ref().map_or((0, total), |s| s.range);
+    if range.1 - range.0 > ESTIMATE_FROM {
+        // A long run says what it will cost before it starts.
+        let e = estimate(&plan.source, be.as_mut(), plan.threads, flags.format, range)?;
+        sayln!("{}", e.line());
+    }
     let target = run::Target {
         dir: Some(dir.path()),
         format: flags.format,
@@ -106,6 +129,27 @@ pub fn execute(
     Ok(Done {
         line,
         batches: std::mem::take(&mut written.batches),
+    })
+}
+
+/// `--dry-run`: the estimate of the run of `plan` (of shard `shard`),
+/// with nothing opened, run or written.
+fn dry_run(plan: &Plan, shard: Option<Shard>, flags: &RunFlags) -> Result<Done> {
+    let total = plan.source.lane_count();
+    let range = shard.map_or((0, total), |s| s.range(total));
+    let mut be = backend::open(
+        flags.backend,
+        range.1 - range.0,
+        plan.threads,
+        plan.settings,
+    )?;
+    let e = estimate(&plan.source, be.as_mut(), plan.threads, flags.format, range)?;
+    Ok(Done {
+        line: format!(
+            "{} (--dry-run: nothing run or written; only the trial's lanes were checked)",
+            e.line()
+        ),
+        batches: Vec::new(),
     })
 }
 

@@ -279,9 +279,13 @@ impl Source {
                 file,
                 None,
                 None,
+                // One wording for the command line and Python alike.
                 format!(
-                    "{n} lanes are more than one run takes (at most {MAX_RUN_LANES:.0e}); run it \
-                     as at least {shards} shards (--shard K/{shards}, see docs/cluster.md)"
+                    "{n} lanes are more than one run takes (at most {MAX_RUN_LANES:.0e}); run them \
+                     as at least {shards} parts of at most {MAX_RUN_LANES:.0e} lanes: from the \
+                     command line as {shards} shards (tswm run SWEEP --shard K/{shards}, \
+                     docs/cluster.md), or in Python each a tswm.run of its own (split a grid \
+                     axis's values, or a lane table's rows: docs/python.md)"
                 ),
             ));
         }

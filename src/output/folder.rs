@@ -2,10 +2,9 @@
 //! holding one run's files alone.
 //!
 //! - A second command into a folder that one holds is refused (the lock
-//!   is an OS file lock on `DIR/.tswm.lock`, released by the OS when the
-//!   process ends however it ends, so kill -9 leaves no stale lock); the
-//!   lock is held until a command's last file is committed (a merge's or
-//!   a run's report included), so no other run slips in between.
+//!   on `DIR/.tswm.lock`, [`super::lock`]); the lock is held until a
+//!   command's last file is committed (a merge's or a run's report
+//!   included), so no other run slips in between.
 //! - One folder holds one run: the folder's marker ([`names::MARKER`])
 //!   lists the files tswm committed there, and a run refuses a folder
 //!   that holds anything else (a user's own `report.html`, say), so it
@@ -13,14 +12,14 @@
 //! - Whoever commits files removes partial files left by a killed run.
 //! - A command that is refused, fails or is stopped before it commits
 //!   anything leaves the folder as it found it: a folder it created goes,
-//!   and so does a lock file it created (taken with the check below, so
-//!   removing it never lets two commands hold one folder).
+//!   and so does a lock file it created, and the folder's times are set
+//!   back; someone else's files are refused before the folder is touched.
 
-use std::fs::{File, TryLockError};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::atomic::{commit_together, is_partial_name, AtomicFile};
+use super::lock::{Lock, Times};
 use crate::error::{Error, Result};
 
 /// The names of an output folder's files: each stated here once.
@@ -73,15 +72,17 @@ pub struct OutDir {
     /// The files an earlier command of tswm committed here (its marker).
     earlier: Vec<String>,
     /// Holds the lock for as long as the run lives.
-    _lock: File,
+    lock: Lock,
     /// Whether this run created the folder: dropped before it committed
     /// anything (refused, failed or stopped), the folder is removed again.
     fresh: bool,
-    /// Whether this run created the lock file: dropped before it
-    /// committed anything, the lock file is removed again.
-    made_lock: bool,
     /// Whether this run committed a file here.
     committed: bool,
+    /// The folder (or, for a folder this run created, the folder around
+    /// it) and its access and modification times as they were: a command
+    /// dropped before it committed anything puts them back, so a refusal
+    /// leaves not even a changed time behind.
+    times: Option<Times>,
 }
 
 impl Drop for OutDir {
@@ -93,12 +94,15 @@ impl Drop for OutDir {
         // removed while still held; a command that opened it before the
         // removal finds, once it holds it, that the name no longer leads
         // to it, and takes the lock again (`lock`).
-        if self.made_lock || self.fresh {
+        if self.lock.made || self.fresh {
             let _ = std::fs::remove_file(self.path.join(LOCK_NAME));
         }
         if self.fresh {
             // The folder goes if that leaves it empty.
             let _ = std::fs::remove_dir(&self.path);
+        }
+        if let Some(t) = &self.times {
+            t.restore();
         }
     }
 }
@@ -129,28 +133,17 @@ impl OutDir {
             ));
         }
         let fresh = !path.exists();
+        // Someone else's files are refused before the folder is touched
+        // (and again once it is held: they may have come in between).
+        if !fresh {
+            refuse_foreign(path, &foreign_in(path, &read_marker(path)?)?)?;
+        }
+        let times = Times::before(path);
         std::fs::create_dir_all(path).map_err(|e| Error::io(path, e))?;
         let mut dir = OutDir::lock(path)?;
         dir.fresh = fresh;
-        let foreign = dir.foreign()?;
-        if !foreign.is_empty() {
-            let more = foreign.len().saturating_sub(5);
-            let shown: Vec<String> = foreign
-                .iter()
-                .take(5)
-                .map(|n| crate::error::shown(n, 40))
-                .collect();
-            return Err(bad(format!(
-                "holds files tswm did not write ({}{}); allowed: a new or empty folder, or the \
-                 folder of an earlier tswm run (whose results a run replaces)",
-                shown.join(", "),
-                if more > 0 {
-                    format!(" and {more} more")
-                } else {
-                    String::new()
-                }
-            )));
-        }
+        dir.times = times;
+        refuse_foreign(path, &dir.foreign()?)?;
         Ok(dir)
     }
 
@@ -166,74 +159,29 @@ impl OutDir {
                 "is not a folder; allowed: a folder written by `tswm run` or `tswm merge`",
             ));
         }
-        OutDir::lock(path)
+        let times = Times::before(path);
+        let mut dir = OutDir::lock(path)?;
+        dir.times = times;
+        Ok(dir)
     }
 
-    /// Takes the folder's lock: the lock file, created if missing (and
-    /// then removed again if nothing is committed), locked, and checked to
-    /// be still the file of that name once held (an earlier holder may
-    /// have removed it; then the lock is taken again on the new file).
+    /// Takes the folder's lock ([`Lock::take`]) and reads its marker.
     fn lock(path: &Path) -> Result<OutDir> {
-        let lock_path = path.join(LOCK_NAME);
-        loop {
-            let (lock, made_lock) = match File::options()
-                .create_new(true)
-                .write(true)
-                .open(&lock_path)
-            {
-                Ok(f) => (f, true),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => (
-                    File::options()
-                        .write(true)
-                        .open(&lock_path)
-                        .map_err(|e| Error::io(&lock_path, e))?,
-                    false,
-                ),
-                Err(e) => return Err(Error::io(&lock_path, e)),
-            };
-            match lock.try_lock() {
-                Ok(()) => {}
-                Err(TryLockError::WouldBlock) => return Err(Error::input(
-                    path,
-                    None,
-                    None,
-                    "another tswm command is writing to this folder; wait for it or choose another folder",
-                )),
-                Err(TryLockError::Error(e)) => return Err(Error::io(&lock_path, e)),
-            }
-            if !same_file(&lock, &lock_path) {
-                continue;
-            }
-            let earlier = read_marker(path)?;
-            return Ok(OutDir {
-                path: path.to_path_buf(),
-                earlier,
-                _lock: lock,
-                fresh: false,
-                made_lock,
-                committed: false,
-            });
-        }
+        let lock = Lock::take(path)?;
+        let earlier = read_marker(path)?;
+        Ok(OutDir {
+            path: path.to_path_buf(),
+            earlier,
+            lock,
+            fresh: false,
+            committed: false,
+            times: None,
+        })
     }
 
-    /// Entries of the folder that tswm did not write: anything but the
-    /// lock, the marker, partial files and the files the marker lists.
+    /// Entries of the folder that tswm did not write.
     fn foreign(&self) -> Result<Vec<String>> {
-        let entries = std::fs::read_dir(&self.path).map_err(|e| Error::io(&self.path, e))?;
-        let mut out = Vec::new();
-        for e in entries {
-            let e = e.map_err(|e| Error::io(&self.path, e))?;
-            let name = e.file_name().to_string_lossy().into_owned();
-            let ours = name == names::LOCK
-                || name == names::MARKER
-                || is_partial_name(&name, names::written)
-                || (self.earlier.contains(&name) && e.path().is_file());
-            if !ours {
-                out.push(name);
-            }
-        }
-        out.sort();
-        Ok(out)
+        foreign_in(&self.path, &self.earlier)
     }
 
     /// Whether the folder held an earlier run's results table (which this
@@ -313,21 +261,53 @@ impl OutDir {
     }
 }
 
-/// Whether the open file `f` is still the file named `path` (same device
-/// and inode): a lock file removed and made again is another file.
-#[cfg(unix)]
-fn same_file(f: &File, path: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt as _;
-    match (f.metadata(), std::fs::metadata(path)) {
-        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
-        _ => false,
+/// Entries of the folder `path` that tswm did not write: anything but
+/// the lock, the marker, partial files and the files `earlier` (the
+/// marker) lists.
+fn foreign_in(path: &Path, earlier: &[String]) -> Result<Vec<String>> {
+    let entries = std::fs::read_dir(path).map_err(|e| Error::io(path, e))?;
+    let mut out = Vec::new();
+    for e in entries {
+        let e = e.map_err(|e| Error::io(path, e))?;
+        let name = e.file_name().to_string_lossy().into_owned();
+        let ours = name == names::LOCK
+            || name == names::MARKER
+            || is_partial_name(&name, names::written)
+            || (earlier.contains(&name) && e.path().is_file());
+        if !ours {
+            out.push(name);
+        }
     }
+    out.sort();
+    Ok(out)
 }
 
-/// Elsewhere an open file cannot be removed, so the name still leads to it.
-#[cfg(not(unix))]
-fn same_file(_: &File, path: &Path) -> bool {
-    path.exists()
+/// The refusal of a folder holding `foreign` files (none: accepted).
+fn refuse_foreign(path: &Path, foreign: &[String]) -> Result<()> {
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    let more = foreign.len().saturating_sub(5);
+    let shown: Vec<String> = foreign
+        .iter()
+        .take(5)
+        .map(|n| crate::error::shown(n, 40))
+        .collect();
+    Err(Error::input(
+        path,
+        None,
+        Some("--out"),
+        format!(
+            "holds files tswm did not write ({}{}); allowed: a new or empty folder, or the \
+             folder of an earlier tswm run (whose results a run replaces)",
+            shown.join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        ),
+    ))
 }
 
 fn file_name(p: &Path) -> String {

@@ -12,6 +12,7 @@ pub mod csv_lines;
 pub mod digest;
 pub mod float_text;
 pub mod folder;
+mod lock;
 pub mod provenance;
 pub mod short_bytes;
 pub mod table;

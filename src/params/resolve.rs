@@ -62,16 +62,24 @@ impl Spec {
         match p {
             Param::Motor => {
                 self.motor = Some(parse_law(text).ok_or_else(|| {
+                    let laws = MotorKind::ALL.map(MotorKind::name);
                     format!(
-                        "`{}` is not a motor law; allowed: kloss, constant",
-                        quoted()
+                        "`{}` is not a motor law{}; allowed: {}",
+                        quoted(),
+                        crate::error::did_you_mean(text, laws),
+                        laws.join(", ")
                     )
                 })?)
             }
             Param::Friction => {
                 self.friction = Some(parse_law(text).ok_or_else(|| {
-                    let laws = FrictionKind::ALL.map(FrictionKind::name).join(", ");
-                    format!("`{}` is not a friction law; allowed: {laws}", quoted())
+                    let laws = FrictionKind::ALL.map(FrictionKind::name);
+                    format!(
+                        "`{}` is not a friction law{}; allowed: {}",
+                        quoted(),
+                        crate::error::did_you_mean(text, laws),
+                        laws.join(", ")
+                    )
                 })?)
             }
             Param::FrictionTable => self.friction_table = Some(TableName::new(text)?),

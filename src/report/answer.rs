@@ -96,7 +96,10 @@ fn ranges(page: &mut Page, f: &Folder, sweep: &Sweep) {
         .map(|(c, e)| {
             let mut notes = Vec::new();
             if crate::columns::is_inverse_efficiency(c.name) && e.at_most_zero > 0 {
-                notes.push(format!("<= 0 (self-locking) in {} of {}", e.at_most_zero, e.count));
+                notes.push(format!(
+                    "<= 0 (self-locking) in {} of {}",
+                    e.at_most_zero, e.count
+                ));
             }
             if e.at_rest > 0 {
                 notes.push(format!(
@@ -107,7 +110,14 @@ fn ranges(page: &mut Page, f: &Folder, sweep: &Sweep) {
             let note = notes.join("; ");
             if e.count == 0 {
                 let none = "none".to_string();
-                return vec![c.label(), none.clone(), String::new(), none, String::new(), note];
+                return vec![
+                    c.label(),
+                    none.clone(),
+                    String::new(),
+                    none,
+                    String::new(),
+                    note,
+                ];
             }
             vec![
                 c.label(),

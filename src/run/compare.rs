@@ -197,17 +197,24 @@ impl Report {
             100.0 * self.agree_share(),
             100.0 * AGREE_SHARE
         );
+        // The name column as wide as the longest name, so the table lines up.
+        let wide = compared()
+            .iter()
+            .map(|c| c.name.len())
+            .max()
+            .unwrap_or(6)
+            .max("column".len());
         let _ = writeln!(
             s,
-            "{:<16} {:>12} {:>8} {:>10}  worst lane",
-            "column", "worst", "bound", "lanes over"
+            "{:<wide$} {:>10} {:>6} {:>10} {:>10}",
+            "column", "worst", "bound", "lanes over", "worst lane"
         );
         for (i, c) in compared().into_iter().enumerate() {
             let bound = bound(c);
             let (w, lane) = self.worst[i];
             let _ = writeln!(
                 s,
-                "{:<16} {w:>12.3e} {bound:>8.0e} {:>10}  {lane}",
+                "{:<wide$} {w:>10.3e} {bound:>6.0e} {:>10} {lane:>10}",
                 c.name, self.over[i]
             );
         }

@@ -2,9 +2,11 @@
 //! to a sink ([`pipeline`](mod@pipeline)), a run written to its folder ([`write`](mod@write)) and
 //! its summary line ([`summary`]), shards of a run and their manifests
 //! ([`shard`]), their merge ([`merge`], verified by [`verify`]), and the
-//! CPU against the GPU ([`compare`]).
+//! CPU against the GPU ([`compare`]), and what a run will cost, from a
+//! trial before it ([`estimate`]).
 
 pub mod compare;
+pub mod estimate;
 pub mod merge;
 pub mod pipeline;
 pub mod shard;

@@ -86,7 +86,9 @@ impl Summary {
             integrating,
             sinking,
         } = self.busy;
-        if sinking <= integrating || integrating <= 0.0 {
+        // Below a twentieth of a second neither time is worth a word:
+        // both round to nothing on the line.
+        if sinking <= integrating || integrating <= 0.0 || sinking < 0.05 {
             return String::new();
         }
         format!(

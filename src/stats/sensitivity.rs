@@ -20,6 +20,7 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use super::sobol::{resample_counts, Accumulator, Bootstrap, Index, MAX_UNITS};
+use crate::columns::Kind;
 use crate::columns::{indicators, number_columns, Indicator};
 use crate::error::Result;
 use crate::input::sweep::Sensitivity;
@@ -30,6 +31,17 @@ use crate::params::Num;
 /// The columns of `sensitivity.csv`.
 pub const SENSITIVITY_COLUMNS: &str =
     "group,result,input,s1,s1_low,s1_high,st,st_low,st_high,samples";
+
+/// The type of each of [`SENSITIVITY_COLUMNS`]' cells, in its order.
+pub const SENSITIVITY_KINDS: [Kind; 10] = {
+    use Kind::{Float as F, Int as I, Text as T};
+    [I, T, T, F, F, F, F, F, F, I]
+};
+
+/// [`SENSITIVITY_COLUMNS`] with [`SENSITIVITY_KINDS`].
+pub fn sensitivity_fields() -> impl Iterator<Item = (&'static str, Kind)> {
+    SENSITIVITY_COLUMNS.split(',').zip(SENSITIVITY_KINDS)
+}
 
 /// A sensitivity design as the statistics need it.
 #[derive(Clone, Debug, PartialEq)]
@@ -203,6 +215,14 @@ impl SensitivityCsv {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_sensitivity_column_has_its_kind() {
+        assert_eq!(
+            SENSITIVITY_COLUMNS.split(',').count(),
+            SENSITIVITY_KINDS.len()
+        );
+    }
     use crate::stats::sobol::resample_counts;
 
     /// A row group with a lane that is not ok is dropped for every result

@@ -11,7 +11,7 @@ use super::moments::Moments;
 use super::quantile::{self, Sketch, PROBS};
 use super::sensitivity::SensitivityCsv;
 use super::{spearman, wilson};
-use crate::columns::{number_columns, results, Of, Summary};
+use crate::columns::{number_columns, results, Kind, Of, Summary};
 use crate::error::Result;
 use crate::output::csv_lines::{push_f64, CsvLines};
 use crate::output::names::SENSITIVITY;
@@ -129,6 +129,22 @@ pub struct Stats {
 /// The columns of `summary.csv` after `group` and the grid's parameters.
 pub const SUMMARY_COLUMNS: &str = "kind,name,input,count,mean,std,min,p1,p5,p50,p95,p99,max,\
 quantiles,share,ci95_low,ci95_high,rho";
+
+/// The type of each of [`SUMMARY_COLUMNS`]' cells, in its order (a
+/// reader, Python's `tswm.summary`, takes them so and guesses nothing).
+pub const SUMMARY_KINDS: [Kind; 18] = {
+    use Kind::{Float as F, Int as I, Text as T};
+    [T, T, T, I, F, F, F, F, F, F, F, F, F, T, F, F, F, F]
+};
+
+/// The type of `summary.csv`'s first column, `group` (a grid point's
+/// index); the grid's parameters follow it, typed as parameters.
+pub const GROUP_KIND: Kind = Kind::Int;
+
+/// [`SUMMARY_COLUMNS`] with [`SUMMARY_KINDS`].
+pub fn summary_fields() -> impl Iterator<Item = (&'static str, Kind)> {
+    SUMMARY_COLUMNS.split(',').zip(SUMMARY_KINDS)
+}
 
 impl Stats {
     /// Starts `path` for lanes grouped by `grouping`.
@@ -287,4 +303,14 @@ fn num(v: f64) -> String {
     let mut s = String::new();
     push_f64(&mut s, v);
     s
+}
+
+#[cfg(test)]
+mod kinds_tests {
+    use super::*;
+
+    #[test]
+    fn every_summary_column_has_its_kind() {
+        assert_eq!(SUMMARY_COLUMNS.split(',').count(), SUMMARY_KINDS.len());
+    }
 }

@@ -380,9 +380,9 @@ fn every_python_and_sql_block_runs_as_written() {
         install: "pip install pandas polars pyarrow duckdb SALib, or set TSWM_PYTHON",
     };
     const NEEDS_TSWM: crate::reference::Needs = crate::reference::Needs {
-        modules: "tswm, pandas, polars, pyarrow",
+        modules: "tswm, pandas, polars, pyarrow, dask.distributed, dask.dataframe",
         vars: &["TSWM_PYTHON"],
-        install: "pip install ./python in it, or set TSWM_PYTHON",
+        install: "pip install ./python \"dask[distributed,dataframe]\" in it, or set TSWM_PYTHON",
     };
     let Some(py) = crate::reference::python_for(&NEEDS, "the docs' Python snippets") else {
         return;

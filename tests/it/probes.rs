@@ -57,7 +57,8 @@ fn a_sweep_too_large_for_one_run_is_refused_with_the_shards_that_fit() {
         &[
             "s.toml",
             "1000000000000 lanes",
-            "at least 1000 shards",
+            "at least 1000 parts",
+            "as 1000 shards",
             "--shard K/1000",
         ],
     );

@@ -268,6 +268,7 @@ fn five_hundred_random_sweeps_get_their_reports() {
             no_report: false,
             shard: None,
             format: tswm::output::table::Format::Csv,
+            dry_run: false,
         };
         run(&lanes, &flags, &Default::default())
             .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));

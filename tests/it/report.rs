@@ -211,7 +211,11 @@ fn every_shipped_sweep_gets_a_self_contained_report_that_renders() {
                 "at rest left out (no running point)",
                 "&lt;= 0: self-locking",
             ],
-            "tolerance" => &["Tolerance study", "what moves lock_margin_deg", "empirical CDF"],
+            "tolerance" => &[
+                "Tolerance study",
+                "what moves lock_margin_deg",
+                "empirical CDF",
+            ],
             "million" => &["Results against f2", "1000000 lanes"],
             "heterogeneous" => &["Tolerance study", "empirical CDF", "200000 lanes"],
             _ => &["Outcome against gamma_deg", ">held<", "Requirement"],

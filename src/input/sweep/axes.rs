@@ -91,7 +91,6 @@ pub(super) fn numeric_param(name: &str) -> std::result::Result<Num, String> {
 fn axis_values(
     a: &AxisDef,
 ) -> std::result::Result<AxisValues, (Option<std::ops::Range<usize>>, String)> {
-    let get = |x: &Option<Spanned<f64>>| x.as_ref().map(|v| *v.get_ref());
     match (&a.values, &a.from, &a.to, &a.n) {
         (Some(v), None, None, None) => {
             if let Some(sc) = &a.scale {
@@ -123,48 +122,70 @@ fn axis_values(
             }
             Ok(AxisValues::List(nums))
         }
-        (None, Some(from), Some(to), Some(n)) => {
-            if *n.get_ref() < 1 {
-                return Err((
-                    Some(n.span()),
-                    format!("n must be >= 1, got {}", n.get_ref()),
-                ));
-            }
-            for x in [from, to] {
-                if !x.get_ref().is_finite() {
-                    return Err((Some(x.span()), "from and to must be finite".into()));
-                }
-            }
-            let log = match &a.scale {
-                None => false,
-                Some(sc) => match sc.get_ref().as_str() {
-                    "linear" => false,
-                    "log" => true,
-                    s => {
-                        return Err((
-                            Some(sc.span()),
-                            format!("scale `{s}` is unknown; allowed: linear, log"),
-                        ))
-                    }
-                },
-            };
-            let (from, to) = (get(&a.from).unwrap_or(0.0), get(&a.to).unwrap_or(0.0));
-            if log && !(from > 0.0 && to > 0.0) {
-                return Err((
-                    Some(a.scale.as_ref().map_or(0..0, |s| s.span())),
-                    "scale = \"log\" needs from > 0 and to > 0".into(),
-                ));
-            }
-            Ok(AxisValues::Range {
-                from,
-                to,
-                n: *n.get_ref() as u64,
-                log,
-            })
-        }
+        (None, Some(from), Some(to), Some(n)) => range_values(a, from, to, n),
         _ => Err((
             None,
             "give either values = [...] or from, to and n (with optional scale)".into(),
         )),
     }
+}
+
+/// A range axis's values (`from`, `to`, `n`, `scale`); an error names the
+/// span of the key concerned.
+fn range_values(
+    a: &AxisDef,
+    from: &Spanned<f64>,
+    to: &Spanned<f64>,
+    n: &Spanned<i64>,
+) -> std::result::Result<AxisValues, (Option<std::ops::Range<usize>>, String)> {
+    let get = |x: &Option<Spanned<f64>>| x.as_ref().map(|v| *v.get_ref());
+    if *n.get_ref() < 1 {
+        return Err((
+            Some(n.span()),
+            format!("n must be >= 1, got {}", n.get_ref()),
+        ));
+    }
+    for x in [from, to] {
+        if !x.get_ref().is_finite() {
+            return Err((Some(x.span()), "from and to must be finite".into()));
+        }
+    }
+    if *n.get_ref() == 1 && from.get_ref() != to.get_ref() {
+        // One value between two ends would silently be `from`.
+        return Err((
+            Some(n.span()),
+            format!(
+                "n = 1 gives one value, but from ({}) and to ({}) differ; allowed: n >= 2 \
+                 for the range, from = to, or values = [...] for one value",
+                from.get_ref(),
+                to.get_ref()
+            ),
+        ));
+    }
+    let log = match &a.scale {
+        None => false,
+        Some(sc) => match sc.get_ref().as_str() {
+            "linear" => false,
+            "log" => true,
+            s => {
+                return Err((
+                    Some(sc.span()),
+                    format!("scale `{s}` is unknown; allowed: linear, log"),
+                ))
+            }
+        },
+    };
+    let (from, to) = (get(&a.from).unwrap_or(0.0), get(&a.to).unwrap_or(0.0));
+    if log && !(from > 0.0 && to > 0.0) {
+        return Err((
+            Some(a.scale.as_ref().map_or(0..0, |s| s.span())),
+            "scale = \"log\" needs from > 0 and to > 0".into(),
+        ));
+    }
+    Ok(AxisValues::Range {
+        from,
+        to,
+        n: *n.get_ref() as u64,
+        log,
+    })
 }

@@ -35,7 +35,62 @@ pub(super) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Error 
         };
         return Error::input(path, at, key, format!("must be {want}, got {got}"));
     }
+    if let Some(key) = msg
+        .strip_prefix("missing field `")
+        .and_then(|r| r.split_once('`'))
+        .map(|(k, _)| k)
+    {
+        // A required key left out: name its table and what it takes.
+        let table = e.span().and_then(|s| table_at(text, s.start));
+        let at = table
+            .as_ref()
+            .map(|(line, _)| format!("line {line}"))
+            .or(at);
+        let table = table.map_or(String::new(), |(_, t)| t);
+        return Error::input(path, at, Some(key), missing(&table, key));
+    }
     Error::input(path, at, None, suggest_in(&msg))
+}
+
+/// What a required key of a table takes, for the line that says it is
+/// missing.
+fn missing(table: &str, key: &str) -> String {
+    let what = match key {
+        "seed" => {
+            "a whole number from 0 to 9223372036854775807 (the same seed gives the same draws, \
+             so a run can be repeated exactly)"
+        }
+        "n" if table.contains("sampling") || table.contains("sensitivity") => {
+            "the number of sampled lanes (a whole number >= 1)"
+        }
+        "method" if table.contains("sampling") => "\"monte_carlo\" or \"latin_hypercube\"",
+        "method" => "\"sobol\"",
+        "param" => "the name of a parameter (see the guide's table of parameters)",
+        "dist" => "\"uniform\", \"normal\" or \"triangular\"",
+        _ => "see the guide for this table's keys",
+    };
+    if table.is_empty() {
+        format!("is required and missing; allowed: {what}")
+    } else {
+        format!("is required in {table} and missing; allowed: {what}")
+    }
+}
+
+/// The table header (`[sampling]`, `[[tolerance]]`) in force at byte
+/// `pos` of `text`, with its line: the last header line at or before it.
+fn table_at(text: &str, pos: usize) -> Option<(usize, String)> {
+    let pos = pos.min(text.len());
+    let end = text[pos..].find('\n').map_or(text.len(), |i| pos + i);
+    text[..end]
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim_start().starts_with('['))
+        .last()
+        .map(|(i, l)| {
+            let l = l.trim();
+            let head = l.split('#').next().unwrap_or(l).trim();
+            (i + 1, head.to_string())
+        })
 }
 
 /// The key whose value starts at byte `pos` of `text` (`n` of `n = 2.5`),

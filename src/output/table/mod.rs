@@ -85,6 +85,42 @@ pub enum LanesWriter {
     Parquet(Box<ParquetLanes>, Vec<Cell>),
 }
 
+/// The bytes the rows of `batch` take in a table of `format` (no
+/// header), as its writer writes them: CSV rows formatted on `pool`, or
+/// the batch encoded with `lanes.parquet`'s settings in memory, less the
+/// bytes of an empty file (for the estimate of a run's disk).
+pub fn rows_bytes(format: Format, pool: &rayon::ThreadPool, batch: &RecordBatch) -> Result<u64> {
+    match format {
+        Format::Csv => {
+            let mut bytes = 0u64;
+            CsvBlocks::default().format(pool, batch, |text| {
+                bytes += text.len() as u64;
+                Ok(())
+            })?;
+            Ok(bytes)
+        }
+        Format::Parquet => {
+            let size = |b: Option<&RecordBatch>| -> Result<u64> {
+                let mut w = ::parquet::arrow::ArrowWriter::try_new(
+                    Vec::new(),
+                    batch::schema(),
+                    Some(parquet::writer_properties()),
+                )
+                .map_err(|e| Error::Internal(format!("estimating lanes.parquet: {e}")))?;
+                if let Some(b) = b {
+                    w.write(b)
+                        .map_err(|e| Error::Internal(format!("estimating lanes.parquet: {e}")))?;
+                }
+                let v = w
+                    .into_inner()
+                    .map_err(|e| Error::Internal(format!("estimating lanes.parquet: {e}")))?;
+                Ok(v.len() as u64)
+            };
+            Ok(size(Some(batch))?.saturating_sub(size(None)?))
+        }
+    }
+}
+
 /// Rows given as cells (a merge's) gathered into one batch for Parquet.
 const CELL_ROWS: usize = 8192;
 

@@ -40,6 +40,30 @@ pub struct ParquetLanes {
     groups: usize,
 }
 
+/// The writer's settings of `lanes.parquet` (also what the estimate of a
+/// run's disk writes its trial rows with).
+pub(crate) fn writer_properties() -> WriterProperties {
+    let mut props = WriterProperties::builder()
+        // LZ4_RAW: about a fifth cheaper to encode than Snappy, for a
+        // file of about the same size; pyarrow, pandas, polars and DuckDB
+        // read it (docs/outputs.md's snippets run in a test).
+        .set_compression(Compression::LZ4_RAW)
+        // Words by dictionary (a handful of words a column); numbers
+        // plain: a result takes a new value nearly every lane, and a
+        // dictionary of a million floats costs more than it saves
+        // (a fixed parameter's run of one value LZ4 packs anyway).
+        .set_dictionary_enabled(false)
+        .set_statistics_enabled(EnabledStatistics::Page)
+        .set_max_row_group_row_count(Some(ROW_GROUP))
+        .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")));
+    for (name, kind) in columns() {
+        if kind == Kind::Text {
+            props = props.set_column_dictionary_enabled(ColumnPath::from(name), true);
+        }
+    }
+    props.build()
+}
+
 pub(super) fn parquet_error(path: &Path, e: ::parquet::errors::ParquetError) -> Error {
     Error::io(path, std::io::Error::other(e.to_string()))
 }
@@ -51,25 +75,7 @@ impl ParquetLanes {
         } else {
             AtomicFile::create(path)?
         };
-        let mut props = WriterProperties::builder()
-            // LZ4_RAW: about a fifth cheaper to encode than Snappy, for a
-            // file of about the same size; pyarrow, pandas, polars and DuckDB
-            // read it (docs/outputs.md's snippets run in a test).
-            .set_compression(Compression::LZ4_RAW)
-            // Words by dictionary (a handful of words a column); numbers
-            // plain: a result takes a new value nearly every lane, and a
-            // dictionary of a million floats costs more than it saves
-            // (a fixed parameter's run of one value LZ4 packs anyway).
-            .set_dictionary_enabled(false)
-            .set_statistics_enabled(EnabledStatistics::Page)
-            .set_max_row_group_row_count(Some(ROW_GROUP))
-            .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")));
-        for (name, kind) in columns() {
-            if kind == Kind::Text {
-                props = props.set_column_dictionary_enabled(ColumnPath::from(name), true);
-            }
-        }
-        let props = props.build();
+        let props = writer_properties();
         let pe = |e| parquet_error(path, e);
         let (writer, factory) = ArrowWriter::try_new(file.take_writer(), schema(), Some(props))
             .and_then(ArrowWriter::into_serialized_writer)
