@@ -179,6 +179,19 @@ pub const ETA_INVERSE_SS: &str = "eta_inverse_ss";
 /// See [`LANE`].
 pub const LOCK_MARGIN_DEG: &str = "lock_margin_deg";
 
+/// See [`LANE`].
+pub const V1_END: &str = "v1_end";
+/// See [`LANE`].
+pub const ETA_DIRECT_START: &str = "eta_direct_start";
+/// See [`LANE`].
+pub const ETA_INVERSE_START: &str = "eta_inverse_start";
+/// See [`LANE`].
+pub const T_STOP: &str = "t_stop";
+/// See [`LANE`].
+pub const N1_END: &str = "n1_end";
+/// See [`LANE`].
+pub const N2_END: &str = "n2_end";
+
 /// Bound of `tswm check` on first-switch times, s.
 pub const SWITCH_BOUND: f64 = 2e-5;
 /// Bound of `tswm check` on x1, v1, the works and energies, and the stop
@@ -340,7 +353,7 @@ pub const RESULTS: &[Column] = &[
         ..INTEGRATED
     },
     Column {
-        name: "v1_end",
+        name: V1_END,
         unit: "m/s",
         quantity: "final speed v1",
         meaning: "speed of body 1 at the end",
@@ -483,7 +496,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "eta_direct_start",
+        name: ETA_DIRECT_START,
         quantity: "starting direct efficiency",
         meaning: "tan(gamma) / tan(gamma + rho_s): the starting efficiency (breakaway from rest, \
                   static friction), as catalogues list it beside the running efficiency",
@@ -493,7 +506,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "eta_inverse_start",
+        name: ETA_INVERSE_START,
         quantity: "starting inverse efficiency",
         meaning: "tan(gamma - rho_s) / tan(gamma): the starting back-driving efficiency; <= 0 \
                   exactly when lock_margin_deg >= 0 (statically self-locking)",
@@ -530,7 +543,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "t_stop",
+        name: T_STOP,
         unit: "s",
         quantity: "stop time",
         meaning: "where the lane stopped: t_end, or for a lane that ran on past t_end (t_max), the \
@@ -542,7 +555,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "n1_end",
+        name: N1_END,
         unit: "rpm",
         quantity: "final worm speed",
         meaning: "worm shaft speed where the lane stopped, v1_end / R1 (a lane given in gear terms)",
@@ -552,7 +565,7 @@ pub const RESULTS: &[Column] = &[
         ..ROW
     },
     Column {
-        name: "n2_end",
+        name: N2_END,
         unit: "rpm",
         quantity: "final wheel speed",
         meaning: "wheel shaft speed where the lane stopped, v1_end tan(gamma) / R2 (a lane given in \

@@ -118,6 +118,7 @@ pub fn execute(
     let replaced = dir.held_results();
     dir.commit_run(files)?;
     let mut line = written.summary.line(&be.name(), &table);
+    line.push_str(&paper_note(&plan.source));
     if replaced {
         line.push_str("; replaced the earlier run's results there");
     }
@@ -130,6 +131,17 @@ pub fn execute(
         line,
         batches: std::mem::take(&mut written.batches),
     })
+}
+
+/// "; from the paper's drive (not given): ..." for a run that takes
+/// values of the paper's drive because it leaves them out.
+fn paper_note(source: &crate::input::lanes::Source) -> String {
+    let defaults = crate::params::paper::paper_defaults(&source.given());
+    if defaults.is_empty() {
+        String::new()
+    } else {
+        format!("; {}", crate::params::paper::note(&defaults))
+    }
 }
 
 /// `--dry-run`: the estimate of the run of `plan` (of shard `shard`),

@@ -86,6 +86,11 @@ impl Frame {
         &self.name
     }
 
+    /// The parameters its columns give.
+    pub fn params(&self) -> Vec<Param> {
+        self.columns.iter().map(|(p, _)| *p).collect()
+    }
+
     /// Rows (lanes).
     pub fn rows(&self) -> u64 {
         self.rows

@@ -4,6 +4,7 @@
 //! ([`sampling`]), and lane sets of known character for tests and
 //! benchmarks ([`testmodels`]).
 
+mod drive_given;
 pub mod frame;
 pub mod given;
 pub mod lanes;

@@ -45,7 +45,10 @@ pub fn provenance(
     shard: Option<((u64, u64), (u64, u64))>,
 ) -> String {
     let from = match source {
-        Source::Sweep { .. } => "# every lane follows from this file\n".to_string(),
+        Source::Sweep { file, .. } => format!(
+            "# every lane follows from this file\n{SWEEP_LINE}{}\n",
+            toml_string(&file.display().to_string())
+        ),
         Source::Table { table, .. } => format!(
             "{TABLE_LINE}{} ({} rows) over the [base] and [friction_table] below\n",
             toml_string(&table.name().display().to_string()),
@@ -53,6 +56,12 @@ pub fn provenance(
         ),
     };
     let resolved = source.resolved_text(trace);
+    let defaults = crate::params::paper::paper_defaults(&source.given());
+    let paper = if defaults.is_empty() {
+        String::new()
+    } else {
+        format!("# {}\n", crate::params::paper::note(&defaults))
+    };
     let (shard_line, run) = match shard {
         Some(((k, n), (a, b))) => (
             format!(
@@ -65,7 +74,7 @@ pub fn provenance(
         None => (String::new(), source.lane_count()),
     };
     format!(
-        "# tswm {} resolved sweep\n{from}\
+        "# tswm {} resolved sweep\n{from}{paper}\
          # backend: {}, tol: {tol:e}\n\
          {LANES_LINE}{}\n\
          {shard_line}{}{resolved}",
@@ -102,6 +111,54 @@ pub fn read_resolved(path: &Path, text: &str) -> Result<(Sweep, u64)> {
     })?;
     let lanes = from_lane_table(text).then_some(stated);
     Ok((Sweep::parse_with_lanes(path, text, lanes)?, stated))
+}
+
+/// How `sweep.resolved.toml` names the sweep file it was resolved from.
+pub const SWEEP_LINE: &str = "# sweep: ";
+
+/// What a run's lanes came from, as its `sweep.resolved.toml` names it:
+/// the sweep file's or the lane table's name (without its folders), or
+/// "" where the header names neither.
+pub fn stated_source(text: &str) -> String {
+    let name = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .find_map(|l| {
+            l.strip_prefix(SWEEP_LINE)
+                .or_else(|| l.strip_prefix(TABLE_LINE))
+                .and_then(|r| toml::from_str::<toml::Value>(&format!("x = {}", quoted(r))).ok())
+                .and_then(|v| v.get("x").and_then(|x| x.as_str().map(str::to_string)))
+        })
+        .unwrap_or_default();
+    Path::new(&name)
+        .file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+}
+
+/// The quoted string at the start of `r` (a header line's rest).
+fn quoted(r: &str) -> &str {
+    let mut escaped = false;
+    for (i, c) in r.char_indices().skip(1) {
+        match c {
+            '\\' if !escaped => escaped = true,
+            '"' if !escaped => return &r[..=i],
+            _ => escaped = false,
+        }
+    }
+    r
+}
+
+/// The paper's drive's values a run took by default, as its
+/// `sweep.resolved.toml` states them (empty when none).
+pub fn stated_paper_defaults(text: &str) -> String {
+    text.lines()
+        .take_while(|l| l.starts_with('#'))
+        .find_map(|l| {
+            l.strip_prefix("# ")
+                .and_then(|r| r.strip_prefix(crate::params::paper::PHRASE))
+        })
+        .unwrap_or("")
+        .to_string()
 }
 
 /// How `sweep.resolved.toml` begins its line of the run's lane count.

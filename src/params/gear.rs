@@ -100,6 +100,15 @@ pub fn has_gear_form(p: Num) -> bool {
     p == Num::GammaDeg || PAIRS.iter().any(|&(_, w, ..)| w == p)
 }
 
+/// The wedge parameter a gear term gives (`t2` gives `f2`; each part of
+/// the catalogue geometry, `gamma_deg`), if any.
+pub fn gives(g: Num) -> Option<Num> {
+    if CATALOGUE.contains(&g) {
+        return Some(Num::GammaDeg);
+    }
+    PAIRS.iter().find(|&&(t, ..)| t == g).map(|&(_, w, ..)| w)
+}
+
 /// rad/s in one rpm.
 pub const RAD_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
 

@@ -10,6 +10,7 @@
 mod check;
 pub mod gear;
 mod lane;
+pub mod paper;
 mod resolve;
 pub mod table;
 pub mod table_name;

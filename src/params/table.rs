@@ -111,6 +111,9 @@ pub struct Def {
     pub integer: bool,
     /// Why the range is what it is, when that is not obvious.
     pub why: &'static str,
+    /// Its default is the paper's drive's value (docs/model.md section 7),
+    /// not a neutral one: a run that leaves it out says so.
+    pub paper: bool,
 }
 
 /// Any parameter: numeric, or one of the two law selectors.
@@ -171,30 +174,31 @@ const ROW: Def = Def {
     above: None,
     integer: false,
     why: "",
+    paper: false,
 };
 
 parameter_table! {
     num M1 { name: "m1", unit: "kg", meaning: "reduced mass of the worm side",
         default: Fallback::Value(586.0), lo: Bound::Closed(1e-3), hi: Bound::Closed(1e9),
-        why: "a physical reduced mass", ..ROW }
+        why: "a physical reduced mass", paper: true, ..ROW }
     num M2 { name: "m2", unit: "kg", meaning: "reduced mass of the wheel side",
         default: Fallback::Value(10275.0), lo: Bound::Closed(1e-3), hi: Bound::Closed(1e9),
-        why: "a physical reduced mass", ..ROW }
+        why: "a physical reduced mass", paper: true, ..ROW }
     num GammaDeg { name: "gamma_deg", unit: "deg", meaning: "lead angle",
         default: Fallback::Value(5.710593137499643), // atan(0.1)
         lo: Bound::Closed(0.5), hi: Bound::Closed(85.0),
-        why: "worm lead angles; towards 0 or 90 deg the efficiencies lose meaning", ..ROW }
+        why: "worm lead angles; towards 0 or 90 deg the efficiencies lose meaning", paper: true, ..ROW }
     num F2 { name: "f2", unit: "N", meaning: "load on body 2 (+ overhauling, - resisting)",
-        default: Fallback::Value(4774.0), ..ROW }
+        default: Fallback::Value(4774.0), paper: true, ..ROW }
     selector Motor
     num VSync { name: "v_sync", unit: "m/s", meaning: "Kloss motor: synchronous speed",
         default: Fallback::Value(3.35), owner: Owner::Kloss, lo: Bound::Open(0.0),
-        hi: Bound::Closed(100.0), why: "sliding speeds of real drives", ..ROW }
+        hi: Bound::Closed(100.0), why: "sliding speeds of real drives", paper: true, ..ROW }
     num VCrit { name: "v_crit", unit: "m/s", meaning: "Kloss motor: speed at the peak force",
         default: Fallback::Value(2.07), owner: Owner::Kloss, lo: Bound::Closed(0.0),
-        below: Some(Num::VSync), ..ROW }
+        below: Some(Num::VSync), paper: true, ..ROW }
     num FCrit { name: "f_crit", unit: "N", meaning: "Kloss motor: peak force",
-        default: Fallback::Value(4375.0), owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::Value(4375.0), owner: Owner::Kloss, lo: Bound::Open(0.0), paper: true, ..ROW }
     num F1 { name: "f1", unit: "N", meaning: "force of a constant motor",
         owner: Owner::ConstantMotor, ..ROW }
     num MotorOff { name: "motor_off", unit: "s", meaning: "motor force 0 from this time",
@@ -229,7 +233,7 @@ parameter_table! {
         default: Fallback::Value(0.0), lo: Bound::Closed(-100.0), hi: Bound::Closed(100.0),
         why: "sliding speeds of real drives", ..ROW }
     num TEnd { name: "t_end", unit: "s", meaning: "simulated time",
-        default: Fallback::Value(2.0), lo: Bound::Open(0.0), hi: Bound::Closed(1e5), ..ROW }
+        default: Fallback::Value(2.0), lo: Bound::Open(0.0), hi: Bound::Closed(1e5), paper: true, ..ROW }
     num TMax { name: "t_max", unit: "s",
         meaning: "a lane still coasting at t_end after its motor is cut runs on to this time at most",
         default: Fallback::Never, hi: Bound::Closed(1e6), above: Some(Num::TEnd),

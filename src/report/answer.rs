@@ -58,6 +58,11 @@ pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
         s.push('.');
     }
     page.answer(&s);
+    if let Some(sheet) = &f.sheet {
+        // A small run says in words what each drive does and whether it
+        // is self-locking (its data sheet follows).
+        page.answer(&sheet.sentences().join(" "));
+    }
     let stalled = f.by_outcome[super::outcome::STALLED];
     if stalled > 0 {
         page.warning(&format!(
@@ -76,72 +81,7 @@ pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
             super::lanes_text(f.unfinished_total).trim_end_matches('.')
         ));
     }
-    ranges(page, f, sweep);
-}
-
-/// The lowest and highest value of each plotted result, and where.
-fn ranges(page: &mut Page, f: &Folder, sweep: &Sweep) {
-    let at = |lane: u64| {
-        if sweep.axes.is_empty() {
-            format!("lane {lane}")
-        } else {
-            super::aggregates::panel_short(sweep, &[], lane / f.samples.max(1))
-        }
-    };
-    let rows: Vec<Vec<String>> = f
-        .results
-        .iter()
-        .zip(&f.extremes)
-        .filter(|(_, e)| e.count > 0 || e.at_rest > 0)
-        .map(|(c, e)| {
-            let mut notes = Vec::new();
-            if crate::columns::is_inverse_efficiency(c.name) && e.at_most_zero > 0 {
-                notes.push(format!(
-                    "<= 0 (self-locking) in {} of {}",
-                    e.at_most_zero, e.count
-                ));
-            }
-            if e.at_rest > 0 {
-                notes.push(format!(
-                    "{} at rest left out (no running point)",
-                    super::lanes_text(e.at_rest).trim_end_matches('.')
-                ));
-            }
-            let note = notes.join("; ");
-            if e.count == 0 {
-                let none = "none".to_string();
-                return vec![
-                    c.label(),
-                    none.clone(),
-                    String::new(),
-                    none,
-                    String::new(),
-                    note,
-                ];
-            }
-            vec![
-                c.label(),
-                plots::tick(e.min.0),
-                at(e.min.1),
-                plots::tick(e.max.0),
-                at(e.max.1),
-                note,
-            ]
-        })
-        .collect();
-    if rows.is_empty() {
-        return;
-    }
-    let mut head = vec!["result (finished lanes)", "lowest", "at", "highest", "at"];
-    let mut rows = rows;
-    if rows.iter().any(|r| !r[5].is_empty()) {
-        head.push("");
-    } else {
-        rows.iter_mut().for_each(|r| {
-            r.pop();
-        });
-    }
-    page.table(&head, &rows);
+    super::ranges::ranges(page, f, sweep);
 }
 
 /// At the top: lanes whose question is not answered yet (still coasting
@@ -208,6 +148,28 @@ fn runs(x: &XAxis, idx: &[usize]) -> String {
 
 /// The answer to the sweep's design requirement, in sentences and a
 /// marked plot per panel.
+/// Says why the requirement cannot be answered, when no lane has a value
+/// of its column (counting them as "not met" would answer a question the
+/// run did not ask); whether it said so.
+fn unanswerable(page: &mut Page, r: &RequireData) -> bool {
+    if r.valued > 0 {
+        return false;
+    }
+    let req = &r.req;
+    let why = crate::columns::result(req.column).map_or("", |c| c.empty);
+    page.warning(&format!(
+        "Requirement `{}` cannot be answered: no lane has a value of {} (it is empty when {}).",
+        req.text(),
+        req.column,
+        if why.is_empty() {
+            "the lane has none"
+        } else {
+            why
+        }
+    ));
+    true
+}
+
 pub(super) fn requirement(page: &mut Page, r: &RequireData) {
     let req = &r.req;
     page.section("Requirement");
@@ -226,6 +188,9 @@ pub(super) fn requirement(page: &mut Page, r: &RequireData) {
             percent(req.at_least)
         )
     };
+    if unanswerable(page, r) {
+        return;
+    }
     let Some(axis) = &r.x else {
         page.answer(&format!("Requirement {want}: {}", whole_run(r)));
         return;

@@ -218,6 +218,33 @@ fn significant(v: f64, digits: usize) -> String {
     }
 }
 
+/// Whether `values` (at least two) are evenly spaced after `f` (the
+/// identity for a linear scale, ln for a log one).
+fn evenly_spaced(values: &[f64], f: &dyn Fn(f64) -> f64) -> bool {
+    let n = values.len();
+    if n < 2 {
+        return false;
+    }
+    let (a, b) = (f(values[0]), f(values[n - 1]));
+    let step = (b - a) / (n - 1) as f64;
+    let tol = 1e-9 * a.abs().max(b.abs()).max(step.abs());
+    step != 0.0
+        && values
+            .iter()
+            .enumerate()
+            .all(|(i, &v)| (f(v) - (a + i as f64 * step)).abs() <= tol)
+}
+
+/// Whether grid values drawn as equal cells read as a scale: at most two
+/// values, or evenly spaced on a linear or a log scale. Others (`values =
+/// [1, 2, 5, 10, 30]`) are drawn one cell each, and their axis says so.
+pub fn reads_as_scale(values: &[f64]) -> bool {
+    values.len() <= 2
+        || values.iter().any(|v| !v.is_finite())
+        || evenly_spaced(values, &|v| v)
+        || (values.iter().all(|&v| v > 0.0) && evenly_spaced(values, &|v: f64| v.ln()))
+}
+
 /// Round ticks along grid values evenly spaced on a linear or a log
 /// scale, at their fractional positions (value i at position i): the
 /// values a person reads off an axis, not the grid's 0.1019. Empty for
@@ -228,16 +255,7 @@ pub fn round_ticks(values: &[f64], max_labels: usize) -> Vec<(f64, String)> {
         return Vec::new();
     }
     let (v0, vn) = (values[0], values[n - 1]);
-    let even = |f: &dyn Fn(f64) -> f64| {
-        let (a, b) = (f(v0), f(vn));
-        let step = (b - a) / (n - 1) as f64;
-        let tol = 1e-9 * a.abs().max(b.abs()).max(step.abs());
-        step != 0.0
-            && values
-                .iter()
-                .enumerate()
-                .all(|(i, &v)| (f(v) - (a + i as f64 * step)).abs() <= tol)
-    };
+    let even = |f: &dyn Fn(f64) -> f64| evenly_spaced(values, f);
     let (lo, hi) = (v0.min(vn), v0.max(vn));
     let mut ticks: Vec<(f64, f64)> = Vec::new();
     if even(&|v| v) {

@@ -4,7 +4,7 @@
 
 use plotters::prelude::*;
 
-use super::plots::{chart, err, inline, Axis, Coord, SIZE};
+use super::plots::{chart, err, inline, Axis, Coord, LABEL_PX, SIZE};
 
 /// One curve of a line chart: name, points, and an optional band (x,
 /// low, high) around it.
@@ -255,9 +255,9 @@ pub fn histogram(
         let mut c = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 15))
             .margin(10)
-            .x_label_area_size(42)
-            .y_label_area_size(60)
-            .right_y_label_area_size(50)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .right_y_label_area_size(60)
             .build_cartesian_2d(x.coord(), y.coord())
             .map_err(err)?
             .set_secondary_coord(x.coord(), cdf.coord());
@@ -268,6 +268,8 @@ pub fn histogram(
         );
         c.configure_mesh()
             .disable_mesh()
+            .label_style(("sans-serif", LABEL_PX))
+            .axis_desc_style(("sans-serif", LABEL_PX))
             .x_desc(x.desc())
             .y_desc("lanes")
             .x_label_formatter(&fx)
@@ -275,6 +277,8 @@ pub fn histogram(
             .draw()
             .map_err(err)?;
         c.configure_secondary_axes()
+            .label_style(("sans-serif", LABEL_PX))
+            .axis_desc_style(("sans-serif", LABEL_PX))
             .y_desc("empirical CDF")
             .y_label_formatter(&fc)
             .draw()
@@ -315,13 +319,15 @@ pub fn tornado(title: &str, bars: &[(String, f64)]) -> Result<String, String> {
         let mut c = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 15))
             .margin(10)
-            .x_label_area_size(40)
+            .x_label_area_size(50)
             .y_label_area_size(110)
             .build_cartesian_2d(x.coord(), Coord::bare(0.0, n as f64))
             .map_err(err)?;
         let fx = |v: &f64| x.label_of(*v);
         c.configure_mesh()
             .disable_y_mesh()
+            .label_style(("sans-serif", LABEL_PX))
+            .axis_desc_style(("sans-serif", LABEL_PX))
             .x_desc(x.desc())
             .y_label_formatter(&|_| String::new())
             .x_label_formatter(&fx)

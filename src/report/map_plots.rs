@@ -117,7 +117,7 @@ fn legend(root: &DrawingArea<SVGBackend, plotters::coord::Shift>, marks: &HeatMa
         root.draw(&Text::new(
             format!("<= 0: {word}"),
             (x0 + 16, y0),
-            ("sans-serif", 11),
+            ("sans-serif", 13),
         ))
         .map_err(err)?;
         y0 += 18;
@@ -131,7 +131,7 @@ fn legend(root: &DrawingArea<SVGBackend, plotters::coord::Shift>, marks: &HeatMa
         root.draw(&Text::new(
             word.to_string(),
             (x0 + 16, y0),
-            ("sans-serif", 11),
+            ("sans-serif", 13),
         ))
         .map_err(err)?;
     }
@@ -159,14 +159,14 @@ fn colour_bar(
         .margin_bottom(50)
         .margin_right(25)
         .y_label_area_size(55)
-        .caption(range.label(name), ("sans-serif", 11))
+        .caption(range.label(name), ("sans-serif", 13))
         .build_cartesian_2d(Coord::bare(0.0, 1.0), y.coord())
         .map_err(err)?;
     let fy = |v: &f64| y.label_of(*v);
     c.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_label_style(("sans-serif", 12))
+        .y_label_style(("sans-serif", 13))
         .y_label_formatter(&fy)
         .draw()
         .map_err(err)?;

@@ -18,10 +18,12 @@ mod lines;
 pub mod map_plots;
 mod outcome;
 pub mod plots;
+mod ranges;
 mod require;
 mod scan;
 mod sections;
 mod sensitivity;
+mod sheet;
 mod stream;
 mod summary_rows;
 mod trace;
@@ -142,6 +144,37 @@ pub fn scan_for(sweep: &Sweep, format: Format, stated: u64) -> Option<Scan> {
         .then(|| Scan::new(Folder::start(format.file_name(), sweep), sweep, stated))
 }
 
+/// What ran and where: "tswm report: paper.toml, 2 lanes (folder out)",
+/// from its `sweep.resolved.toml` (`text`), folder and lane count.
+fn default_title(text: &str, dir: &Path, stated: u64) -> String {
+    let source = crate::output::provenance::stated_source(text);
+    let folder_name = dir
+        .canonicalize()
+        .unwrap_or(dir.to_path_buf())
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let lanes = lanes_text(stated);
+    let lanes = lanes.trim_end_matches('.');
+    if source.is_empty() {
+        format!("tswm report: {lanes} (folder {folder_name})")
+    } else {
+        format!("tswm report: {source}, {lanes} (folder {folder_name})")
+    }
+}
+
+/// The values of the paper's drive the run took because it left them
+/// out, as its `sweep.resolved.toml` (`text`) states them: a warning.
+fn paper_defaults(page: &mut Page, text: &str) {
+    let paper = crate::output::provenance::stated_paper_defaults(text);
+    if !paper.is_empty() {
+        page.warning(&format!(
+            "This run takes values of the paper's drive it was not given: {paper}. Set them \
+             in [base] (or a lane table's columns) where the drive is another."
+        ));
+    }
+}
+
 /// The report of the run in `dir`, from `scan` when given.
 fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
     let resolved_path = dir.join(RESOLVED);
@@ -161,23 +194,21 @@ fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
         None => Folder::read(dir, &sweep, stated)?,
     };
     let spec = &sweep.report;
-    let title = spec.title.clone().unwrap_or_else(|| {
-        format!(
-            "tswm report: {}",
-            dir.canonicalize()
-                .unwrap_or(dir.to_path_buf())
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default()
-        )
-    });
+    let title = spec
+        .title
+        .clone()
+        .unwrap_or_else(|| default_title(&text, dir, stated));
     let mut page = Page::new(&title);
     // Results first: what was found, what is not decided yet, the answer
     // to the requirement; what was run comes last.
     answer::findings(&mut page, &folder, &sweep);
+    paper_defaults(&mut page, &text);
     answer::undecided(&mut page, &folder);
     if let Some(r) = &folder.require {
         answer::requirement(&mut page, r);
+    }
+    if let Some(sheet) = &folder.sheet {
+        sheet.section(&mut page);
     }
 
     sections::outcomes(&mut page, &folder);

@@ -33,6 +33,11 @@ pub fn tick(v: f64) -> String {
     super::axis::number(v, v.abs() * 1e-4)
 }
 
+/// The font size of tick labels and axis titles, px: a figure is shown
+/// at its own width (two a row), so these are the sizes read, beside the
+/// page's 14 to 16 px text.
+pub const LABEL_PX: u32 = 14;
+
 /// Most labelled categories on an axis (the others are drawn unlabelled).
 const MAX_LABELS: usize = 8;
 
@@ -80,8 +85,15 @@ impl Axis {
     /// more values than are labelled one by one, evenly spaced on a
     /// linear or log scale, get ticks at round values between them.
     pub fn grid(label: &str, values: &[f64]) -> Axis {
+        // Unevenly spaced values drawn as equal cells are no scale: the
+        // axis title says so, and each labelled cell names its value.
+        let label = if super::axis::reads_as_scale(values) {
+            label.to_string()
+        } else {
+            format!("{label}; uneven values, one cell each")
+        };
         Axis::Cat {
-            label: label.to_string(),
+            label,
             names: value_labels(values),
             ticks: if values.len() > MAX_LABELS {
                 super::axis::round_ticks(values, MAX_LABELS)
@@ -228,8 +240,8 @@ pub(super) fn chart<'a, 'b>(
         .caption(title, ("sans-serif", 15))
         .margin(10)
         .margin_right(18)
-        .x_label_area_size(42)
-        .y_label_area_size(74)
+        .x_label_area_size(50)
+        .y_label_area_size(84)
         .build_cartesian_2d(x.coord(), y.coord())
         .map_err(err)?;
     let (fx, fy) = (|v: &f64| x.label_of(*v), |v: &f64| y.label_of(*v));
@@ -239,7 +251,9 @@ pub(super) fn chart<'a, 'b>(
     } else {
         m.light_line_style(WHITE.mix(0.0));
     }
-    m.x_desc(x.desc())
+    m.label_style(("sans-serif", LABEL_PX))
+        .axis_desc_style(("sans-serif", LABEL_PX))
+        .x_desc(x.desc())
         .y_desc(y.desc())
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)

@@ -38,6 +38,10 @@ pub struct RequireData {
     pub panel_total: u64,
     /// Per panel, per point: (passing, counted).
     pub counts: Vec<Vec<(u64, u64)>>,
+    /// Lanes whose cell of the tested column has a value: none, and the
+    /// requirement cannot be answered (the column is empty by its
+    /// definition for every lane, e.g. `hold` without `motor_off`).
+    pub valued: u64,
     lens: Vec<u64>,
     idx: Vec<u64>,
     iaxis: usize,
@@ -86,6 +90,7 @@ impl RequireData {
             lens,
             iaxis: iaxis.unwrap_or(0),
             cap,
+            valued: 0,
         }
     }
 

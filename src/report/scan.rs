@@ -82,6 +82,11 @@ pub struct Folder {
     pub groups_total: usize,
     pub traces: Vec<TraceData>,
     pub require: Option<RequireData>,
+    /// Each traced lane's parameters (the grid's and the sampled) and
+    /// outcome in words, for its panel's heading.
+    pub trace_labels: Vec<(u64, String)>,
+    /// The data sheet of a small run (none past `sheet::SHEET_LANES`).
+    pub sheet: Option<super::sheet::Sheet>,
 }
 
 /// The words of a word column of the results table.
@@ -140,6 +145,8 @@ impl Folder {
             groups: Vec::new(),
             groups_total: 0,
             traces: Vec::new(),
+            trace_labels: Vec::new(),
+            sheet: None,
             require: spec
                 .require
                 .as_ref()

@@ -285,8 +285,13 @@ pub(super) fn traces(page: &mut Page, f: &Folder) {
         super::trace::TRACE_BUCKETS
     ));
     for t in &f.traces {
+        let label = f
+            .trace_labels
+            .iter()
+            .find(|(l, _)| *l == t.lane)
+            .map_or(String::new(), |(_, s)| format!(": {s}"));
         page.heading(&format!(
-            "lane {} ({} rows, {} event{}{})",
+            "lane {}{label} ({} rows, {} event{}{})",
             t.lane,
             t.rows,
             t.events,

@@ -67,12 +67,17 @@ struct Cols<'a> {
     shown: Vec<Col<'a>>,
     require: Option<Col<'a>>,
     words: Vec<Col<'a>>,
+    /// The data sheet's columns (a small run's).
+    sheet: Vec<Col<'a>>,
 }
 
 impl Scan {
     /// The pass of a run of `sweep` stating `stated` lanes, into `folder`
     /// (`Folder::start`, with `summary.csv` read for a study).
-    pub fn new(folder: Folder, sweep: &Sweep, stated: u64) -> Scan {
+    pub fn new(mut folder: Folder, sweep: &Sweep, stated: u64) -> Scan {
+        if stated <= super::sheet::SHEET_LANES {
+            folder.sheet = Some(super::sheet::Sheet::default());
+        }
         let words = results()
             .iter()
             .filter(|r| matches!(r.summary, Summary::Shares(..)))
@@ -102,6 +107,11 @@ impl Scan {
         n.extend(f.results.iter().map(|r| r.name));
         n.extend(f.shown_params.iter().map(|p| p.name()));
         n.extend(self.require);
+        if self.folder.sheet.is_some() {
+            n.extend(super::sheet::names());
+        }
+        let mut seen = std::collections::HashSet::new();
+        n.retain(|x| seen.insert(*x));
         n
     }
 
@@ -134,6 +144,14 @@ impl Scan {
                 .collect::<Result<_>>()?,
             require: self.require.map(get).transpose()?,
             words: self.words.iter().map(|w| get(w.0)).collect::<Result<_>>()?,
+            sheet: if f.sheet.is_some() {
+                super::sheet::names()
+                    .into_iter()
+                    .map(get)
+                    .collect::<Result<_>>()?
+            } else {
+                Vec::new()
+            },
         })
     }
 
@@ -221,8 +239,20 @@ impl Scan {
             let (te, tm) = (c.t_end.number(row), c.t_max.number(row));
             self.traced
                 .push((lane, if tm.is_finite() { tm.max(te) } else { te }));
+            let word = if w.ok {
+                super::outcome::OUTCOMES[w.outcome].0.to_string()
+            } else {
+                format!("status {}", w.status)
+            };
+            let label = super::trace::label(&f.shown_params, &c.shown, row, &word);
+            f.trace_labels.push((lane, label));
         }
         count_outcomes(f, lane, c, row, w);
+        if let Some(sheet) = f.sheet.as_mut() {
+            sheet
+                .lanes
+                .push(c.sheet.iter().map(|col| col.text(row)).collect());
+        }
         for ((v, col), r) in self.vals.iter_mut().zip(&c.results).zip(&f.results) {
             // A lane at rest has no running point: its running values are
             // left out of the ranges, maps, lines and groups (counted).
@@ -243,6 +273,9 @@ impl Scan {
         let point = lane / self.samples;
         if let (Some(r), Some(col)) = (f.require.as_mut(), c.require) {
             let passes = r.req.passes_value(col.word(row), col.number(row));
+            if !col.word(row).is_empty() || col.number(row).is_finite() {
+                r.valued += 1;
+            }
             r.add(point, passes);
         }
         let outcome = w.ok.then_some(w.outcome);

@@ -132,3 +132,34 @@ impl TraceData {
         self.event_at.iter().flatten().copied().collect()
     }
 }
+
+/// A traced lane's heading: its parameters `params` (the grid's and the
+/// sampled, read from `cols` at `row`) and its outcome `word`.
+pub(super) fn label(
+    params: &[crate::params::Param],
+    cols: &[crate::output::batch::Col<'_>],
+    row: usize,
+    word: &str,
+) -> String {
+    let mut parts: Vec<String> = params
+        .iter()
+        .zip(cols)
+        .map(|(p, col)| {
+            let unit = match p {
+                crate::params::Param::Num(n) if !n.def().unit.is_empty() => {
+                    format!(" {}", n.def().unit)
+                }
+                _ => String::new(),
+            };
+            let v = col.number(row);
+            let text = if v.is_finite() {
+                super::plots::tick(v)
+            } else {
+                col.text(row)
+            };
+            format!("{} = {text}{unit}", p.name())
+        })
+        .collect();
+    parts.push(word.to_string());
+    parts.join(", ")
+}

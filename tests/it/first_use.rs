@@ -226,3 +226,203 @@ fn a_dry_run_estimates_the_table_and_writes_nothing() {
         std::fs::remove_dir_all(dir.path().join("o")).unwrap();
     }
 }
+
+/// The rows of the data sheet's tables in `html`: label -> cells, one a
+/// lane, in lane order (the sheet splits lanes over tables of six).
+fn sheet_rows(html: &str) -> std::collections::BTreeMap<String, Vec<String>> {
+    let start = html.find("<h2>Data sheet</h2>").expect("a data sheet");
+    let end = html[start + 10..]
+        .find("<h2>")
+        .map_or(html.len(), |i| start + 10 + i);
+    let mut rows: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    for tr in html[start..end].split("<tr>").skip(1) {
+        let cells: Vec<String> = tr
+            .split("<td")
+            .skip(1)
+            .map(|c| {
+                let c = &c[c.find('>').unwrap() + 1..];
+                let c = &c[..c.find("</td>").unwrap()];
+                c.replace("&lt;", "<")
+                    .replace("&gt;", ">")
+                    .replace("&#39;", "'")
+            })
+            .collect();
+        if let Some((label, rest)) = cells.split_first() {
+            rows.entry(label.clone())
+                .or_default()
+                .extend(rest.iter().cloned());
+        }
+    }
+    rows
+}
+
+/// A small run's report opens with a data sheet whose every number is
+/// its lane's `lanes.csv` cell to four significant digits, whose words
+/// are the lane's outcome, and whose self-locking answer is the sign of
+/// the lock margin; lanes at rest show no running point.
+#[test]
+fn a_small_runs_data_sheet_matches_its_lanes_csv_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = crate::common::fixture("paper_lanes.csv");
+    let gear = crate::common::root().join("sweeps/paper_gear.toml");
+    for args in [
+        vec!["run", "--lanes", fixture.to_str().unwrap(), "--out", "o"],
+        vec!["run", gear.to_str().unwrap(), "--out", "o"],
+    ] {
+        let out = tswm(&cpu(&args), dir.path());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
+        let rows = sheet_rows(&html);
+        let (h, lanes) = read_csv(&dir.path().join("o/lanes.csv"));
+        let col = |r: &[String], n: &str| crate::common::col(&h, r, n).to_string();
+        for (i, r) in lanes.iter().enumerate() {
+            let at_rest = col(r, "contact_end") == "stick";
+            for (label, name) in [
+                ("running direct efficiency, eta_direct_ss", "eta_direct_ss"),
+                (
+                    "running inverse efficiency, eta_inverse_ss",
+                    "eta_inverse_ss",
+                ),
+                (
+                    "starting direct efficiency, eta_direct_start",
+                    "eta_direct_start",
+                ),
+                (
+                    "starting inverse efficiency, eta_inverse_start",
+                    "eta_inverse_start",
+                ),
+                (
+                    "static lock margin, lock_margin_deg (deg)",
+                    "lock_margin_deg",
+                ),
+                ("over the run, direct: eta_direct", "eta_direct"),
+            ] {
+                let shown = &rows[label][i];
+                let cell = col(r, name);
+                if name.ends_with("_ss") && at_rest {
+                    assert_eq!(shown, "at rest: no running point", "lane {i} {name}");
+                } else if cell.is_empty() {
+                    assert_eq!(shown, "", "lane {i} {name}");
+                } else {
+                    let (v, s): (f64, f64) = (cell.parse().unwrap(), shown.parse().unwrap());
+                    assert!(
+                        (v - s).abs() <= 5e-4 * v.abs(),
+                        "lane {i} {name}: sheet {s}, lanes.csv {v}"
+                    );
+                }
+            }
+            let margin: f64 = col(r, "lock_margin_deg").parse().unwrap();
+            let locking = &rows["self-locking"][i];
+            assert!(
+                locking.starts_with(if margin > 0.0 { "yes" } else { "no" }),
+                "{locking}"
+            );
+            let word = match (col(r, "drive").as_str(), col(r, "hold").as_str()) {
+                ("back_driven", _) => "back-driven".to_string(),
+                ("", "runs_away") => "runs away".to_string(),
+                ("", h) => h.to_string(),
+                (d, _) => d.to_string(),
+            };
+            assert!(
+                rows["outcome"][i].starts_with(&word),
+                "lane {i}: {word} vs {}",
+                rows["outcome"][i]
+            );
+        }
+        std::fs::remove_dir_all(dir.path().join("o")).unwrap();
+    }
+}
+
+/// A sweep that leaves the load out runs the paper's overhauling load:
+/// the summary line, `sweep.resolved.toml` and the report say so, and a
+/// sweep that gives every value (here in gear terms) says nothing.
+#[test]
+fn a_sweep_that_leaves_the_drive_out_says_it_runs_the_papers() {
+    let dir = tempfile::tempdir().unwrap();
+    file(
+        dir.path(),
+        "s.toml",
+        "[base]\ngamma_deg = 5.0\nt_end = 0.2\n",
+    );
+    let out = tswm(&cpu(&["run", "s.toml", "--out", "o"]), dir.path());
+    let line = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success());
+    let want = "from the paper's drive (not given): m1 = 586 kg, m2 = 10275 kg, f2 = 4774 N, \
+                motor = kloss, v_sync = 3.35 m/s, v_crit = 2.07 m/s, f_crit = 4375 N, \
+                friction = paper";
+    assert!(line.contains(want), "{line}");
+    assert!(!line.contains("t_end ="), "t_end was given: {line}");
+    let resolved = std::fs::read_to_string(dir.path().join("o/sweep.resolved.toml")).unwrap();
+    assert!(resolved.contains(&format!("# {want}\n")), "{resolved}");
+    let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
+    assert!(html.contains("takes values of the paper&#39;s drive it was not given: m1 = 586 kg"));
+    let gear = crate::common::root().join("sweeps/paper_gear.toml");
+    let out = tswm(
+        &cpu(&["run", gear.to_str().unwrap(), "--out", "g"]),
+        dir.path(),
+    );
+    let line = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(!line.contains("paper's drive"), "{line}");
+}
+
+/// A requirement on a column that is empty for every lane (`hold` with
+/// the motor never cut) says why it cannot be answered, never "not met".
+#[test]
+fn a_requirement_no_lane_can_answer_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    file(
+        dir.path(),
+        "s.toml",
+        "[base]\nf2 = -4774.0\nt_end = 0.2\n[report]\nrequire = \"hold = held\"\nat_least = 0.9\n",
+    );
+    let out = tswm(&cpu(&["run", "s.toml", "--out", "o"]), dir.path());
+    assert!(out.status.success());
+    let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
+    assert!(html.contains(
+        "Requirement `hold = held` cannot be answered: no lane has a value of hold (it is empty \
+         when the motor is not cut before t_end"
+    ));
+    assert!(!html.contains("not met"), "answered as not met");
+}
+
+/// Traced lanes are headed by their parameters and outcome; the page's
+/// title names the sweep; an axis of unevenly spaced values says so.
+#[test]
+fn traces_are_headed_by_their_lane_and_uneven_axes_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let paper = crate::common::root().join("sweeps/paper.toml");
+    let out = tswm(
+        &cpu(&["run", paper.to_str().unwrap(), "--out", "o"]),
+        dir.path(),
+    );
+    assert!(out.status.success());
+    let html = std::fs::read_to_string(dir.path().join("o/report.html")).unwrap();
+    assert!(html.contains("<h1>tswm report: paper.toml, 2 lanes (folder o)</h1>"));
+    assert!(
+        html.contains("<h3>lane 0: f2 = 4774 N, overhauled ("),
+        "trace heading"
+    );
+    assert!(
+        html.contains("<h3>lane 1: f2 = -4774 N, runs ("),
+        "trace heading"
+    );
+    file(
+        dir.path(),
+        "u.toml",
+        "[base]\nf2 = -4774.0\nt_end = 0.1\nfriction = \"coulomb\"\nmu = 0.05\n\
+         [[grid]]\nparam = \"gamma_deg\"\nvalues = [2.0, 3.0, 5.0, 8.0, 13.0]\n\
+         [[grid]]\nparam = \"mu\"\nfrom = 0.02\nto = 0.1\nn = 5\n",
+    );
+    let out = tswm(&cpu(&["run", "u.toml", "--out", "u"]), dir.path());
+    assert!(out.status.success());
+    let html = std::fs::read_to_string(dir.path().join("u/report.html")).unwrap();
+    assert!(html.contains("gamma_deg (deg); uneven values, one cell each"));
+    assert!(
+        !html.contains("mu; uneven values"),
+        "an even axis is a scale"
+    );
+}
