@@ -265,13 +265,13 @@ pub const MAX_THREADS: usize = 1024;
 impl LanesArgs {
     /// Validates the lane arguments into a plan (reads and checks every lane).
     pub fn plan(&self) -> Result<Plan> {
-        self.plan_part(&|n| (0, n), &Show::default())
+        self.plan_part(&|n, _| (0, n), &Show::default())
     }
 
     /// [`LanesArgs::plan`] for a run of part of a sweep's lanes (`part`
     /// gives a shard's range from the lane count): only those lanes are
     /// checked, shown by `show` (a bar on a terminal when they are many).
-    pub fn plan_part(&self, part: &dyn Fn(u64) -> (u64, u64), show: &Show) -> Result<Plan> {
+    pub fn plan_part(&self, part: &dyn Fn(u64, u64) -> (u64, u64), show: &Show) -> Result<Plan> {
         let (threads, settings) = self.settings()?;
         let source = Source::open_part(self.sweep.as_deref(), self.lanes.as_deref(), part, show)?;
         Ok(Plan {

@@ -11,7 +11,7 @@
 
 use std::borrow::Cow;
 
-use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, Status};
+use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, SearchStatus, Side, Status};
 
 /// The type of a column's cells (its Parquet type).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,6 +192,17 @@ pub const N1_END: &str = "n1_end";
 /// See [`LANE`].
 pub const N2_END: &str = "n2_end";
 
+/// See [`LANE`]: the search's columns (a search run's table only).
+pub const SEARCH_LO: &str = "search_lo";
+/// See [`SEARCH_LO`].
+pub const SEARCH_HI: &str = "search_hi";
+/// See [`SEARCH_LO`].
+pub const CRITICAL: &str = "critical";
+/// See [`SEARCH_LO`].
+pub const SEARCH_MEETS: &str = "search_meets";
+/// See [`SEARCH_LO`].
+pub const SEARCH_STATUS: &str = "search_status";
+
 /// Bound of `tswm check` on first-switch times, s.
 pub const SWITCH_BOUND: f64 = 2e-5;
 /// Bound of `tswm check` on x1, v1, the works and energies, and the stop
@@ -243,6 +254,12 @@ fn hold_words() -> Vec<&'static str> {
 }
 fn drive_words() -> Vec<&'static str> {
     Drive::ALL.map(Drive::name).to_vec()
+}
+fn side_words() -> Vec<&'static str> {
+    Side::ALL.map(Side::name).to_vec()
+}
+fn search_status_words() -> Vec<&'static str> {
+    SearchStatus::ALL.map(SearchStatus::name).to_vec()
 }
 
 /// An indicator output of a sensitivity analysis: 1 where a lane's
@@ -590,14 +607,91 @@ pub const RESULTS: &[Column] = &[
     },
 ];
 
+/// The columns a search run's table has after [`RESULTS`] (docs/model.md,
+/// "Searches"): each row is a drive, its other results those of the lane
+/// at its final bracket's end that meets the requirement.
+pub const SEARCH: &[Column] = &[
+    Column {
+        name: SEARCH_LO,
+        quantity: "bracket's lower end",
+        meaning: "lower end of the final bracket of the searched parameter (in its unit): the \
+                  critical value lies in (search_lo, search_hi]",
+        empty: NOT_OK,
+        summary: Summary::None,
+        value: float!(|r| r.search.map_or(f64::NAN, |s| s.lo)),
+        ..ROW
+    },
+    Column {
+        name: SEARCH_HI,
+        quantity: "bracket's upper end",
+        meaning: "upper end of the final bracket of the searched parameter",
+        empty: NOT_OK,
+        summary: Summary::None,
+        value: float!(|r| r.search.map_or(f64::NAN, |s| s.hi)),
+        ..ROW
+    },
+    Column {
+        name: CRITICAL,
+        plotted: true,
+        quantity: "critical value",
+        meaning: "where the requirement's answer changes: the middle of the final bracket, within \
+                  tol / 2 of the true value (summary.csv gives its quantiles per grid point from \
+                  every drive's bracket)",
+        empty: "the search_status is not found",
+        summary: Summary::None,
+        value: float!(|r| r.search.map_or(f64::NAN, |s| s.critical())),
+        ..ROW
+    },
+    Column {
+        name: SEARCH_MEETS,
+        quantity: "side that meets the requirement",
+        meaning: "below: the requirement is met below the critical value; above: above it",
+        empty: "the requirement is met at both ends, at neither, or its answer changes more \
+                than once",
+        summary: Summary::Shares(side_words, Of::Given),
+        value: Value::W(|r| Cow::Borrowed(r.search.and_then(|s| s.side).map_or("", Side::name))),
+        ..ROW
+    },
+    Column {
+        name: SEARCH_STATUS,
+        quantity: "search status",
+        meaning: "found (the critical value lies in a bracket no wider than tol), \
+                  met_at_both_ends, met_at_neither_end, several_changes (the first round saw \
+                  more than one change: the search assumes one), stopped_clear (a share \
+                  boundary's search stopped refining the drive: its bracket lies clear of the \
+                  boundary's)",
+        summary: Summary::Shares(search_status_words, Of::All),
+        compare: Compare::Exact,
+        value: Value::W(|r| Cow::Borrowed(r.search.map_or("", |s| s.status.name()))),
+        ..ROW
+    },
+    Column {
+        name: "search_lanes",
+        quantity: "lanes integrated",
+        meaning: "lanes integrated for this drive's search",
+        value: count!(|r| r.search.map_or(0, |s| u64::from(s.lanes))),
+        ..ROW
+    },
+];
+
 /// The result columns.
 pub fn results() -> &'static [Column] {
     RESULTS
 }
 
-/// A result column by name.
+/// The result columns of a run's table: [`RESULTS`], and for a search
+/// [`SEARCH`] after them.
+pub fn results_for(search: bool) -> Vec<&'static Column> {
+    let mut v: Vec<&'static Column> = RESULTS.iter().collect();
+    if search {
+        v.extend(SEARCH);
+    }
+    v
+}
+
+/// A result column by name (a search's too).
 pub fn result(name: &str) -> Option<&'static Column> {
-    results().iter().find(|c| c.name == name)
+    results().iter().chain(SEARCH).find(|c| c.name == name)
 }
 
 /// Whether a lane whose final contact is `contact` (the word) is at
@@ -638,8 +732,17 @@ pub fn label(name: &str, quantity: &str, unit: &str) -> String {
 /// The result column table of `docs/outputs.md`, rendered from the rows
 /// (a test keeps the page equal to it).
 pub fn docs_table() -> String {
+    table_of(results())
+}
+
+/// The search columns' table of `docs/outputs.md` ([`SEARCH`]).
+pub fn search_docs_table() -> String {
+    table_of(SEARCH)
+}
+
+fn table_of(columns: &[Column]) -> String {
     let mut s = String::from("| column | unit | meaning | empty when |\n|---|---|---|---|\n");
-    for c in results() {
+    for c in columns {
         s += &format!(
             "| `{}` | {} | {} | {} |\n",
             c.name,
@@ -740,10 +843,11 @@ mod tests {
     #[test]
     fn the_outputs_pages_column_table_is_the_table() {
         let page = include_str!("../docs/outputs.md");
-        let want = docs_table();
-        assert!(
-            page.contains(&want),
-            "docs/outputs.md's column table differs; it should read:\n{want}"
-        );
+        for want in [docs_table(), search_docs_table()] {
+            assert!(
+                page.contains(&want),
+                "docs/outputs.md's column table differs; it should read:\n{want}"
+            );
+        }
     }
 }

@@ -194,7 +194,7 @@ pub fn base_folders(base: &Path) {
         // `execute`, not `run`: the same run without its summary line.
         let shard = flags.shard.as_deref().map(tswm::run::shard::Shard::parse);
         let shard = shard.transpose().expect("a shard");
-        let part = |n: u64| shard.map_or((0, n), |s| s.range(n));
+        let part = |n: u64, unit: u64| shard.map_or((0, n), |s| s.range_in(n, unit));
         let show = Default::default();
         let plan = lanes.plan_part(&part, &show).expect("the base sweep");
         tswm::commands::run::execute(plan, shard, &flags, &show, false).expect("the base run");

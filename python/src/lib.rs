@@ -106,7 +106,7 @@ impl Lanes {
             (None, Some(f)) => Some(TableIn::Frame(f.clone())),
             (None, None) => None,
         };
-        let source = Source::open_from(sweep, table, &|n| (0, n), show)?;
+        let source = Source::open_from(sweep, table, &|n, _| (0, n), show)?;
         Ok(Plan {
             source,
             threads,
@@ -170,7 +170,11 @@ fn backend(name: &str) -> PyResult<Choice> {
 
 /// The results table's batches as a `pyarrow.Table` (no copy).
 fn table(batches: Vec<RecordBatch>) -> PyResult<PyArrowType<Table>> {
-    let t = Table::try_new(batches, tswm::output::batch::schema())
+    // A search run's batches have its columns too.
+    let schema = batches
+        .first()
+        .map_or_else(tswm::output::batch::schema, |b| b.schema());
+    let t = Table::try_new(batches, schema)
         .map_err(|e| failure(Error::Internal(e.to_string())))?;
     Ok(PyArrowType(t))
 }
@@ -231,7 +235,7 @@ fn run(
 fn read(py: Python<'_>, dir: PathBuf) -> PyResult<PyArrowType<Table>> {
     let batches = py
         .detach(move || {
-            let names: Vec<&str> = tswm::output::table::columns().iter().map(|c| c.0).collect();
+            let names = tswm::output::table::folder_columns(&dir)?;
             let mut batches = Vec::new();
             tswm::output::table::read_batches(&dir, &names, |b| {
                 batches.push(b.clone());

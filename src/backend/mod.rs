@@ -30,6 +30,19 @@ pub trait Backend {
         tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()>;
+    /// Computes the rows of one chunk, whose lanes it may change: a search
+    /// ([`crate::run::search`]) sets each drive's searched parameter to
+    /// where its row's results were taken. By default the chunk's lanes,
+    /// unchanged.
+    fn run_rows(
+        &mut self,
+        first: u64,
+        lanes: &mut ParamColumns,
+        tables: &[FrictionTable],
+        out: &mut Vec<LaneResult>,
+    ) -> Result<()> {
+        self.run_chunk(first, lanes, tables, out)
+    }
 }
 
 /// Which backend integrates the lanes.

@@ -6,7 +6,8 @@ use crate::error::Result;
 use crate::progress::Show;
 use crate::run;
 
-/// Counts the lanes of each chunk and drops them.
+/// Counts the lanes of each chunk and drops them (a search's row counts
+/// the lanes its drive integrated).
 struct Discard(u64);
 
 impl run::Sink for Discard {
@@ -15,9 +16,16 @@ impl run::Sink for Discard {
         &mut self,
         _first: u64,
         params: &mut crate::params::ParamColumns,
-        _results: &[crate::integrator::LaneResult],
+        results: &[crate::integrator::LaneResult],
     ) -> Result<()> {
-        self.0 += params.len() as u64;
+        self.0 += if results.iter().any(|r| r.search.is_some()) {
+            results
+                .iter()
+                .filter_map(|r| r.search.map(|s| s.lanes as u64))
+                .sum()
+        } else {
+            params.len() as u64
+        };
         Ok(())
     }
     fn finish(self) -> Result<u64> {
@@ -28,7 +36,7 @@ impl run::Sink for Discard {
 /// What `tswm bench` measured.
 #[derive(Clone, Debug)]
 pub struct Bench {
-    /// Lanes integrated.
+    /// Lanes integrated (a search's: every round's).
     pub lanes: u64,
     /// Seconds they took (generation and integration; the lanes' check
     /// before is not timed).
@@ -46,12 +54,10 @@ impl Bench {
 
 /// Integrates the lanes of `plan` on `choice`, writing nothing.
 pub fn measure(plan: &Plan, choice: Choice, show: &Show) -> Result<Bench> {
-    let mut be = backend::open(
-        choice,
-        plan.source.lane_count(),
-        plan.threads,
-        plan.settings,
-    )?;
+    let total = plan.source.lane_count();
+    let be = backend::open(choice, total, plan.threads, plan.settings)?;
+    // A search integrates its rounds as a run does.
+    let mut be = run::search::around(be, &plan.source, (0, total))?;
     let start = std::time::Instant::now();
     let n = run::pipeline(&plan.source, be.as_mut(), show, Discard(0))?;
     Ok(Bench {

@@ -6,6 +6,7 @@ use crate::backend::gpu::{Gpu, GpuBackend};
 use crate::backend::{self, CpuBackend};
 use crate::cli::{LanesArgs, Plan};
 use crate::error::{Error, Result};
+use crate::input::lanes::Source;
 use crate::progress::Show;
 use crate::run::compare as check;
 
@@ -17,6 +18,9 @@ pub struct Checked {
     pub gpu: String,
     /// The CPU backend, named.
     pub cpu: String,
+    /// What was compared, when not the run's own lanes (a search's first
+    /// round).
+    pub note: Option<String>,
 }
 
 /// Runs the lanes of `plan` on the GPU and on the f64 CPU path and
@@ -34,18 +38,56 @@ pub fn compare(plan: &Plan, disagreements: Option<&Path>, show: &Show) -> Result
                 .map_err(|e| Error::io(p, e))?
         }
     };
-    let report = check::compare(&plan.source, &mut gpu, cpu, show, report)?;
+    // A search's later rounds follow its results; its first round is
+    // lanes like any other's.
+    let (first, note) = match &plan.source {
+        Source::Sweep { sweep, file } => match (sweep.first_round(), &sweep.search) {
+            (Some(sw), Some(s)) => (
+                Some(Source::Sweep {
+                    sweep: sw,
+                    file: file.clone(),
+                }),
+                Some(format!(
+                    "a search's rounds follow its results: compared its first round ({} points \
+                     of {} from {} to {} for each drive)",
+                    crate::input::sweep::search::FIRST_ROUND_POINTS,
+                    s.param.name(),
+                    s.from,
+                    s.to
+                )),
+            ),
+            _ => (None, None),
+        },
+        Source::Table {
+            search: Some(_), ..
+        } => (
+            None,
+            Some("a lane table's search: compared the table's rows as given".into()),
+        ),
+        Source::Table { .. } => (None, None),
+    };
+    let source = first.as_ref().unwrap_or(&plan.source);
+    let report = check::compare(source, &mut gpu, cpu, show, report)?;
     Ok(Checked {
         report,
         gpu: backend::Backend::name(&gpu),
         cpu: cpu_name,
+        note,
     })
 }
 
 /// Runs `tswm check`; exit 1 (an error) when a bound is missed.
 pub fn run(lanes: &LanesArgs, disagreements: Option<&Path>, show: &Show) -> Result<()> {
-    let Checked { report, gpu, cpu } = compare(&lanes.plan()?, disagreements, show)?;
+    let Checked {
+        report,
+        gpu,
+        cpu,
+        note,
+    } = compare(&lanes.plan()?, disagreements, show)?;
     sayln!("tswm check: {} lanes, {gpu} against {cpu}", report.lanes);
+    if let Some(n) = note {
+        sayln!("({n})");
+    }
     say!("{}", report.text());
     if report.passes() {
         Ok(())

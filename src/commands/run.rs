@@ -21,7 +21,7 @@ use crate::run::shard::{Shard, ShardRun, ShardStart};
 pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
     let shard = flags.shard.as_deref().map(Shard::parse).transpose()?;
     // Only the lanes that run are checked: a shard's.
-    let part = |n: u64| shard.map_or((0, n), |s| s.range(n));
+    let part = |n: u64, unit: u64| shard.map_or((0, n), |s| s.range_in(n, unit));
     let plan = match (&lanes.sweep, &lanes.lanes, flags.dry_run) {
         // A dry run of a sweep checks only its trial's lanes: the whole
         // check of a large sweep takes minutes, and the estimate is what
@@ -79,8 +79,10 @@ pub fn execute(
             }
         },
     };
-    let mut be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
+    let be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
     let range = shard.as_ref().map_or((0, total), |s| s.range);
+    // A search runs its drives in rounds on the backend.
+    let mut be = run::search::around(be, &plan.source, range)?;
     if range.1 - range.0 > ESTIMATE_FROM {
         // A long run says what it will cost before it starts.
         let e = estimate(&plan.source, be.as_mut(), plan.threads, flags.format, range)?;
@@ -119,9 +121,7 @@ pub fn execute(
     dir.commit_run(files)?;
     let mut line = written.summary.line(&be.name(), &table);
     line.push_str(&paper_note(&plan.source));
-    if replaced {
-        line.push_str("; replaced the earlier run's results there");
-    }
+    line.push_str(if replaced { REPLACED } else { "" });
     match &shard {
         Some(s) => line.push_str(&s.said()),
         None if report => line.push_str(&write_report(&mut dir, written.scan.take())?),
@@ -132,6 +132,9 @@ pub fn execute(
         batches: std::mem::take(&mut written.batches),
     })
 }
+
+/// What the summary line adds when a run replaced an earlier one's results.
+const REPLACED: &str = "; replaced the earlier run's results there";
 
 /// "; from the paper's drive (not given): ..." for a run that takes
 /// values of the paper's drive because it leaves them out.
@@ -148,7 +151,7 @@ fn paper_note(source: &crate::input::lanes::Source) -> String {
 /// with nothing opened, run or written.
 fn dry_run(plan: &Plan, shard: Option<Shard>, flags: &RunFlags) -> Result<Done> {
     let total = plan.source.lane_count();
-    let range = shard.map_or((0, total), |s| s.range(total));
+    let range = shard.map_or((0, total), |s| s.range_in(total, plan.source.shard_unit()));
     let mut be = backend::open(
         flags.backend,
         range.1 - range.0,
@@ -213,7 +216,8 @@ pub fn collect(
 ) -> Result<Vec<arrow_array::RecordBatch>> {
     let trace = trace_plan(&[], None, &plan.source)?;
     let total = plan.source.lane_count();
-    let mut be = backend::open(backend, total, plan.threads, plan.settings)?;
+    let be = backend::open(backend, total, plan.threads, plan.settings)?;
+    let mut be = run::search::around(be, &plan.source, (0, total))?;
     let target = run::Target {
         dir: None,
         format: Format::Parquet,

@@ -64,6 +64,9 @@ impl Source {
                 (params, motors)
             }
         };
+        // A search sets its parameter.
+        let mut params = params;
+        params.extend(self.search().map(|s| crate::params::Param::Num(s.param)));
         crate::params::paper::Given { params, motors }
     }
 }

@@ -7,14 +7,15 @@
 
 use std::path::{Path, PathBuf};
 
-use super::reader::check_quotes;
+mod check;
+
 pub use super::reader::LaneReader;
 use crate::error::{Error, Result};
 pub use crate::input::given::{SweepIn, TableIn};
 use crate::input::sweep::Sweep;
 use crate::params::FrictionTables;
 use crate::params::{ParamColumns, Params, Spec};
-use crate::progress::{Phase, Show};
+use crate::progress::Show;
 
 /// The lanes of a run.
 pub enum Source {
@@ -38,16 +39,12 @@ pub enum Source {
         report: crate::input::sweep::ReportSpec,
         /// Rows to trace (the sweep file's `[trace]`).
         trace: Option<crate::input::sweep::TraceSpec>,
+        /// A search over the rows (the sweep file's `[search]`).
+        search: Option<crate::input::sweep::search::Search>,
         /// Number of rows (counted by [`Source::open`]).
         rows: u64,
     },
 }
-
-/// Most lanes one run (or one shard) takes: 10^9, an hour or two of a
-/// many-core CPU or minutes of a data-centre GPU, and some 500 GB of
-/// `lanes.csv`. A larger sweep runs as shards (each checked alone), so no
-/// run spends hours checking lanes before it writes anything.
-pub const MAX_RUN_LANES: u64 = 1_000_000_000;
 
 impl Source {
     /// The lanes of a run: a sweep file, or a lane table over an optional
@@ -55,19 +52,19 @@ impl Source {
     /// and validated here, in one place for both kinds, so bad input is
     /// reported before anything is written.
     pub fn open(sweep: Option<&Path>, lanes: Option<&Path>) -> Result<Source> {
-        Source::open_part(sweep, lanes, &|n| (0, n), &Show::default())
+        Source::open_part(sweep, lanes, &|n, _| (0, n), &Show::default())
     }
 
     /// [`Source::open`] for a run of part of the lanes: `part` gives the
     /// range of a sweep's lanes that runs (a shard's, from the lane
     /// count), and only those are validated, in parallel, shown by
     /// `show` (a bar on a terminal when the part is large). A
-    /// part of more than [`MAX_RUN_LANES`] is refused at once, with the
+    /// part of more than [`MAX_RUN_LANES`](super::MAX_RUN_LANES) is refused at once, with the
     /// shards that would fit.
     pub fn open_part(
         sweep: Option<&Path>,
         lanes: Option<&Path>,
-        part: &dyn Fn(u64) -> (u64, u64),
+        part: &dyn Fn(u64, u64) -> (u64, u64),
         show: &Show,
     ) -> Result<Source> {
         Source::open_from(
@@ -83,7 +80,7 @@ impl Source {
     pub fn open_from(
         sweep: Option<SweepIn<'_>>,
         lanes: Option<TableIn>,
-        part: &dyn Fn(u64) -> (u64, u64),
+        part: &dyn Fn(u64, u64) -> (u64, u64),
         show: &Show,
     ) -> Result<Source> {
         if let (Some(s), None) = (sweep, &lanes) {
@@ -101,8 +98,28 @@ impl Source {
                 (s, Some(l)) => Source::table(l, s)?,
             };
         let n = src.validate(show)?;
-        if let Source::Table { rows, trace, .. } = &mut src {
+        if let Source::Table {
+            rows,
+            trace,
+            search,
+            table,
+            ..
+        } = &mut src
+        {
             *rows = n;
+            if let (Some(s), Some(f)) = (search.as_ref(), sweep) {
+                s.check_size(n)
+                    .map_err(|m| Error::input(f.name(), None, Some("search"), m))?;
+                if table_sets(table, s.param) {
+                    return Err(Error::input(
+                        table.name(),
+                        Some("line 1".into()),
+                        Some(s.param.name()),
+                        "the sweep's [search] sets this parameter; leave its column out of the \
+                         lane table",
+                    ));
+                }
+            }
             if let (Some(t), Some(f)) = (trace.as_ref(), sweep) {
                 if let Some(&bad) = t.lanes.iter().find(|&&l| l >= n) {
                     return Err(Error::input(
@@ -136,7 +153,7 @@ impl Source {
     /// Lanes of a lane table over an optional sweep's base and table
     /// (rows not yet read: see [`Source::open`]).
     fn table(table: TableIn, sweep: Option<SweepIn<'_>>) -> Result<Source> {
-        let (base, tables, report, trace) = match sweep {
+        let (base, tables, report, trace, search) = match sweep {
             Some(f) => {
                 // Its `[trace]` lanes are the table's rows: checked once
                 // they are counted (`Source::open`).
@@ -147,16 +164,17 @@ impl Source {
                         f.name(),
                         None,
                         None,
-                        "with --lanes the sweep file may hold only [base], friction tables, [trace] \
-                         and [report]; the lane table gives the lanes",
+                        "with --lanes the sweep file may hold only [base], friction tables, [trace], \
+                         [report] and [search]; the lane table gives the lanes",
                     ));
                 }
-                (s.base, s.tables, s.report, s.trace)
+                (s.base, s.tables, s.report, s.trace, s.search)
             }
             None => (
                 Spec::default(),
                 FrictionTables::default(),
                 Default::default(),
+                None,
                 None,
             ),
         };
@@ -166,6 +184,7 @@ impl Source {
             tables,
             report,
             trace,
+            search,
             rows: 0,
         })
     }
@@ -181,6 +200,7 @@ impl Source {
                 base,
                 tables,
                 report,
+                search,
                 ..
             } => Sweep {
                 base: base.clone(),
@@ -189,6 +209,7 @@ impl Source {
                 tables: tables.clone(),
                 trace: None,
                 report: report.clone(),
+                search: search.clone(),
                 key_lines: Vec::new(),
             },
         };
@@ -245,6 +266,25 @@ impl Source {
         Ok(out)
     }
 
+    /// The lanes a shard's range is a whole number of: a share search's
+    /// groups (a grid point's drives are searched together), else 1.
+    pub fn shard_unit(&self) -> u64 {
+        match (self, self.search()) {
+            (Source::Sweep { sweep, .. }, Some(s)) if s.at_least.is_some() => {
+                sweep.study.as_ref().map_or(1, |st| st.n.max(1))
+            }
+            _ => 1,
+        }
+    }
+
+    /// The sweep's search, if it asks for one.
+    pub fn search(&self) -> Option<&crate::input::sweep::search::Search> {
+        match self {
+            Source::Sweep { sweep, .. } => sweep.search.as_ref(),
+            Source::Table { search, .. } => search.as_ref(),
+        }
+    }
+
     /// The friction tables lanes may refer to.
     pub fn friction_tables(&self) -> &FrictionTables {
         match self {
@@ -259,93 +299,6 @@ impl Source {
             Source::Sweep { sweep, .. } => sweep.lane_count(),
             Source::Table { rows, .. } => *rows,
         }
-    }
-
-    /// Checks the lanes of a sweep that run (`part` of them), blocks of
-    /// them in parallel; the first bad lane is the one reported.
-    fn validate_part(&self, part: &dyn Fn(u64) -> (u64, u64), show: &Show) -> Result<()> {
-        use rayon::prelude::*;
-        let Source::Sweep { sweep, file } = self else {
-            return Ok(());
-        };
-        let total = sweep
-            .lane_count_checked()
-            .map_err(|m| Error::input(file, None, None, m))?;
-        let (start, end) = part(total);
-        let n = end - start;
-        if n > MAX_RUN_LANES {
-            let shards = n.div_ceil(MAX_RUN_LANES);
-            return Err(Error::input(
-                file,
-                None,
-                None,
-                // One wording for the command line and Python alike.
-                format!(
-                    "{n} lanes are more than one run takes (at most {MAX_RUN_LANES:.0e}); run them \
-                     as at least {shards} parts of at most {MAX_RUN_LANES:.0e} lanes: from the \
-                     command line as {shards} shards (tswm run SWEEP --shard K/{shards}, \
-                     docs/cluster.md), or in Python each a tswm.run of its own (split a grid \
-                     axis's values, or a lane table's rows: docs/python.md)"
-                ),
-            ));
-        }
-        const BLOCK: u64 = 1 << 16;
-        let bar = show.bar(Phase::Checking, n >= 10_000_000, n, "checking lanes");
-        let blocks = n.div_ceil(BLOCK);
-        let bad = (0..blocks)
-            .into_par_iter()
-            .map(|b| {
-                show.check()?;
-                let (a, z) = (start + b * BLOCK, (start + (b + 1) * BLOCK).min(end));
-                let mut r = self.reader_range(a, z)?;
-                let mut buf = ParamColumns::with_capacity(4096);
-                loop {
-                    buf.clear();
-                    r.fill(4096, &mut buf)?;
-                    if buf.is_empty() {
-                        break;
-                    }
-                }
-                bar.inc(z - a);
-                Ok(())
-            })
-            .find_first(|r: &Result<()>| r.is_err());
-        bar.finish_and_clear();
-        bad.unwrap_or(Ok(()))
-    }
-
-    /// Checks every lane; returns the count. Errors name the lane or row.
-    fn validate(&self, show: &Show) -> Result<u64> {
-        if let Source::Table {
-            table: TableIn::File(path),
-            ..
-        } = self
-        {
-            check_quotes(path)?;
-        }
-        let mut r = self.reader()?;
-        let mut buf = ParamColumns::with_capacity(4096);
-        let mut n = 0;
-        loop {
-            show.check()?;
-            buf.clear();
-            r.fill(4096, &mut buf)?;
-            if buf.is_empty() {
-                break;
-            }
-            n += buf.len() as u64;
-        }
-        if n == 0 {
-            if let Source::Table { table, .. } = self {
-                return Err(Error::input(
-                    table.name(),
-                    None,
-                    None,
-                    "the lane table has no rows; give one lane a row",
-                ));
-            }
-        }
-        Ok(n)
     }
 
     /// A reader from the first lane.
@@ -380,4 +333,25 @@ impl Source {
             } => Ok(LaneReader::frame(frame, base, &tables.names, start, end)),
         }
     }
+}
+
+/// Whether a lane table has a column of `param` (or of a gear term that
+/// gives it).
+fn table_sets(table: &TableIn, param: crate::params::Num) -> bool {
+    use crate::params::Param;
+    let cols: Vec<Param> = match table {
+        TableIn::File(path) => csv::Reader::from_path(path)
+            .and_then(|mut r| r.headers().cloned())
+            .map(|h| {
+                h.iter()
+                    .filter_map(|n| Param::from_name(n.trim()))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        TableIn::Frame(f) => f.params(),
+    };
+    cols.iter().any(|&p| match p {
+        Param::Num(n) => n == param || crate::params::gear::gives(n) == Some(param),
+        _ => false,
+    })
 }

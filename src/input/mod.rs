@@ -4,6 +4,12 @@
 //! ([`sampling`]), and lane sets of known character for tests and
 //! benchmarks ([`testmodels`]).
 
+/// Most lanes one run (or one shard) takes: 10^9, an hour or two of a
+/// many-core CPU or minutes of a data-centre GPU, and some 500 GB of
+/// `lanes.csv`. A larger sweep runs as shards (each checked alone), so no
+/// run spends hours checking lanes before it writes anything.
+pub const MAX_RUN_LANES: u64 = 1_000_000_000;
+
 mod drive_given;
 pub mod frame;
 pub mod given;

@@ -230,6 +230,36 @@ impl<'a> LaneReader<'a> {
     }
 }
 
+impl LaneReader<'_> {
+    /// Appends up to `max` lanes' unresolved parameters to `out` (none at
+    /// the end): what a row or a sweep's lane sets, defaults not yet
+    /// applied, for a search that sets one parameter of each before it is
+    /// resolved. Each is checked as [`LaneReader::fill`] checks it.
+    pub fn fill_specs(&mut self, max: usize, out: &mut Vec<Spec>) -> Result<()> {
+        let mut one = ParamColumns::with_capacity(1);
+        let start = out.len();
+        while out.len() - start < max {
+            one.clear();
+            // The spec kept by the reader is the lane's, once read.
+            self.fill(1, &mut one)?;
+            if one.is_empty() {
+                break;
+            }
+            out.push(self.last_spec().clone());
+        }
+        Ok(())
+    }
+
+    /// The last lane's unresolved parameters.
+    fn last_spec(&self) -> &Spec {
+        match self {
+            LaneReader::Sweep { spec, .. }
+            | LaneReader::Table { spec, .. }
+            | LaneReader::Frame { spec, .. } => spec,
+        }
+    }
+}
+
 /// A CSV reader's error as a one-line error naming the row.
 fn csv_error(path: &Path, row: u64, e: csv::Error) -> Error {
     let line = e.position().map_or(0, |p| p.line());

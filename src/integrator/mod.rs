@@ -39,7 +39,10 @@ pub use automaton::{init, LaneState};
 pub use batch::{first_pass, own_width, refine_pass, simulate, simulate_batch, simulate_batch_at};
 pub use components::NY;
 pub use control::H_INITIAL;
-pub use result::{Contact, Drive, EndState, Hold, LaneResult, Recheck, RowPath, Status};
+pub use result::{
+    Contact, Drive, EndState, Hold, LaneResult, Recheck, RowPath, SearchOutcome, SearchStatus,
+    Side, Status,
+};
 pub use settings::{Settings, DEFAULT_TOL};
 pub use step::{advance, attempt};
 

@@ -3,7 +3,7 @@
 //! used by both backends.
 
 use super::components::NY;
-pub use super::outcome::{Contact, Drive, Hold};
+pub use super::outcome::{Contact, Drive, Hold, SearchOutcome, SearchStatus, Side};
 pub use super::path::{Recheck, RowPath};
 use crate::model::kernel::sliding_speed;
 use crate::model::{agma_upper, efficiency, motion, mu_at, FrictionTable, Lane, Mode};
@@ -138,6 +138,8 @@ pub struct LaneResult {
     pub n2_end: f64,
     /// The path the row came from.
     pub path: RowPath,
+    /// A drive's search (`[search]`), for a row of a search run.
+    pub search: Option<SearchOutcome>,
 }
 
 impl LaneResult {
@@ -205,6 +207,7 @@ impl LaneResult {
         n1_end: f64::NAN,
         n2_end: f64::NAN,
         path: RowPath::Cpu,
+        search: None,
     };
 }
 
@@ -345,6 +348,7 @@ impl EndState {
             n1_end: f64::NAN,
             n2_end: f64::NAN,
             path: RowPath::Cpu,
+            search: None,
         }
     }
 }

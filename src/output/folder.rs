@@ -2,7 +2,7 @@
 //! holding one run's files alone.
 //!
 //! - A second command into a folder that one holds is refused (the lock
-//!   on `DIR/.tswm.lock`, [`super::lock`]); the lock is held until a
+//!   on `DIR/.tswm.lock`, `output::lock`); the lock is held until a
 //!   command's last file is committed (a merge's or a run's report
 //!   included), so no other run slips in between.
 //! - One folder holds one run: the folder's marker ([`names::MARKER`])

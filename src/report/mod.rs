@@ -21,6 +21,7 @@ pub mod plots;
 mod ranges;
 mod require;
 mod scan;
+mod search;
 mod sections;
 mod sensitivity;
 mod sheet;
@@ -204,8 +205,11 @@ fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
     answer::findings(&mut page, &folder, &sweep);
     paper_defaults(&mut page, &text);
     answer::undecided(&mut page, &folder);
-    if let Some(r) = &folder.require {
+    if let Some(r) = folder.require.as_ref() {
         answer::requirement(&mut page, r);
+    }
+    if let Some(s) = &sweep.search {
+        search::section(&mut page, dir, &sweep, s)?;
     }
     if let Some(sheet) = &folder.sheet {
         sheet.section(&mut page);
@@ -236,6 +240,12 @@ fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
     page.heading(&format!("The resolved sweep ({RESOLVED})"));
     page.pre(&text);
 
+    about(&mut page, &folder);
+    Ok(page.finish(&title))
+}
+
+/// The last section: where the page comes from, and what its words mean.
+fn about(page: &mut Page, folder: &Folder) {
     page.section("About this page");
     page.note(&format!(
         "Written by tswm from the files of its output folder: {} (one row per lane), {SUMMARY} \
@@ -252,5 +262,4 @@ fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
          undefined).",
         folder.table
     ));
-    Ok(page.finish(&title))
 }

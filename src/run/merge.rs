@@ -16,11 +16,12 @@ use super::verify::{check_shards, refused, Part};
 use crate::columns::LANE;
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
+use crate::output::batch::columns_for;
 use crate::output::csv_lines::CsvLines;
 use crate::output::digest::file_digest;
 use crate::output::names::{RESOLVED, SUMMARY, TRACES};
 use crate::output::provenance::{time_line, SHARD_LINE, TIME_LINE};
-use crate::output::table::{columns, Cell, Format, LanesWriter, RowReader};
+use crate::output::table::{Cell, Format, LanesWriter, RowReader};
 
 /// Rows the statistics of a merge take at a time.
 const MERGE_ROWS: usize = 8192;
@@ -31,10 +32,12 @@ struct Batched {
     pool: rayon::ThreadPool,
     rows: Vec<Cell>,
     first: u64,
+    /// A search's rows (its columns after the results).
+    search: bool,
 }
 
 impl Batched {
-    fn new(stats: Stats) -> Result<Batched> {
+    fn new(stats: Stats, search: bool) -> Result<Batched> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
@@ -44,6 +47,7 @@ impl Batched {
             pool,
             rows: Vec::new(),
             first: 0,
+            search,
         })
     }
 
@@ -61,7 +65,7 @@ impl Batched {
 
     fn flush(&mut self) -> Result<()> {
         if !self.rows.is_empty() {
-            let b = crate::output::batch::from_cells(&self.rows)?;
+            let b = crate::output::batch::from_cells(&self.rows, self.search)?;
             let cols = crate::output::batch::typed(&b)?;
             self.stats.add_batch(self.first, &cols, &self.pool)?;
             self.rows.clear();
@@ -137,6 +141,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     let resolved =
         std::fs::read_to_string(&resolved_path).map_err(|e| Error::io(&resolved_path, e))?;
     let (sweep, _) = crate::output::provenance::read_resolved(&resolved_path, &resolved)?;
+    let search = sweep.search.is_some();
     let source = Source::Sweep {
         sweep,
         file: resolved_path.clone(),
@@ -146,13 +151,13 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     let seconds: f64 = parts.iter().map(|p| p.m.seconds).sum();
     let total = first.m.lanes_total;
 
-    let mut table = LanesWriter::create(out_dir.path(), format, false)?;
+    let mut table = LanesWriter::create(out_dir.path(), format, false, search)?;
     let stats = Stats::create(&out_dir.join(SUMMARY), Grouping::of(&source))?;
-    let kinds = columns();
+    let kinds = columns_for(search);
     let mut rec = csv::ByteRecord::new();
     let mut cells: Vec<Cell> = Vec::with_capacity(kinds.len());
     let mut next = 0u64;
-    let mut batched = Batched::new(stats)?;
+    let mut batched = Batched::new(stats, search)?;
     for p in &parts {
         next = merge_part(p, &kinds, next, &mut rec, &mut cells, |row, rec, cells| {
             table.write_row(rec, cells)?;

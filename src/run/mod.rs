@@ -9,6 +9,7 @@ pub mod compare;
 pub mod estimate;
 pub mod merge;
 pub mod pipeline;
+pub mod search;
 pub mod shard;
 pub mod summary;
 pub mod verify;

@@ -145,15 +145,16 @@ pub fn pipeline_timed<S: Sink>(
         let consumer = scope.spawn(move || consume(sink, from_backend, recycle));
         let mut failure = None;
         for batch in &from_producer {
-            let (first, params, mut results) = match batch.and_then(|b| show.check().map(|()| b)) {
-                Ok(b) => b,
-                Err(e) => {
-                    failure = Some(e);
-                    break;
-                }
-            };
+            let (first, mut params, mut results) =
+                match batch.and_then(|b| show.check().map(|()| b)) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        failure = Some(e);
+                        break;
+                    }
+                };
             let t = Instant::now();
-            if let Err(e) = backend.run_chunk(first, &params, &tables, &mut results) {
+            if let Err(e) = backend.run_rows(first, &mut params, &tables, &mut results) {
                 failure = Some(e);
                 break;
             }

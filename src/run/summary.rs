@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use super::pipeline::Busy;
 use std::path::Path;
 
-use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, Status};
+use crate::integrator::{Contact, Drive, Hold, LaneResult, RowPath, SearchStatus, Side, Status};
 use crate::params::{Num, ParamColumns};
 
 /// Counts for the end-of-run summary.
@@ -36,6 +36,15 @@ pub struct Summary {
     pub sensitivity_seconds: Option<f64>,
     /// Time the backend spent integrating and the writer writing, s.
     pub busy: super::pipeline::Busy,
+    /// A search's drives by how their search ended.
+    pub by_search: BTreeMap<SearchStatus, u64>,
+    /// Lanes a search integrated.
+    pub search_lanes: u64,
+    /// A share search's boundaries (from `summary.csv`'s statistics), and
+    /// the searched parameter's name.
+    pub boundaries: Vec<crate::stats::summary::Boundary>,
+    /// The searched parameter's name (a search run).
+    pub search_param: Option<&'static str>,
 }
 
 impl Summary {
@@ -43,7 +52,21 @@ impl Summary {
     /// counted at once (a sweep's neighbouring lanes mostly end alike).
     pub(super) fn add_chunk(&mut self, params: &ParamColumns, results: &[LaneResult]) {
         let (t_end, t_max) = (params.num(Num::TEnd), params.num(Num::TMax));
-        let key = |r: &LaneResult| (r.status, r.contact_end, r.hold, r.drive, r.path);
+        let key = |r: &LaneResult| {
+            (
+                r.status,
+                r.contact_end,
+                r.hold,
+                r.drive,
+                r.path,
+                r.search.map(|s| s.status),
+            )
+        };
+        for r in results {
+            if let Some(sr) = r.search {
+                self.search_lanes += u64::from(sr.lanes);
+            }
+        }
         let mut i = 0;
         while i < results.len() {
             let r = &results[i];
@@ -76,6 +99,50 @@ impl Summary {
             *self.by_drive.entry(d).or_default() += n;
         }
         *self.by_path.entry(r.path).or_default() += n;
+        if let Some(sr) = r.search {
+            *self.by_search.entry(sr.status).or_default() += n;
+        }
+    }
+
+    /// "; search: found N, ...; boundary ..." for a search run: how its
+    /// drives' searches ended, and a share boundary's answer (one group's;
+    /// more are in summary.csv).
+    fn search_note(&self) -> String {
+        if self.by_search.is_empty() {
+            return String::new();
+        }
+        let mut s = format!("; search: {}", counts(&self.by_search, |x| x.name()));
+        let param = self.search_param.unwrap_or("");
+        match self.boundaries.as_slice() {
+            [] => {}
+            [b] => {
+                let tick = |v: f64| format!("{v:.6}");
+                let share = 100.0 * b.ranks.q;
+                let share = match b.side {
+                    Side::Below => 100.0 - share,
+                    Side::Above => share,
+                };
+                let share = format!("{share:.4}");
+                let share = share.trim_end_matches('0').trim_end_matches('.');
+                s.push_str(&format!(
+                    "; boundary of {share} % of drives: {param} = {} (95 %: {} to {}; {} {} \
+                     with 95 % confidence)",
+                    tick(b.value()),
+                    tick(b.interval.0),
+                    tick(b.interval.1),
+                    match b.side {
+                        Side::Below => "at least",
+                        Side::Above => "at most",
+                    },
+                    tick(b.bound)
+                ));
+            }
+            bs => s.push_str(&format!(
+                "; {} share boundaries of {param} (a grid point each) in summary.csv",
+                bs.len()
+            )),
+        }
+        s
     }
 
     /// "; writing set the pace: ..." when the results took longer to
@@ -165,15 +232,37 @@ impl Summary {
         )
     }
 
+    /// "N lanes in T s (R lanes/s, backend)", or for a search "N drives
+    /// searched in T s (M lanes integrated, R lanes/s, backend)".
+    fn size_note(&self, backend: &str) -> String {
+        let plural = |n: u64| if n == 1 { "" } else { "s" };
+        if self.by_search.is_empty() {
+            format!(
+                "{} lane{} in {:.2} s ({:.0} lanes/s, {backend})",
+                self.lanes,
+                plural(self.lanes),
+                self.seconds,
+                self.lanes as f64 / self.seconds.max(1e-9)
+            )
+        } else {
+            format!(
+                "{} drive{} searched in {:.2} s ({} lanes integrated, {:.0} lanes/s, {backend})",
+                self.lanes,
+                plural(self.lanes),
+                self.seconds,
+                self.search_lanes,
+                self.search_lanes as f64 / self.seconds.max(1e-9)
+            )
+        }
+    }
+
     /// The one-line summary.
     pub fn line(&self, backend: &str, out: &Path) -> String {
         format!(
-            "tswm: {} lane{} in {:.2} s ({:.0} lanes/s, {backend}){}; status: {}; contact_end: {}{}{}{}{}; wrote {}",
-            self.lanes,
-            if self.lanes == 1 { "" } else { "s" },
-            self.seconds,
-            self.lanes as f64 / self.seconds.max(1e-9),
+            "tswm: {}{}{}; status: {}; contact_end: {}{}{}{}{}; wrote {}",
+            self.size_note(backend),
             self.pace_note(),
+            self.search_note(),
             counts(&self.by_status, |s| s.name()),
             if self.by_contact.is_empty() {
                 "-".into()

@@ -17,6 +17,8 @@ use crate::output::names::{RESOLVED, TRACES};
 pub(super) struct Part {
     pub(super) dir: PathBuf,
     pub(super) m: Manifest,
+    /// The lanes its range is a whole number of (a share search's groups).
+    pub(super) unit: u64,
 }
 
 /// A shard refused: the shard's folder, and why.
@@ -99,16 +101,18 @@ fn read_part(dir: &Path) -> Result<Part> {
             return Err(refused(dir, &m, why));
         }
     }
-    check_resolved_and_traces(dir, &m)?;
+    let unit = check_resolved_and_traces(dir, &m)?;
     Ok(Part {
         dir: dir.to_path_buf(),
         m,
+        unit,
     })
 }
 
 /// A shard's `sweep.resolved.toml` hashes to its sweep hash, and its
-/// `traces.csv` is there exactly when a traced lane falls in it.
-fn check_resolved_and_traces(dir: &Path, m: &Manifest) -> Result<()> {
+/// `traces.csv` is there exactly when a traced lane falls in it; the
+/// lanes its range is a whole number of.
+fn check_resolved_and_traces(dir: &Path, m: &Manifest) -> Result<u64> {
     let path = dir.join(RESOLVED);
     let text = std::fs::read_to_string(&path)
         .map_err(|e| refused(dir, m, format!("{RESOLVED} cannot be read: {e}")))?;
@@ -150,7 +154,11 @@ fn check_resolved_and_traces(dir: &Path, m: &Manifest) -> Result<()> {
             format!("{TRACES} is there but {MANIFEST} does not cover it"),
         ));
     }
-    Ok(())
+    let unit = match (&sweep.search, &sweep.study) {
+        (Some(s), Some(st)) if s.at_least.is_some() => st.n.max(1),
+        _ => 1,
+    };
+    Ok(unit)
 }
 
 /// Why shard `m` of `dir` does not belong with the first shard `f` (of
@@ -222,7 +230,7 @@ pub(super) fn check_shards(dirs: &[PathBuf]) -> Result<Vec<Part>> {
             n: m.shards,
         };
         if m.shard >= m.shards
-            || want.range(m.lanes_total) != (m.lane_start, m.lane_end)
+            || want.range_in(m.lanes_total, p.unit) != (m.lane_start, m.lane_end)
             || m.rows != m.lane_end - m.lane_start
         {
             return Err(Error::input(

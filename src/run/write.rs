@@ -166,9 +166,9 @@ impl Sink for TableSink {
         written.and(counted)
     }
     fn finish(self) -> Result<Self::Output> {
-        let (stats, sensitivity_seconds) = match self.stats {
-            Some(s) => s.finish()?,
-            None => (Vec::new(), None),
+        let (stats, sensitivity_seconds, boundaries) = match self.stats {
+            Some(s) => s.finish_all()?,
+            None => (Vec::new(), None, Vec::new()),
         };
         Ok(Written {
             lanes: self.table.map(LanesWriter::into_file).transpose()?,
@@ -177,6 +177,7 @@ impl Sink for TableSink {
             scan: self.scan.map(|s| s.0),
             summary: Summary {
                 sensitivity_seconds,
+                boundaries,
                 ..self.summary
             },
             batches: self.kept.unwrap_or_default(),
@@ -234,6 +235,7 @@ pub fn run(
 ) -> Result<Written> {
     let start = Instant::now();
     let dir = target.dir;
+    let search = source.search().is_some();
     let (first, end) = target.range.unwrap_or((0, source.lane_count()));
     let traces = match trace {
         Some(spec) => {
@@ -273,12 +275,15 @@ pub fn run(
         // A shard's files are hashed as they are written: its manifest
         // records their SHA-256.
         table: dir
-            .map(|d| LanesWriter::create(d, target.format, target.range.is_some()))
+            .map(|d| LanesWriter::create(d, target.format, target.range.is_some(), search))
             .transpose()?,
         pool,
         stats,
-        summary: Summary::default(),
-        builder: Builder::default(),
+        summary: Summary {
+            search_param: source.search().map(|s| s.param.name()),
+            ..Summary::default()
+        },
+        builder: Builder::for_run(search),
         traces,
         scan: dir.and_then(|d| scan.map(|s| (s, d.join(target.format.file_name())))),
         kept: target.keep.then(Vec::new),

@@ -24,6 +24,9 @@ pub struct Grouping {
     /// share has a Wilson interval; a grid or a lane table samples
     /// nothing, and a sensitivity design's lanes are not independent.
     pub sampled: bool,
+    /// A search (`[search]`): each row is a drive, with the search's
+    /// columns; with `at_least`, each group's share boundary.
+    pub search: Option<crate::input::sweep::search::Search>,
 }
 
 impl Grouping {
@@ -32,6 +35,7 @@ impl Grouping {
     pub fn of(source: &Source) -> Grouping {
         Grouping {
             lanes: source.lane_count(),
+            search: source.search().cloned(),
             ..Grouping::groups_of(source)
         }
     }
@@ -64,6 +68,7 @@ impl Grouping {
                         sampled: sensitivity.is_none(),
                         sensitivity,
                         lanes: 0,
+                        search: None,
                     },
                     Some(_) => Grouping {
                         inputs,

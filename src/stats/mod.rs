@@ -7,6 +7,7 @@
 
 pub mod grouping;
 pub mod moments;
+pub mod order;
 pub mod quantile;
 pub mod sensitivity;
 pub mod sobol;

@@ -5,13 +5,16 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 mod add;
+mod search;
+
+pub use search::Boundary;
 
 use super::grouping::Grouping;
 use super::moments::Moments;
 use super::quantile::{self, Sketch, PROBS};
 use super::sensitivity::SensitivityCsv;
 use super::{spearman, wilson};
-use crate::columns::{number_columns, results, Kind, Of, Summary};
+use crate::columns::{results_for, Column as Column_, Kind, Of, Summary};
 use crate::error::Result;
 use crate::output::csv_lines::{push_f64, CsvLines};
 use crate::output::names::SENSITIVITY;
@@ -53,6 +56,8 @@ struct Group {
     shares: Vec<Shares>,
     /// The first `EXACT_MAX` lanes' values: results, then inputs.
     kept: Vec<Vec<f64>>,
+    /// A search's drives (their brackets), every one of the group.
+    drives: Vec<search::Drive>,
 }
 
 /// Where in a row of the results table (parameters, then results) the
@@ -68,15 +73,18 @@ struct Layout {
     /// out for a lane at rest, and the final contact's cell that says so.
     running: Vec<bool>,
     contact: usize,
+    /// A search's cells: search_lo, search_hi, search_meets, search_status.
+    search: Option<[usize; 4]>,
     /// Each parameter's cell, by `Num` index.
     params: [usize; N_NUM],
 }
 
 impl Layout {
-    fn new() -> Layout {
+    fn new(search: bool) -> Layout {
         let first = Param::COLUMNS.len();
-        let at = |name: &str| first + results().iter().position(|c| c.name == name).unwrap_or(0);
-        let words = results()
+        let results = results_for(search);
+        let at = |name: &str| first + results.iter().position(|c| c.name == name).unwrap_or(0);
+        let words = results
             .iter()
             .enumerate()
             .filter_map(|(i, c)| match c.summary {
@@ -96,12 +104,26 @@ impl Layout {
                 _ => None,
             })
             .collect();
+        let numbers: Vec<&Column_> = results
+            .iter()
+            .copied()
+            .filter(|c| matches!(c.summary, Summary::Numbers))
+            .collect();
         Layout {
-            numbers: number_columns().map(|c| at(c.name)).collect(),
+            numbers: numbers.iter().map(|c| at(c.name)).collect(),
             words,
             status: at(crate::columns::STATUS),
-            running: number_columns().map(|c| c.running).collect(),
+            running: numbers.iter().map(|c| c.running).collect(),
             contact: at(crate::columns::CONTACT_END),
+            search: search.then(|| {
+                use crate::columns::{SEARCH_HI, SEARCH_LO, SEARCH_MEETS, SEARCH_STATUS};
+                [
+                    at(SEARCH_LO),
+                    at(SEARCH_HI),
+                    at(SEARCH_MEETS),
+                    at(SEARCH_STATUS),
+                ]
+            }),
             params: std::array::from_fn(|k| {
                 Param::COLUMNS
                     .iter()
@@ -124,6 +146,8 @@ pub struct Stats {
     sensitivity: Option<SensitivityCsv>,
     /// The word columns' cells by name (for the indicators).
     word_cells: Vec<(&'static str, usize)>,
+    /// A share search's boundaries, a group each, as they are written.
+    boundaries: Vec<Boundary>,
 }
 
 /// The columns of `summary.csv` after `group` and the grid's parameters.
@@ -154,7 +178,7 @@ impl Stats {
             let _ = write!(head, ",{}", a.param.name());
         }
         let out = CsvLines::create(path, &format!("{head},{SUMMARY_COLUMNS}"))?;
-        let layout = Layout::new();
+        let layout = Layout::new(grouping.search.is_some());
         let sensitivity = match &grouping.sensitivity {
             Some(d) => Some(SensitivityCsv::create(
                 &path.with_file_name(SENSITIVITY),
@@ -163,8 +187,8 @@ impl Stats {
             None => None,
         };
         let first = Param::COLUMNS.len();
-        let word_cells = results()
-            .iter()
+        let word_cells = results_for(grouping.search.is_some())
+            .into_iter()
             .enumerate()
             .filter(|(_, c)| matches!(c.summary, Summary::Shares(..)))
             .map(|(i, c)| (c.name, first + i))
@@ -172,6 +196,7 @@ impl Stats {
         Ok(Stats {
             sensitivity,
             word_cells,
+            boundaries: Vec::new(),
             grouping,
             values: vec![0.0; layout.numbers.len()],
             layout,
@@ -180,14 +205,26 @@ impl Stats {
         })
     }
 
+    /// A share search's boundaries so far, a group each.
+    pub fn boundaries(&self) -> &[Boundary] {
+        &self.boundaries
+    }
+
     /// Writes the last group; the file, to be committed with the run's
     /// other files.
     /// With the files, the seconds spent on sensitivity indices (a
     /// sensitivity design).
-    pub fn finish(mut self) -> Result<(Vec<AtomicFile>, Option<f64>)> {
+    pub fn finish(self) -> Result<(Vec<AtomicFile>, Option<f64>)> {
+        self.finish_all().map(|(f, s, _)| (f, s))
+    }
+
+    /// [`Stats::finish`], with a share search's boundaries, a group each.
+    #[allow(clippy::type_complexity)]
+    pub fn finish_all(mut self) -> Result<(Vec<AtomicFile>, Option<f64>, Vec<Boundary>)> {
         if let Some(g) = self.group.take() {
             self.write_group(g)?;
         }
+        let boundaries = std::mem::take(&mut self.boundaries);
         let mut files = vec![self.out.into_file()];
         let mut seconds = None;
         if let Some(sn) = self.sensitivity {
@@ -195,52 +232,29 @@ impl Stats {
             files.push(f);
             seconds = Some(s);
         }
-        Ok((files, seconds))
+        Ok((files, seconds, boundaries))
     }
 
     fn write_group(&mut self, g: Group) -> Result<()> {
-        let names: Vec<&str> = number_columns().map(|c| c.name).collect();
+        let results = results_for(self.grouping.search.is_some());
+        let names: Vec<&str> = results
+            .iter()
+            .filter(|c| matches!(c.summary, Summary::Numbers))
+            .map(|c| c.name)
+            .collect();
         let mut key = g.id.to_string();
         for v in &g.axis_values {
             let _ = write!(key, ",{v}");
         }
         for (i, c) in g.cols.iter().enumerate() {
-            let mut cells = Cells::default();
-            if c.m.count > 0 {
-                let sd = c.m.std();
-                let qs: Vec<f64> = match &c.sketch {
-                    Some(s) => PROBS.iter().map(|&q| s.quantile(q)).collect(),
-                    None => {
-                        let mut v: Vec<f64> = g.kept[i]
-                            .iter()
-                            .copied()
-                            .filter(|x| x.is_finite())
-                            .collect();
-                        v.sort_by(f64::total_cmp);
-                        PROBS.iter().map(|&q| quantile::exact(&v, q)).collect()
-                    }
-                };
-                let moments = [c.m.mean, sd, c.m.min]
-                    .into_iter()
-                    .chain(qs)
-                    .chain([c.m.max]);
-                for (cell, x) in cells.0[..9].iter_mut().zip(moments) {
-                    *cell = num(x);
-                }
-                cells.0[9] = if c.sketch.is_some() {
-                    "estimate"
-                } else {
-                    "exact"
-                }
-                .into();
-            }
+            let cells = number_cells(c, &g.kept[i]);
             self.row(&key, "number", names[i], "", c.m.count, cells)?;
         }
         let word_columns: Vec<&str> = self
             .layout
             .words
             .iter()
-            .map(|(i, _)| results()[i - Param::COLUMNS.len()].name)
+            .map(|(i, _)| results[i - Param::COLUMNS.len()].name)
             .collect();
         for (column, sh) in word_columns.iter().zip(&g.shares) {
             for (word, &k) in sh.words.iter().zip(&sh.counts) {
@@ -259,6 +273,7 @@ impl Stats {
                 self.row(&key, column, word, "", k, cells)?;
             }
         }
+        self.search_rows(&key, &g)?;
         let results = names.len();
         for (j, input) in self.grouping.inputs.clone().iter().enumerate() {
             for (i, name) in names.iter().enumerate() {
@@ -297,6 +312,37 @@ impl Stats {
 /// quantiles, share, ci95_low, ci95_high, rho.
 #[derive(Default)]
 struct Cells([String; 14]);
+
+/// A number column's cells in a group: its moments and quantiles (exact
+/// from the kept values, or the sketch's estimate).
+fn number_cells(c: &Column, kept: &[f64]) -> Cells {
+    let mut cells = Cells::default();
+    if c.m.count > 0 {
+        let sd = c.m.std();
+        let qs: Vec<f64> = match &c.sketch {
+            Some(s) => PROBS.iter().map(|&q| s.quantile(q)).collect(),
+            None => {
+                let mut v: Vec<f64> = kept.iter().copied().filter(|x| x.is_finite()).collect();
+                v.sort_by(f64::total_cmp);
+                PROBS.iter().map(|&q| quantile::exact(&v, q)).collect()
+            }
+        };
+        let moments = [c.m.mean, sd, c.m.min]
+            .into_iter()
+            .chain(qs)
+            .chain([c.m.max]);
+        for (cell, x) in cells.0[..9].iter_mut().zip(moments) {
+            *cell = num(x);
+        }
+        cells.0[9] = if c.sketch.is_some() {
+            "estimate"
+        } else {
+            "exact"
+        }
+        .into();
+    }
+    cells
+}
 
 /// A number cell: empty for NaN, else the shortest text that reads back.
 fn num(v: f64) -> String {

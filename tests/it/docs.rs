@@ -80,6 +80,8 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
     known.extend(tswm::integrator::Hold::ALL.map(|h| h.name().to_string()));
     known.extend(tswm::integrator::Drive::ALL.map(|d| d.name().to_string()));
     known.extend(tswm::integrator::Recheck::ALL.map(|r| r.name().to_string()));
+    known.extend(tswm::columns::SEARCH.iter().map(|c| c.name.to_string()));
+    known.extend(tswm::integrator::SearchStatus::ALL.map(|s| s.name().to_string()));
     let other = [
         // sweep-file keys and values
         "at_least",

@@ -21,6 +21,7 @@ mod property;
 mod reference;
 mod refusals;
 mod report;
+mod search;
 mod sensitivity;
 mod shader;
 mod shards;

@@ -26,6 +26,18 @@ pub(super) struct SweepFile {
     pub(super) friction_table: Option<Spanned<toml::Table>>,
     pub(super) trace: Option<Spanned<TraceDef>>,
     pub(super) report: Option<Spanned<ReportDef>>,
+    pub(super) search: Option<Spanned<SearchDef>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SearchDef {
+    pub(super) param: Spanned<String>,
+    pub(super) from: Spanned<f64>,
+    pub(super) to: Spanned<f64>,
+    pub(super) require: Spanned<String>,
+    pub(super) tol: Spanned<f64>,
+    pub(super) at_least: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]

@@ -18,6 +18,7 @@ mod laws;
 mod parse;
 pub mod require;
 mod resolved;
+pub mod search;
 mod study;
 mod text;
 
@@ -123,6 +124,8 @@ pub struct Sweep {
     pub trace: Option<TraceSpec>,
     /// What the report shows (`[report]`).
     pub report: ReportSpec,
+    /// Each drive's critical value of a parameter (`[search]`), if asked.
+    pub search: Option<search::Search>,
     /// The line of each parameter the file sets (`[base]` key, grid axis,
     /// tolerance), so a lane's error can point at it.
     pub key_lines: Vec<(&'static str, usize)>,
@@ -232,9 +235,46 @@ impl Sweep {
     /// [`Sweep::lane_spec`] into `spec` (its earlier contents replaced):
     /// a lane source reuses one.
     pub fn lane_spec_into(&self, i: u64, u: &mut Uniforms, spec: &mut Spec) {
-        spec.clone_from(&self.base);
+        // A search's drive as one lane: the searched parameter at the
+        // bracket's lower end (the lane its first round starts with).
+        let at = self.search.as_ref().map(|s| (s.param, s.from));
+        self.lane_spec_at(i, at, u, spec)
+    }
+
+    /// [`Sweep::lane_spec_into`] with the nominal value of `at`'s
+    /// parameter set to its value (a search's query point): the value a
+    /// grid would set, around which the lane's tolerance, if any, draws.
+    pub fn lane_spec_at(
+        &self,
+        i: u64,
+        at: Option<(crate::params::Num, f64)>,
+        u: &mut Uniforms,
+        spec: &mut Spec,
+    ) {
         let n = self.samples();
-        let (mut g, k) = (i / n, i % n);
+        self.point_spec(i / n, at, spec);
+        if let Some(st) = &self.study {
+            st.draw(i % n, spec, u);
+        }
+        self.keep_own_law_params(spec);
+    }
+
+    /// The nominal design of grid point `point` (its values without the
+    /// study's draws), with `at`'s parameter set: a search's design point.
+    pub fn nominal_spec_at(
+        &self,
+        point: u64,
+        at: Option<(crate::params::Num, f64)>,
+        spec: &mut Spec,
+    ) {
+        self.point_spec(point, at, spec);
+        self.keep_own_law_params(spec);
+    }
+
+    /// The base with grid point `point`'s values, and `at`'s parameter set.
+    fn point_spec(&self, point: u64, at: Option<(crate::params::Num, f64)>, spec: &mut Spec) {
+        spec.clone_from(&self.base);
+        let mut g = point;
         for a in self.axes.iter().rev() {
             let len = a.len();
             match (a.param, &a.values) {
@@ -247,10 +287,9 @@ impl Sweep {
             }
             g /= len;
         }
-        if let Some(st) = &self.study {
-            st.draw(k, spec, u);
+        if let Some((p, x)) = at {
+            spec.set(p, x);
         }
-        self.keep_own_law_params(spec);
     }
 
     /// Where lane `lane`'s error on `param` (one name, or several, comma
@@ -283,95 +322,4 @@ impl Sweep {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::error::Result;
-    use crate::params::Num;
-    use std::path::Path;
-
-    fn parse(t: &str) -> Result<Sweep> {
-        Sweep::parse(Path::new("s.toml"), t)
-    }
-
-    #[test]
-    fn grid_is_row_major_first_axis_slowest() {
-        let s = parse(
-            "[[grid]]\nparam = \"f2\"\nvalues = [1, 2]\n[[grid]]\nparam = \"gamma_deg\"\nfrom = 5\nto = 15\nn = 3\n",
-        )
-        .unwrap();
-        assert_eq!(s.lane_count(), 6);
-        let mut u = s.uniforms();
-        let got: Vec<(f64, f64)> = (0..6)
-            .map(|i| {
-                let sp = s.lane_spec(i, &mut u);
-                (
-                    sp.num[crate::params::Num::F2 as usize].unwrap(),
-                    sp.num[Num::GammaDeg as usize].unwrap(),
-                )
-            })
-            .collect();
-        assert_eq!(
-            got,
-            vec![
-                (1.0, 5.0),
-                (1.0, 10.0),
-                (1.0, 15.0),
-                (2.0, 5.0),
-                (2.0, 10.0),
-                (2.0, 15.0)
-            ]
-        );
-    }
-
-    /// sweep.resolved.toml stands for exactly the same lanes.
-    #[test]
-    fn resolved_sweep_gives_the_same_lanes() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
-        for f in [
-            "paper.toml",
-            "efficiency_map.toml",
-            "tolerance.toml",
-            "million.toml",
-        ] {
-            let a = Sweep::from_file(&root.join(f)).unwrap();
-            let text = toml::to_string(&a.resolved_toml()).unwrap();
-            let b = Sweep::parse(Path::new("resolved"), &text)
-                .unwrap_or_else(|e| panic!("{f}: {e}\n{text}"));
-            assert_eq!(a.lane_count(), b.lane_count(), "{f}");
-            let (mut ua, mut ub) = (a.uniforms(), b.uniforms());
-            let n = a.lane_count();
-            for i in (0..n).step_by((n / 500).max(1) as usize) {
-                let pa = a.lane_spec(i, &mut ua).resolve(&a.tables.names).unwrap();
-                let pb = b.lane_spec(i, &mut ub).resolve(&b.tables.names).unwrap();
-                assert_eq!(format!("{pa:?}"), format!("{pb:?}"), "{f} lane {i}");
-            }
-        }
-    }
-
-    #[test]
-    fn log_axis_hits_its_ends() {
-        let s = parse("[[grid]]\nparam = \"mu\"\nfrom = 0.01\nto = 1\nn = 3\nscale = \"log\"\n")
-            .unwrap();
-        let v: Vec<f64> = (0..3).map(|i| s.axes[0].value(i)).collect();
-        assert!(
-            (v[0] - 0.01).abs() < 1e-15 && (v[1] - 0.1).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-14
-        );
-    }
-
-    #[test]
-    fn latin_hypercube_puts_one_sample_in_each_stratum() {
-        let s = parse(
-            "[sampling]\nmethod = \"latin_hypercube\"\nn = 50\nseed = 3\n\
-             [[tolerance]]\nparam = \"m1\"\ndist = \"uniform\"\ntol = 50\n",
-        )
-        .unwrap();
-        let mut u = s.uniforms();
-        let mut hit = [0; 50];
-        for i in 0..50 {
-            let m1 = s.lane_spec(i, &mut u).num[Num::M1 as usize].unwrap();
-            // uniform on 586 ± 50: stratum of width 100/50 = 2 kg
-            hit[((m1 - 536.0) / 2.0) as usize] += 1;
-        }
-        assert!(hit.iter().all(|&h| h == 1), "{hit:?}");
-    }
-}
+mod tests;

@@ -9,6 +9,7 @@ use toml::Spanned;
 
 use super::axes::parse_axes;
 use super::file::{key_lines, At, ReportDef, SweepFile, TableDef};
+use super::search::parse_search;
 use super::study::parse_study;
 use super::text::{read_text, suggest_in, toml_error};
 use super::{Axis, AxisValues, Sweep};
@@ -43,6 +44,26 @@ impl Sweep {
         };
         check_table_names(&at, &file, &base, &axes, &tables)?;
         let study = parse_study(&at, &file, &base, &axes)?;
+        let drives = match lanes {
+            Some(n) => n,
+            None => {
+                let mut n = study.as_ref().map_or(1, |s| s.n);
+                for a in &axes {
+                    n = n.saturating_mul(a.len());
+                }
+                n
+            }
+        };
+        // A lane table's rows are counted later (`Source::open`), and its
+        // search's size checked then.
+        let search = parse_search(
+            &at,
+            &file,
+            &base,
+            &axes,
+            study.as_ref(),
+            lanes.is_none().then_some(drives),
+        )?;
         let mut sweep = Sweep {
             base,
             axes,
@@ -50,6 +71,7 @@ impl Sweep {
             tables,
             trace: None,
             report: Default::default(),
+            search,
             key_lines: key_lines(text, &file),
         };
         let total = match lanes {

@@ -31,6 +31,18 @@ impl Sweep {
             x.insert("dt".into(), tr.dt.into());
             t.insert("trace".into(), x.into());
         }
+        if let Some(s) = &self.search {
+            let mut x = toml::Table::new();
+            x.insert("param".into(), s.param.name().into());
+            x.insert("from".into(), s.from.into());
+            x.insert("to".into(), s.to.into());
+            x.insert("require".into(), s.require.text().into());
+            x.insert("tol".into(), s.tol.into());
+            if let Some(a) = s.at_least {
+                x.insert("at_least".into(), a.into());
+            }
+            t.insert("search".into(), x.into());
+        }
         if self.report != super::ReportSpec::default() {
             t.insert("report".into(), report_toml(&self.report).into());
         }

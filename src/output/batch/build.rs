@@ -8,8 +8,8 @@ use std::sync::Arc;
 use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
 use arrow_buffer::{BooleanBuffer, NullBuffer, OffsetBuffer, ScalarBuffer};
 
-use super::schema;
-use crate::columns::{results, Column, Kind, Value};
+use super::schema_for;
+use crate::columns::{results_for, Column, Kind, Value};
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
 use crate::output::short_bytes;
@@ -163,9 +163,19 @@ const FILL_ROWS: usize = 1024;
 pub struct Builder {
     floats: Vec<Vec<f64>>,
     ints: Vec<Vec<i64>>,
+    /// Builds a search run's batches (its columns after the results).
+    search: bool,
 }
 
 impl Builder {
+    /// A builder of a search run's batches (`search`) or another's.
+    pub fn for_run(search: bool) -> Builder {
+        Builder {
+            search,
+            ..Builder::default()
+        }
+    }
+
     /// An empty column of `kind` with room for `n` rows.
     fn fill(&mut self, kind: Kind, n: usize) -> Fill {
         fn room<T>(mut v: Vec<T>, n: usize) -> Vec<T> {
@@ -208,13 +218,14 @@ impl Builder {
                 })
             })
             .collect();
+        let results = results_for(self.search);
         // Every `groups`-th result column a group.
-        let groups = pool.current_num_threads().clamp(1, results().len());
+        let groups = pool.current_num_threads().clamp(1, results.len());
         let mut filled: Vec<Vec<(usize, Fill)>> = (0..groups)
             .map(|g| {
-                (g..results().len())
+                (g..results.len())
                     .step_by(groups)
-                    .map(|c| (c, self.fill(results()[c].kind(), n)))
+                    .map(|c| (c, self.fill(results[c].kind(), n)))
                     .collect()
             })
             .collect();
@@ -223,17 +234,17 @@ impl Builder {
                 for start in (0..n).step_by(FILL_ROWS) {
                     let rows = start..(start + FILL_ROWS).min(n);
                     for (c, f) in fills.iter_mut() {
-                        f.results(&results()[*c], rows.clone(), first, results_);
+                        f.results(results[*c], rows.clone(), first, results_);
                     }
                 }
             })
         });
-        cols.resize(np + results().len(), None);
+        cols.resize(np + results.len(), None);
         for (c, f) in filled.into_iter().flatten() {
             cols[np + c] = Some(f.finish());
         }
         let cols = cols.into_iter().map(|c| c.expect("every column filled"));
-        RecordBatch::try_new(schema(), cols.collect())
+        RecordBatch::try_new(schema_for(self.search), cols.collect())
             .map_err(|e| Error::Internal(format!("results batch: {e}")))
     }
 
@@ -243,6 +254,7 @@ impl Builder {
     /// filled again. A buffer still shared elsewhere is copied back or
     /// left to its other owner.
     pub fn recycle(&mut self, batch: RecordBatch, params: &mut ParamColumns) {
+        let results = results_for(self.search);
         let (_, cols, _) = batch.into_parts();
         for (c, a) in cols.into_iter().enumerate() {
             let param = Param::COLUMNS.get(c).copied();
@@ -252,7 +264,7 @@ impl Builder {
                 continue;
             };
             drop(data);
-            match (param, results().get(c.wrapping_sub(Param::COLUMNS.len()))) {
+            match (param, results.get(c.wrapping_sub(Param::COLUMNS.len()))) {
                 (Some(Param::Num(k)), _) => params.put_num(
                     k,
                     buffer
@@ -278,5 +290,6 @@ pub fn from_lanes(
     results_: &[LaneResult],
     pool: &rayon::ThreadPool,
 ) -> Result<RecordBatch> {
-    Builder::default().build(first, &mut params.clone(), results_, pool)
+    let search = results_.first().is_some_and(|r| r.search.is_some());
+    Builder::for_run(search).build(first, &mut params.clone(), results_, pool)
 }

@@ -18,7 +18,7 @@ pub use build::{from_lanes, Builder};
 use arrow_array::{Array, ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 
-use crate::columns::{results, Cell, Kind};
+use crate::columns::{results_for, Cell, Kind};
 use crate::error::{Error, Result};
 use crate::params::Param;
 
@@ -26,6 +26,12 @@ use crate::params::Param;
 /// parameters (docs/model.md section 9 order), then the result columns of
 /// [`crate::columns::RESULTS`].
 pub fn columns() -> Vec<(&'static str, Kind)> {
+    columns_for(false)
+}
+
+/// The columns of a run's results table: [`columns`], and for a search
+/// the columns of [`crate::columns::SEARCH`] after them.
+pub fn columns_for(search: bool) -> Vec<(&'static str, Kind)> {
     let mut c: Vec<(&'static str, Kind)> = Param::COLUMNS
         .iter()
         .map(|p| match p {
@@ -33,7 +39,7 @@ pub fn columns() -> Vec<(&'static str, Kind)> {
             _ => (p.name(), Kind::Text),
         })
         .collect();
-    c.extend(results().iter().map(|r| (r.name, r.kind())));
+    c.extend(results_for(search).iter().map(|r| (r.name, r.kind())));
     c
 }
 
@@ -49,16 +55,26 @@ pub fn data_type(kind: Kind) -> DataType {
 /// The schema of the results table, in [`columns`]
 /// order: floats and words nullable (an empty cell), counts never empty.
 pub fn schema() -> SchemaRef {
-    static SCHEMA: OnceLock<SchemaRef> = OnceLock::new();
-    SCHEMA
+    schema_for(false)
+}
+
+/// The schema of a run's results table ([`columns_for`]).
+pub fn schema_for(search: bool) -> SchemaRef {
+    static SCHEMAS: [OnceLock<SchemaRef>; 2] = [OnceLock::new(), OnceLock::new()];
+    SCHEMAS[search as usize]
         .get_or_init(|| {
-            let fields: Vec<Field> = columns()
+            let fields: Vec<Field> = columns_for(search)
                 .into_iter()
                 .map(|(name, kind)| Field::new(name, data_type(kind), kind != Kind::Int))
                 .collect();
             Arc::new(Schema::new(fields))
         })
         .clone()
+}
+
+/// Whether a batch (or a table's header) holds a search's columns.
+pub fn is_search(names: &[&str]) -> bool {
+    names.contains(&crate::columns::SEARCH_STATUS)
 }
 
 /// A float column from its values, NaN as null.
@@ -68,8 +84,8 @@ pub fn floats(values: Vec<f64>) -> ArrayRef {
 
 /// The batch of rows given as cells, row after row, in
 /// [`columns`] order (a merge's rows read back).
-pub fn from_cells(cells: &[Cell]) -> Result<RecordBatch> {
-    let schema = schema();
+pub fn from_cells(cells: &[Cell], search: bool) -> Result<RecordBatch> {
+    let schema = schema_for(search);
     let w = schema.fields().len();
     let n = cells.len() / w;
     let at = |c: usize| (0..n).map(move |r| &cells[r * w + c]);

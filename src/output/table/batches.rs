@@ -13,7 +13,7 @@ use arrow_array::RecordBatch;
 use super::reading::{not_ours, open, Wanted};
 use super::{columns, Format, Kind};
 use crate::error::{Error, Result};
-use crate::output::batch::data_type;
+use crate::output::batch::{columns_for, data_type};
 
 /// Reads the results table of `dir` (`lanes.csv` or `lanes.parquet`),
 /// columns `names` only (in table order), handing `each` batches of rows
@@ -25,7 +25,11 @@ pub fn read_batches(
 ) -> Result<std::path::PathBuf> {
     let format = Format::of_folder(dir)?;
     let path = dir.join(format.file_name());
-    let table = columns();
+    // A search's columns are asked for only of a search's table.
+    let search = names
+        .iter()
+        .any(|n| crate::columns::SEARCH.iter().any(|c| c.name == *n));
+    let table = columns_for(search);
     let wanted: Vec<(usize, &'static str, Kind)> = table
         .iter()
         .enumerate()
@@ -39,6 +43,30 @@ pub fn read_batches(
     Ok(path)
 }
 
+/// The names of the columns of the results table of `dir`, in table
+/// order: a search run's table has the search's columns after the others.
+pub fn folder_columns(dir: &Path) -> Result<Vec<&'static str>> {
+    let format = Format::of_folder(dir)?;
+    let path = dir.join(format.file_name());
+    let width = match format {
+        Format::Parquet => ParquetRecordBatchReaderBuilder::try_new(open(&path)?)
+            .map_err(|e| Error::input(&path, None, None, format!("not a Parquet file: {e}")))?
+            .parquet_schema()
+            .root_schema()
+            .get_fields()
+            .len(),
+        Format::Csv => {
+            let mut rd = csv::ReaderBuilder::new().has_headers(false).from_reader(open(&path)?);
+            let mut rec = csv::ByteRecord::new();
+            rd.read_byte_record(&mut rec)
+                .map_err(|e| Error::input(&path, Some("line 1".into()), None, e.to_string()))?;
+            rec.len()
+        }
+    };
+    let search = width == columns_for(true).len();
+    Ok(columns_for(search).into_iter().map(|c| c.0).collect())
+}
+
 fn read_parquet(
     path: &Path,
     wanted: &Wanted,
@@ -48,8 +76,8 @@ fn read_parquet(
     let b = ParquetRecordBatchReaderBuilder::try_new(open(path)?)
         .map_err(|e| bad(format!("not a Parquet file: {e}")))?;
     let descr = b.parquet_schema();
-    let table = columns();
     let fields = descr.root_schema().get_fields();
+    let table = columns_for(fields.len() > columns().len());
     if fields.len() != table.len() || fields.iter().zip(&table).any(|(f, c)| f.name() != c.0) {
         return Err(not_ours(path));
     }

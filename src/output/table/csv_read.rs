@@ -18,6 +18,7 @@ use arrow_schema::{Field, Schema, SchemaRef};
 use super::reading::{not_ours, open, Builder, Wanted, BATCH_ROWS};
 use super::{columns, Kind};
 use crate::error::{Error, Result};
+use crate::output::batch::columns_for;
 use crate::output::batch::data_type;
 
 /// Bytes read at a time (a window's pieces in flight, memory bounded).
@@ -55,6 +56,8 @@ fn read_windows(
     let mut buf: Vec<u8> = Vec::with_capacity(window + (1 << 16));
     let (mut rows, mut lines) = (0u64, 0u64);
     let mut header = true;
+    // The header's cells: the table's, with or without a search's columns.
+    let mut width = 0;
     loop {
         let had = buf.len();
         buf.resize(had + window, 0);
@@ -64,7 +67,14 @@ fn read_windows(
         if buf.contains(&b'"') || buf.contains(&b'\r') {
             // Quotes or carriage returns: the `csv` reader from here on.
             let rest = Cursor::new(std::mem::take(&mut buf)).chain(file);
-            return read_serial(path, rest, (header, rows, lines), wanted, &schema, each);
+            return read_serial(
+                path,
+                rest,
+                (header, rows, lines, width),
+                wanted,
+                &schema,
+                each,
+            );
         }
         // Whole lines only; the last, unended one waits for more bytes.
         let cut = if end {
@@ -78,12 +88,12 @@ fn read_windows(
         let mut body = &buf[..cut];
         if header {
             let line_end = body.iter().position(|&b| b == b'\n').unwrap_or(body.len());
-            check_header(path, &body[..line_end])?;
+            width = check_header(path, &body[..line_end])?;
             body = &body[(line_end + 1).min(body.len())..];
             header = false;
             lines += 1;
         }
-        (rows, lines) = parse_window(path, body, (rows, lines), wanted, &schema, each)?;
+        (rows, lines) = parse_window(path, body, (rows, lines, width), wanted, &schema, each)?;
         buf.drain(..cut);
         if end {
             return Ok(());
@@ -104,14 +114,15 @@ fn read_full(r: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
     Ok(n)
 }
 
-/// The header line must name the table's columns, in order.
-fn check_header(path: &Path, line: &[u8]) -> Result<()> {
-    let table = columns();
+/// The header line must name the table's columns, in order (a search's
+/// table has its columns after them); its width.
+fn check_header(path: &Path, line: &[u8]) -> Result<usize> {
     let names: Vec<&[u8]> = line.split(|&b| b == b',').collect();
+    let table = columns_for(names.len() > columns().len());
     if names.len() != table.len() || names.iter().zip(&table).any(|(h, c)| *h != c.0.as_bytes()) {
         return Err(not_ours(path));
     }
-    Ok(())
+    Ok(table.len())
 }
 
 /// Parses a window's whole lines (rows `rows + 1..`, after `lines`
@@ -120,7 +131,7 @@ fn check_header(path: &Path, line: &[u8]) -> Result<()> {
 fn parse_window(
     path: &Path,
     body: &[u8],
-    (mut rows, mut lines): (u64, u64),
+    (mut rows, mut lines, width): (u64, u64, usize),
     wanted: &Wanted,
     schema: &SchemaRef,
     each: &mut impl FnMut(&RecordBatch) -> Result<()>,
@@ -141,7 +152,7 @@ fn parse_window(
     }
     let parsed: Vec<std::result::Result<(RecordBatch, u64), PieceError>> = pieces
         .par_iter()
-        .map(|p| parse_piece(p, wanted, schema))
+        .map(|p| parse_piece(p, width, wanted, schema))
         .collect();
     for b in parsed {
         match b {
@@ -167,10 +178,10 @@ fn parse_window(
 /// its lines; empty lines skipped, as the `csv` reader skips them.
 fn parse_piece(
     piece: &[u8],
+    width: usize,
     wanted: &Wanted,
     schema: &SchemaRef,
 ) -> std::result::Result<(RecordBatch, u64), PieceError> {
-    let width = columns().len();
     let mut builders: Vec<Builder> = wanted.iter().map(|w| Builder::of(w.2)).collect();
     let mut row = 0u64;
     for line in piece.split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
@@ -201,7 +212,7 @@ fn parse_piece(
 fn read_serial(
     path: &Path,
     rd: impl Read,
-    (header, mut row, lines): (bool, u64, u64),
+    (header, mut row, lines, width): (bool, u64, u64, usize),
     wanted: &Wanted,
     schema: &SchemaRef,
     each: &mut impl FnMut(&RecordBatch) -> Result<()>,
@@ -213,14 +224,15 @@ fn read_serial(
         .flexible(true)
         .buffer_capacity(1 << 20)
         .from_reader(rd);
-    if header {
+    let width = if header {
         let head = rd
             .byte_headers()
             .map_err(|e| Error::input(path, None, None, format!("not a tswm table: {e}")))?;
         let line: Vec<u8> = head.iter().collect::<Vec<_>>().join(&b","[..]);
-        check_header(path, &line)?;
-    }
-    let table = columns();
+        check_header(path, &line)?
+    } else {
+        width
+    };
     let mut builders: Vec<Builder> = wanted.iter().map(|w| Builder::of(w.2)).collect();
     let mut rec = csv::ByteRecord::new();
     let mut filled = 0usize;
@@ -236,15 +248,14 @@ fn read_serial(
     })? {
         row += 1;
         let at = || Some(format!("row {row}"));
-        if rec.len() != table.len() {
+        if rec.len() != width {
             return Err(Error::input(
                 path,
                 at(),
                 Some(""),
                 format!(
-                    "has {} cells, the table's header {}; not a tswm table",
+                    "has {} cells, the table's header {width}; not a tswm table",
                     rec.len(),
-                    table.len()
                 ),
             ));
         }

@@ -17,7 +17,7 @@ mod reading;
 
 use std::path::Path;
 
-pub use self::batches::read_batches;
+pub use self::batches::{folder_columns, read_batches};
 pub use self::csv_rows::CsvBlocks;
 pub use self::parquet::{ParquetLanes, ROW_GROUP};
 pub use crate::columns::{Cell, Kind};
@@ -81,8 +81,9 @@ impl Format {
 pub enum LanesWriter {
     /// `lanes.csv`, and the buffers its blocks of rows are formatted in.
     Csv(CsvLines, CsvBlocks),
-    /// `lanes.parquet`, and the rows given as cells not yet written.
-    Parquet(Box<ParquetLanes>, Vec<Cell>),
+    /// `lanes.parquet`, the rows given as cells not yet written, and
+    /// whether it is a search's table.
+    Parquet(Box<ParquetLanes>, Vec<Cell>, bool),
 }
 
 /// The bytes the rows of `batch` take in a table of `format` (no
@@ -100,11 +101,19 @@ pub fn rows_bytes(format: Format, pool: &rayon::ThreadPool, batch: &RecordBatch)
             Ok(bytes)
         }
         Format::Parquet => {
+            let search = batch::is_search(
+                &batch
+                    .schema()
+                    .fields()
+                    .iter()
+                    .map(|f| f.name().as_str())
+                    .collect::<Vec<_>>(),
+            );
             let size = |b: Option<&RecordBatch>| -> Result<u64> {
                 let mut w = ::parquet::arrow::ArrowWriter::try_new(
                     Vec::new(),
-                    batch::schema(),
-                    Some(parquet::writer_properties()),
+                    batch::schema_for(search),
+                    Some(parquet::writer_properties(search)),
                 )
                 .map_err(|e| Error::Internal(format!("estimating lanes.parquet: {e}")))?;
                 if let Some(b) = b {
@@ -128,19 +137,22 @@ impl LanesWriter {
     /// Starts the table `dir/lanes.{csv,parquet}`.
     /// `hashed`: the file's SHA-256 is computed as it is written (a
     /// shard's, for its manifest).
-    pub fn create(dir: &Path, format: Format, hashed: bool) -> Result<LanesWriter> {
+    /// `search`: a search run's table, with the search's columns.
+    pub fn create(dir: &Path, format: Format, hashed: bool, search: bool) -> Result<LanesWriter> {
         let path = dir.join(format.file_name());
         Ok(match format {
             Format::Csv => {
-                let header: Vec<&str> = columns().iter().map(|c| c.0).collect();
+                let header: Vec<&str> = batch::columns_for(search).iter().map(|c| c.0).collect();
                 LanesWriter::Csv(
                     CsvLines::start(&path, &header.join(","), hashed)?,
                     CsvBlocks::default(),
                 )
             }
-            Format::Parquet => {
-                LanesWriter::Parquet(Box::new(ParquetLanes::create(&path, hashed)?), Vec::new())
-            }
+            Format::Parquet => LanesWriter::Parquet(
+                Box::new(ParquetLanes::create(&path, hashed, search)?),
+                Vec::new(),
+                search,
+            ),
         })
     }
 
@@ -150,7 +162,7 @@ impl LanesWriter {
     pub fn write_batch(&mut self, pool: &rayon::ThreadPool, b: &RecordBatch) -> Result<()> {
         match self {
             LanesWriter::Csv(w, blocks) => blocks.format(pool, b, |text| w.write_raw(text)),
-            LanesWriter::Parquet(w, _) => w.write(b, Some(pool)),
+            LanesWriter::Parquet(w, ..) => w.write(b, Some(pool)),
         }
     }
 
@@ -169,10 +181,10 @@ impl LanesWriter {
                 }
                 w.end_line()
             }
-            LanesWriter::Parquet(w, rows) => {
+            LanesWriter::Parquet(w, rows, search) => {
                 rows.extend_from_slice(cells);
                 if rows.len() >= CELL_ROWS * cells.len() {
-                    w.write(&batch::from_cells(rows)?, None)?;
+                    w.write(&batch::from_cells(rows, *search)?, None)?;
                     rows.clear();
                 }
                 Ok(())
@@ -184,9 +196,9 @@ impl LanesWriter {
     pub fn into_file(self) -> Result<AtomicFile> {
         match self {
             LanesWriter::Csv(w, _) => Ok(w.into_file()),
-            LanesWriter::Parquet(mut w, rows) => {
+            LanesWriter::Parquet(mut w, rows, search) => {
                 if !rows.is_empty() {
-                    w.write(&batch::from_cells(&rows)?, None)?;
+                    w.write(&batch::from_cells(&rows, search)?, None)?;
                 }
                 w.finish()
             }

@@ -19,10 +19,9 @@ use ::parquet::schema::types::ColumnPath;
 use arrow_array::{ArrayRef, RecordBatch};
 use arrow_schema::FieldRef;
 
-use super::{columns, Kind};
+use super::Kind;
 use crate::error::{Error, Result};
 use crate::output::atomic::{AtomicFile, FileWriter};
-use crate::output::batch::schema;
 
 /// Rows a row group: big enough to compress and scan well, small enough
 /// that a reader holds one in a few tens of MB.
@@ -31,6 +30,8 @@ pub const ROW_GROUP: usize = 1 << 17;
 /// `lanes.parquet`, written a row group at a time (bounded memory).
 pub struct ParquetLanes {
     file: AtomicFile,
+    /// The table's schema (a search's has its columns).
+    schema: arrow_schema::SchemaRef,
     path: PathBuf,
     writer: Option<SerializedFileWriter<FileWriter>>,
     factory: ArrowRowGroupWriterFactory,
@@ -42,7 +43,7 @@ pub struct ParquetLanes {
 
 /// The writer's settings of `lanes.parquet` (also what the estimate of a
 /// run's disk writes its trial rows with).
-pub(crate) fn writer_properties() -> WriterProperties {
+pub(crate) fn writer_properties(search: bool) -> WriterProperties {
     let mut props = WriterProperties::builder()
         // LZ4_RAW: about a fifth cheaper to encode than Snappy, for a
         // file of about the same size; pyarrow, pandas, polars and DuckDB
@@ -56,7 +57,7 @@ pub(crate) fn writer_properties() -> WriterProperties {
         .set_statistics_enabled(EnabledStatistics::Page)
         .set_max_row_group_row_count(Some(ROW_GROUP))
         .set_created_by(format!("tswm {}", env!("CARGO_PKG_VERSION")));
-    for (name, kind) in columns() {
+    for (name, kind) in crate::output::batch::columns_for(search) {
         if kind == Kind::Text {
             props = props.set_column_dictionary_enabled(ColumnPath::from(name), true);
         }
@@ -69,20 +70,23 @@ pub(super) fn parquet_error(path: &Path, e: ::parquet::errors::ParquetError) -> 
 }
 
 impl ParquetLanes {
-    pub(super) fn create(path: &Path, hashed: bool) -> Result<ParquetLanes> {
+    pub(super) fn create(path: &Path, hashed: bool, search: bool) -> Result<ParquetLanes> {
         let mut file = if hashed {
             AtomicFile::create_hashed(path)?
         } else {
             AtomicFile::create(path)?
         };
-        let props = writer_properties();
+        let props = writer_properties(search);
         let pe = |e| parquet_error(path, e);
-        let (writer, factory) = ArrowWriter::try_new(file.take_writer(), schema(), Some(props))
-            .and_then(ArrowWriter::into_serialized_writer)
-            .map_err(pe)?;
+        let schema = crate::output::batch::schema_for(search);
+        let (writer, factory) =
+            ArrowWriter::try_new(file.take_writer(), schema.clone(), Some(props))
+                .and_then(ArrowWriter::into_serialized_writer)
+                .map_err(pe)?;
         let cols = factory.create_column_writers(0).map_err(pe)?;
         Ok(ParquetLanes {
             file,
+            schema,
             path: path.to_path_buf(),
             writer: Some(writer),
             factory,
@@ -115,7 +119,7 @@ impl ParquetLanes {
     /// Encodes the columns of `batch` into the row group's writers.
     fn encode(&mut self, batch: &RecordBatch, pool: Option<&rayon::ThreadPool>) -> Result<()> {
         use rayon::prelude::*;
-        let schema = schema();
+        let schema = self.schema.clone();
         let one = |((w, a), f): ((&mut ArrowColumnWriter, &ArrayRef), &FieldRef)| {
             for leaf in compute_leaves(f, a)? {
                 w.write(&leaf)?;

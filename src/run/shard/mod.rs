@@ -66,8 +66,21 @@ impl Shard {
     /// The lanes `start..end` of this shard, of `total`: contiguous ranges
     /// whose sizes differ by at most one, the same on every machine.
     pub fn range(&self, total: u64) -> (u64, u64) {
-        let at = |k: u64| (u128::from(total) * u128::from(k) / u128::from(self.n)) as u64;
-        (at(self.k), at(self.k + 1))
+        self.range_in(total, 1)
+    }
+
+    /// [`Shard::range`] in whole `unit`s of lanes (a share search's
+    /// groups, searched together): the units split as lanes are.
+    pub fn range_in(&self, total: u64, unit: u64) -> (u64, u64) {
+        let unit = unit.max(1);
+        let units = total / unit;
+        let at = |k: u64| (u128::from(units) * u128::from(k) / u128::from(self.n)) as u64 * unit;
+        let end = if self.k + 1 == self.n {
+            total
+        } else {
+            at(self.k + 1)
+        };
+        (at(self.k), end)
     }
 }
 

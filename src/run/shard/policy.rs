@@ -69,7 +69,7 @@ impl ShardRun {
         let total = source.lane_count();
         Ok(ShardStart::Run(ShardRun {
             shard: s,
-            range: s.range(total),
+            range: s.range_in(total, source.shard_unit()),
             hash,
             lane_table,
             total,

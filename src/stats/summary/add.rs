@@ -78,8 +78,24 @@ impl Stats {
             kept: (0..layout.numbers.len() + inputs.len())
                 .map(|_| Vec::with_capacity(room))
                 .collect(),
+            drives: Vec::new(),
         });
         g.lanes += rows.len() as u64;
+        if let Some([lo, hi, meets, status]) = layout.search {
+            use crate::integrator::{SearchStatus, Side};
+            for r in rows.clone() {
+                g.drives.push(super::search::Drive {
+                    lo: cols[lo].number(r),
+                    hi: cols[hi].number(r),
+                    side: Side::ALL
+                        .into_iter()
+                        .find(|x| x.name() == cols[meets].word(r)),
+                    status: SearchStatus::ALL
+                        .into_iter()
+                        .find(|x| x.name() == cols[status].word(r)),
+                });
+            }
+        }
         add_shares(g, layout, cols, rows.clone());
         add_numbers(g, layout, inputs, cols, rows.clone(), pool, sketch_only);
         if let Some(sn) = self.sensitivity.as_mut() {
