@@ -223,7 +223,7 @@ fn table(c: &mut Criterion) {
         let mut chunks: Vec<ParamColumns> =
             params.chunks(CHUNK).map(|p| p.iter().collect()).collect();
         let mut write = || {
-            let mut w = LanesWriter::create(dir.path(), format, false).unwrap();
+            let mut w = LanesWriter::create(dir.path(), format, false, false).unwrap();
             let mut builder = tswm::output::batch::Builder::default();
             for (k, (p, r)) in chunks.iter_mut().zip(results.chunks(CHUNK)).enumerate() {
                 // The run's path: the chunk's batch of columns, then the

@@ -174,8 +174,7 @@ fn table(batches: Vec<RecordBatch>) -> PyResult<PyArrowType<Table>> {
     let schema = batches
         .first()
         .map_or_else(tswm::output::batch::schema, |b| b.schema());
-    let t = Table::try_new(batches, schema)
-        .map_err(|e| failure(Error::Internal(e.to_string())))?;
+    let t = Table::try_new(batches, schema).map_err(|e| failure(Error::Internal(e.to_string())))?;
     Ok(PyArrowType(t))
 }
 

@@ -56,7 +56,9 @@ pub fn folder_columns(dir: &Path) -> Result<Vec<&'static str>> {
             .get_fields()
             .len(),
         Format::Csv => {
-            let mut rd = csv::ReaderBuilder::new().has_headers(false).from_reader(open(&path)?);
+            let mut rd = csv::ReaderBuilder::new()
+                .has_headers(false)
+                .from_reader(open(&path)?);
             let mut rec = csv::ByteRecord::new();
             rd.read_byte_record(&mut rec)
                 .map_err(|e| Error::input(&path, Some("line 1".into()), None, e.to_string()))?;
