@@ -259,10 +259,18 @@ impl Summary {
     /// The one-line summary.
     pub fn line(&self, backend: &str, out: &Path) -> String {
         format!(
-            "tswm: {}{}{}; status: {}; contact_end: {}{}{}{}{}; wrote {}",
+            "tswm: {}{}{}; {}status: {}; contact_end: {}{}{}{}{}; wrote {}",
             self.size_note(backend),
             self.pace_note(),
             self.search_note(),
+            // A search's rows are each drive's lane at the end of its
+            // bracket that meets the requirement, not the drives at one
+            // design: the words after say so.
+            if self.by_search.is_empty() {
+                ""
+            } else {
+                "the lanes reported (each drive's at its bracket's end that meets the requirement): "
+            },
             counts(&self.by_status, |s| s.name()),
             if self.by_contact.is_empty() {
                 "-".into()
