@@ -2,7 +2,6 @@
 //! parameters its sweep or lane table sets, and the motor laws its lanes
 //! may take, for [`crate::params::paper::paper_defaults`].
 
-use super::given::TableIn;
 use super::lanes::Source;
 use crate::params::Spec;
 
@@ -45,17 +44,7 @@ impl Source {
             }
             Source::Table { table, base, .. } => {
                 let mut params = set_in(base);
-                params.extend(match table {
-                    TableIn::File(path) => csv::Reader::from_path(path)
-                        .and_then(|mut r| r.headers().cloned())
-                        .map(|h| {
-                            h.iter()
-                                .filter_map(|n| Param::from_name(n.trim()))
-                                .collect()
-                        })
-                        .unwrap_or_default(),
-                    TableIn::Frame(f) => f.params(),
-                });
+                params.extend(table.params());
                 let motors = if params.contains(&Param::Motor) && base.motor.is_none() {
                     Vec::new()
                 } else {

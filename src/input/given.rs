@@ -52,6 +52,22 @@ pub enum TableIn {
 }
 
 impl TableIn {
+    /// The parameters its columns name (a file's header read; none where
+    /// it cannot be read: the lane check reports that).
+    pub fn params(&self) -> Vec<crate::params::Param> {
+        match self {
+            TableIn::File(path) => csv::Reader::from_path(path)
+                .and_then(|mut r| r.headers().cloned())
+                .map(|h| {
+                    h.iter()
+                        .filter_map(|n| crate::params::Param::from_name(n.trim()))
+                        .collect()
+                })
+                .unwrap_or_default(),
+            TableIn::Frame(f) => f.params(),
+        }
+    }
+
     /// The name its errors give it.
     pub fn name(&self) -> &Path {
         match self {

@@ -339,18 +339,7 @@ impl Source {
 /// gives it).
 fn table_sets(table: &TableIn, param: crate::params::Num) -> bool {
     use crate::params::Param;
-    let cols: Vec<Param> = match table {
-        TableIn::File(path) => csv::Reader::from_path(path)
-            .and_then(|mut r| r.headers().cloned())
-            .map(|h| {
-                h.iter()
-                    .filter_map(|n| Param::from_name(n.trim()))
-                    .collect()
-            })
-            .unwrap_or_default(),
-        TableIn::Frame(f) => f.params(),
-    };
-    cols.iter().any(|&p| match p {
+    table.params().iter().any(|&p| match p {
         Param::Num(n) => n == param || crate::params::gear::gives(n) == Some(param),
         _ => false,
     })

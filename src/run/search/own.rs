@@ -44,14 +44,7 @@ pub(super) fn search(
         }
     }
     let tol = s.search.tol;
-    active.retain(|(j, b)| {
-        if b.hi - b.lo <= tol {
-            rows[*j].outcome.status = SearchStatus::Found;
-            false
-        } else {
-            true
-        }
-    });
+    keep_unfinished(&mut active, &mut rows, tol);
     while !active.is_empty() {
         let queries: Vec<(usize, f64)> = active
             .iter()
@@ -73,14 +66,7 @@ pub(super) fn search(
             row.outcome.lo = b.lo;
             row.outcome.hi = b.hi;
         }
-        active.retain(|(j, b)| {
-            if b.hi - b.lo <= tol {
-                rows[*j].outcome.status = SearchStatus::Found;
-                false
-            } else {
-                true
-            }
-        });
+        keep_unfinished(&mut active, &mut rows, tol);
     }
     Ok(rows)
 }
@@ -141,4 +127,16 @@ fn first_round(xs: &[f64], a: &[Answer], from: f64, to: f64) -> (Row, Option<Bis
             )
         }
     }
+}
+
+/// Marks the drives whose bracket is no wider than `tol` found, and keeps
+/// the others bisecting.
+fn keep_unfinished(active: &mut Vec<(usize, Bisecting)>, rows: &mut [Row], tol: f64) {
+    active.retain(|(j, b)| {
+        let done = b.hi - b.lo <= tol;
+        if done {
+            rows[*j].outcome.status = SearchStatus::Found;
+        }
+        !done
+    });
 }
