@@ -136,6 +136,11 @@ impl Backend for CpuBackend {
         // Enough for 4 full blocks a thread.
         (4 * BLOCK_LANES * self.threads()).max(16384)
     }
+    fn batch_lanes(&self) -> usize {
+        // A full block a thread: a round's lane columns built for it
+        // (some 300 bytes a lane) stay in a core's cache.
+        BLOCK_LANES * self.threads()
+    }
     fn run_chunk(
         &mut self,
         _first: u64,

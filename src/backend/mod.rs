@@ -22,6 +22,13 @@ pub trait Backend {
     fn tolerance(&self) -> f64;
     /// Lanes a chunk should hold for this backend.
     fn chunk_lanes(&self) -> usize;
+    /// Lanes worth integrating at once when the caller builds them just
+    /// before (a search's round): as many as keep the backend busy, and no
+    /// more, so that they are still in cache when integrated. By default
+    /// a chunk.
+    fn batch_lanes(&self) -> usize {
+        self.chunk_lanes()
+    }
     /// Computes one chunk; `first` is the lane index of `lanes[0]`.
     fn run_chunk(
         &mut self,
@@ -150,6 +157,9 @@ impl Backend for Auto {
     }
     fn chunk_lanes(&self) -> usize {
         self.inner.chunk_lanes()
+    }
+    fn batch_lanes(&self) -> usize {
+        self.inner.batch_lanes()
     }
     fn run_chunk(
         &mut self,

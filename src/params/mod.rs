@@ -15,8 +15,10 @@ mod resolve;
 pub mod table;
 pub mod table_name;
 mod validated;
+mod vary;
 
 pub use resolve::{ParamError, Spec};
 pub use table::{Bound, Def, Fallback, FrictionKind, MotorKind, Num, Owner, Param, N_NUM};
 pub use table_name::{FrictionTables, TableName};
 pub use validated::{LaneParams, ParamColumns, Params, Row};
+pub use vary::Varying;

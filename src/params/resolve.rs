@@ -180,7 +180,7 @@ impl Spec {
 
     /// The lane's friction table among the run's: the one it names, or
     /// the only one.
-    fn table_index(
+    pub(super) fn table_index(
         &self,
         friction: FrictionKind,
         tables: &[TableName],

@@ -64,38 +64,100 @@ pub fn spearman(x: &[f64], y: &[f64]) -> (f64, usize) {
         .map(|(&a, &b)| (a, b))
         .unzip();
     let n = xs.len();
-    if n < 3 {
+    if n < 3 || constant(&xs) || constant(&ys) {
         return (f64::NAN, n);
     }
-    let (rx, ry) = (ranks(&xs), ranks(&ys));
+    (correlate(&ranks(&xs), &ranks(&ys)), n)
+}
+
+/// Whether every value equals the first (its ranks are then all equal
+/// and a correlation with it is NaN: no sort needed to say so).
+fn constant(v: &[f64]) -> bool {
+    v.iter().all(|&x| x == v[0])
+}
+
+/// Pearson's correlation of two rank vectors of 1..=n (ties averaged);
+/// NaN for a constant side.
+fn correlate(rx: &[f64], ry: &[f64]) -> f64 {
+    let n = rx.len();
     let mean = (n as f64 + 1.0) / 2.0;
     let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for (a, b) in rx.iter().zip(&ry) {
+    for (a, b) in rx.iter().zip(ry) {
         let (da, db) = (a - mean, b - mean);
         sxy += da * db;
         sxx += da * da;
         syy += db * db;
     }
     if sxx == 0.0 || syy == 0.0 {
-        return (f64::NAN, n);
+        return f64::NAN;
     }
-    (sxy / (sxx * syy).sqrt(), n)
+    sxy / (sxx * syy).sqrt()
+}
+
+/// The rank correlations of many pairs of columns: a column whose
+/// values are all finite is ranked once for all its pairs ([`spearman`]
+/// of such a pair keeps every lane, so its ranks are the column's).
+pub struct Correlations<'a> {
+    cols: &'a [Vec<f64>],
+    /// Per column: None until needed; then its whole ranks, or None when
+    /// it has a value that is not finite (each pair is then filtered).
+    ranked: Vec<Option<Option<Vec<f64>>>>,
+}
+
+impl<'a> Correlations<'a> {
+    /// Pairs among `cols` (columns of one length).
+    pub fn new(cols: &'a [Vec<f64>]) -> Correlations<'a> {
+        Correlations {
+            cols,
+            ranked: vec![None; cols.len()],
+        }
+    }
+
+    fn whole(&mut self, c: usize) -> Option<&[f64]> {
+        let col = &self.cols[c];
+        self.ranked[c]
+            .get_or_insert_with(|| {
+                let whole = col.iter().all(|x| x.is_finite()) && !col.is_empty();
+                // A constant column keeps its (equal) ranks unsorted.
+                whole.then(|| match constant(col) {
+                    true => vec![(col.len() as f64 + 1.0) / 2.0; col.len()],
+                    false => ranks(col),
+                })
+            })
+            .as_deref()
+    }
+
+    /// [`spearman`] of columns `x` and `y`, value for value.
+    pub fn spearman(&mut self, x: usize, y: usize) -> (f64, usize) {
+        let n = self.cols[x].len();
+        if n >= 3 && self.whole(x).is_some() && self.whole(y).is_some() {
+            let rank = |c: usize| self.ranked[c].as_ref().and_then(|r| r.as_deref());
+            if let (Some(rx), Some(ry)) = (rank(x), rank(y)) {
+                return (correlate(rx, ry), n);
+            }
+        }
+        spearman(&self.cols[x], &self.cols[y])
+    }
 }
 
 /// 1-based ranks, ties sharing their average rank.
 fn ranks(v: &[f64]) -> Vec<f64> {
-    let mut idx: Vec<usize> = (0..v.len()).collect();
-    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    // Values beside their indices, sorted in place: a sort through an
+    // index into `v` reads `v` at random and costs several times more on
+    // the large groups of a tolerance study. Ties get their average rank
+    // whatever their order, so an unstable sort gives the same ranks.
+    let mut sorted: Vec<(f64, u32)> = v.iter().zip(0u32..).map(|(&x, i)| (x, i)).collect();
+    sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
     let mut r = vec![0.0; v.len()];
     let mut i = 0;
-    while i < idx.len() {
+    while i < sorted.len() {
         let mut j = i;
-        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+        while j + 1 < sorted.len() && sorted[j + 1].0 == sorted[i].0 {
             j += 1;
         }
         let avg = (i + j) as f64 / 2.0 + 1.0;
-        for &k in &idx[i..=j] {
-            r[k] = avg;
+        for &(_, k) in &sorted[i..=j] {
+            r[k as usize] = avg;
         }
         i = j + 1;
     }
@@ -117,6 +179,43 @@ mod tests {
         );
         let (lo, hi) = wilson(0, 50);
         assert!(lo == 0.0 && (hi - 0.071_348).abs() < 1e-6, "{hi}");
+    }
+
+    /// Pairs of columns with ties, constants and values that are not
+    /// finite: the cached ranks give [`spearman`]'s values bit for bit.
+    #[test]
+    fn correlations_of_many_pairs_are_spearman_of_each() {
+        let n = 500;
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let cols: Vec<Vec<f64>> = (0..6)
+            .map(|c| {
+                (0..n)
+                    .map(|i| match c {
+                        0 => next(),
+                        1 => (next() * 5.0).floor(),
+                        2 => 3.0,
+                        3 if i % 37 == 0 => f64::NAN,
+                        3 => next() - 0.5,
+                        4 if i % 11 == 0 => f64::INFINITY,
+                        _ => (i as f64).sin(),
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut pairs = Correlations::new(&cols);
+        for x in 0..cols.len() {
+            for y in 0..cols.len() {
+                let (a, na) = pairs.spearman(x, y);
+                let (b, nb) = spearman(&cols[x], &cols[y]);
+                assert_eq!((a.to_bits(), na), (b.to_bits(), nb), "{x} {y}");
+            }
+        }
     }
 
     #[test]

@@ -13,7 +13,7 @@ use super::grouping::Grouping;
 use super::moments::Moments;
 use super::quantile::{self, Sketch, PROBS};
 use super::sensitivity::SensitivityCsv;
-use super::{spearman, wilson};
+use super::{wilson, Correlations};
 use crate::columns::{results_for, Column as Column_, Kind, Of, Summary};
 use crate::error::Result;
 use crate::output::csv_lines::{push_f64, CsvLines};
@@ -275,9 +275,10 @@ impl Stats {
         }
         self.search_rows(&key, &g)?;
         let results = names.len();
+        let mut pairs = Correlations::new(&g.kept);
         for (j, input) in self.grouping.inputs.clone().iter().enumerate() {
             for (i, name) in names.iter().enumerate() {
-                let (rho, n) = spearman(&g.kept[results + j], &g.kept[i]);
+                let (rho, n) = pairs.spearman(results + j, i);
                 if rho.is_nan() {
                     continue;
                 }

@@ -66,12 +66,54 @@ impl Sensitivity {
     pub const MAX_BASE: u64 = 1 << 30;
 }
 
+/// How a sample's draw moves a parameter from its nominal value.
+#[derive(Clone, Copy, Debug)]
+pub struct Shift {
+    tol: f64,
+    relative: bool,
+    /// The distribution's quantile of the sample's uniform, in half-widths.
+    z: f64,
+}
+
+impl Shift {
+    /// No tolerance: the nominal value itself (plus 0).
+    pub const NONE: Shift = Shift {
+        tol: 0.0,
+        relative: false,
+        z: 0.0,
+    };
+
+    /// The drawn value around `nominal`.
+    pub fn apply(&self, nominal: f64) -> f64 {
+        let half = if self.relative {
+            self.tol * nominal.abs()
+        } else {
+            self.tol
+        };
+        nominal + half * self.z
+    }
+}
+
 impl Study {
     /// Sets the varied parameters of sample `k` (of a grid point) in
     /// `spec`, around the nominal values it holds.
     pub(super) fn draw(&self, k: u64, spec: &mut Spec, u: &mut Uniforms) {
+        self.draw_around(k, spec, u, None);
+    }
+
+    /// [`Study::draw`], except that the `searched` parameter's tolerance
+    /// is not applied but returned: how it moves any nominal value (a
+    /// search's drive keeps its draw at every value it is queried at).
+    pub(super) fn draw_around(
+        &self,
+        k: u64,
+        spec: &mut Spec,
+        u: &mut Uniforms,
+        searched: Option<Num>,
+    ) -> Shift {
         let dims = self.params.len() as u64;
         u.seek(k, dims);
+        let mut shift = Shift::NONE;
         for (d, t) in self.params.iter().enumerate() {
             let q = match (self.method, &self.sensitivity) {
                 (Method::Sobol, Some(sn)) => {
@@ -87,15 +129,20 @@ impl Study {
                 }
                 _ => u.next(),
             };
+            let moved = Shift {
+                tol: t.tol,
+                relative: t.relative,
+                z: t.dist.quantile(q),
+            };
+            if Some(t.param) == searched {
+                shift = moved;
+                continue;
+            }
             let nominal = spec.num[t.param as usize]
                 .or_else(|| t.param.default_value())
                 .unwrap_or(f64::NAN);
-            let half = if t.relative {
-                t.tol * nominal.abs()
-            } else {
-                t.tol
-            };
-            spec.set(t.param, nominal + half * t.dist.quantile(q));
+            spec.set(t.param, moved.apply(nominal));
         }
+        shift
     }
 }

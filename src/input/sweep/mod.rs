@@ -26,7 +26,7 @@ use crate::input::sampling::Uniforms;
 use crate::params::FrictionTables;
 use crate::params::{Param, Spec};
 
-pub use design::{Sensitivity, Study, Tolerance};
+pub use design::{Sensitivity, Shift, Study, Tolerance};
 pub use file::{Method, MAX_SEED};
 pub(crate) use text::read_text;
 
@@ -257,6 +257,28 @@ impl Sweep {
             st.draw(i % n, spec, u);
         }
         self.keep_own_law_params(spec);
+    }
+
+    /// Lane `i` as a search's drive of `searched`: its values without
+    /// the searched parameter, and how the drive's draw moves the value
+    /// it is queried at. With `spec.set(searched, shift.apply(x))`, the
+    /// lane is [`Sweep::lane_spec_at`] `i` at `x`, value for value.
+    pub fn search_drive(
+        &self,
+        i: u64,
+        searched: crate::params::Num,
+        u: &mut Uniforms,
+        spec: &mut Spec,
+    ) -> Shift {
+        let n = self.samples();
+        self.point_spec(i / n, None, spec);
+        spec.num[searched as usize] = None;
+        let shift = match &self.study {
+            Some(st) => st.draw_around(i % n, spec, u, Some(searched)),
+            None => Shift::NONE,
+        };
+        self.keep_own_law_params(spec);
+        shift
     }
 
     /// The nominal design of grid point `point` (its values without the

@@ -26,10 +26,11 @@ use crate::error::{Error, Result};
 use crate::input::lanes::{LaneReader, Source};
 use crate::input::sampling::Uniforms;
 use crate::input::sweep::search::{Search, FIRST_ROUND_POINTS};
+use crate::input::sweep::Shift;
 use crate::input::sweep::Sweep;
 use crate::integrator::{LaneResult, SearchOutcome};
 use crate::model::FrictionTable;
-use crate::params::{ParamColumns, Params, Spec, TableName};
+use crate::params::{ParamColumns, Spec, TableName, Varying};
 
 /// Drives a chunk holds (whole groups of a share search, however large).
 const CHUNK_DRIVES: u64 = 16_384;
@@ -52,23 +53,33 @@ pub struct SearchBackend<'a> {
     file: std::path::PathBuf,
     /// Drives a group (a share search's grid point; 1 otherwise).
     per_group: u64,
-    /// The current chunk's drives' unresolved parameters (a table's).
+    /// The current chunk's drives: each resolved but for the searched
+    /// parameter, and how its draw moves the value it is queried at.
+    chunk: Vec<(Varying, Shift)>,
+    /// A lane table's rows of the chunk (reused).
     specs: Vec<Spec>,
+    /// A round's lanes, results and answers: buffers kept from round to
+    /// round (fresh ones would cost a page fault a few lanes).
+    lanes: ParamColumns,
+    results: Vec<LaneResult>,
+    spare: Vec<Answer>,
+    /// Lanes integrated at once.
+    batch: usize,
     u: Uniforms,
 }
 
-/// One query's answer: whether the requirement is met, the lane's
-/// parameters and its results.
+/// One query's answer: whether the requirement is met, and the lane's
+/// results.
 pub(super) struct Answer {
     meets: bool,
-    params: Params,
     result: LaneResult,
 }
 
-/// What a drive's row becomes: its outcome, and the lane it reports.
+/// What a drive's row becomes: its outcome, and the lane it reports (the
+/// value it was queried at, and its results).
 pub(super) struct Row {
     outcome: SearchOutcome,
-    lane: Option<(Params, LaneResult)>,
+    lane: Option<(f64, LaneResult)>,
 }
 
 /// `backend`, or for a source with a search (over its lanes `range`) the
@@ -116,6 +127,7 @@ impl<'a> SearchBackend<'a> {
                 Uniforms::new(0),
             ),
         };
+        let batch = inner.batch_lanes().max(1);
         Ok(SearchBackend {
             inner,
             search,
@@ -123,26 +135,57 @@ impl<'a> SearchBackend<'a> {
             names: source.friction_tables().names.clone(),
             file,
             per_group,
+            chunk: Vec::new(),
             specs: Vec::new(),
+            lanes: ParamColumns::default(),
+            results: Vec::new(),
+            spare: Vec::new(),
+            batch,
             u,
         })
     }
 
-    /// Drive `j`'s (lane `first + j`'s) parameters with the searched one
-    /// set to `x`, resolved into `out`.
-    fn push_query(&mut self, first: u64, j: usize, x: f64, out: &mut ParamColumns) -> Result<()> {
-        let at = Some((self.search.param, x));
-        let mut spec = Spec::default();
-        match &self.drives {
-            Drives::Sweep(sweep) => {
-                sweep.lane_spec_at(first + j as u64, at, &mut self.u, &mut spec)
-            }
-            Drives::Table(_) => {
-                spec.clone_from(&self.specs[j]);
-                spec.set(self.search.param, x);
-            }
+    /// Each drive of the chunk `first..first + n`, resolved but for the
+    /// searched parameter (the only part of a query that changes).
+    fn load_chunk(&mut self, first: u64, n: usize) -> Result<()> {
+        let p = self.search.param;
+        self.chunk.clear();
+        self.chunk.reserve(n);
+        if let Drives::Table(reader) = &mut self.drives {
+            self.specs.clear();
+            reader.fill_specs(n, &mut self.specs)?;
         }
-        self.resolve(&spec, first + j as u64, x, out)
+        let mut spec = Spec::default();
+        for j in 0..n {
+            let lane = first + j as u64;
+            let shift = match &self.drives {
+                Drives::Sweep(sweep) => sweep.search_drive(lane, p, &mut self.u, &mut spec),
+                Drives::Table(_) => {
+                    spec.clone_from(&self.specs[j]);
+                    Shift::NONE
+                }
+            };
+            let varying = spec.varying(p, &self.names).map_err(|e| {
+                Error::input(
+                    &self.file,
+                    Some(format!("lane {lane}")),
+                    Some(e.param),
+                    e.msg,
+                )
+            })?;
+            self.chunk.push((varying, shift));
+        }
+        Ok(())
+    }
+
+    /// Drive `j`'s (lane `first + j`'s) parameters with the searched one
+    /// at `x` (its nominal value: the drive's draw moves it), resolved
+    /// into `out`.
+    fn push_query(&self, first: u64, j: usize, x: f64, out: &mut ParamColumns) -> Result<()> {
+        let (varying, shift) = &self.chunk[j];
+        varying
+            .resolve_into(shift.apply(x), &self.names, out)
+            .map_err(|e| self.reached(e, first + j as u64, x))
     }
 
     /// Grid point `point`'s nominal design with the searched parameter at
@@ -153,18 +196,18 @@ impl<'a> SearchBackend<'a> {
         };
         let mut spec = Spec::default();
         sweep.nominal_spec_at(point, Some((self.search.param, x)), &mut spec);
-        self.resolve(&spec, point * self.per_group, x, out)
+        spec.resolve_into(&self.names, out)
+            .map_err(|e| self.reached(e, point * self.per_group, x))
     }
 
-    fn resolve(&self, spec: &Spec, lane: u64, x: f64, out: &mut ParamColumns) -> Result<()> {
-        spec.resolve_into(&self.names, out).map_err(|e| {
-            Error::input(
-                &self.file,
-                Some(format!("lane {lane} at {} = {x}", self.search.param.name())),
-                Some(e.param),
-                format!("{} (a value the search reaches)", e.msg),
-            )
-        })
+    /// The error of lane `lane` queried at `x`.
+    fn reached(&self, e: crate::params::ParamError, lane: u64, x: f64) -> Error {
+        Error::input(
+            &self.file,
+            Some(format!("lane {lane} at {} = {x}", self.search.param.name())),
+            Some(e.param),
+            format!("{} (a value the search reaches)", e.msg),
+        )
     }
 
     /// Integrates the round `lanes` and answers the requirement for each.
@@ -174,20 +217,36 @@ impl<'a> SearchBackend<'a> {
         lanes: &ParamColumns,
         tables: &[FrictionTable],
     ) -> Result<Vec<Answer>> {
-        let mut results = Vec::with_capacity(lanes.len());
+        let mut answers = std::mem::take(&mut self.spare);
+        answers.clear();
+        self.answer_into(first, lanes, tables, &mut answers)?;
+        Ok(answers)
+    }
+
+    /// [`SearchBackend::answer`], appended to `answers`.
+    fn answer_into(
+        &mut self,
+        first: u64,
+        lanes: &ParamColumns,
+        tables: &[FrictionTable],
+        answers: &mut Vec<Answer>,
+    ) -> Result<()> {
+        let mut results = std::mem::take(&mut self.results);
         self.inner.run_chunk(first, lanes, tables, &mut results)?;
         let col = columns::result(self.search.require.column)
             .ok_or_else(|| Error::Internal("a requirement on no column".into()))?;
-        Ok(results
-            .into_iter()
-            .enumerate()
-            .map(|(i, r)| Answer {
-                meets: r.status == crate::integrator::Status::Ok
-                    && self.search.require.passes(&col.cell(0, &r)),
-                params: lanes.params(i),
-                result: r,
-            })
-            .collect())
+        answers.extend(results.drain(..).map(|r| Answer {
+            meets: r.status == crate::integrator::Status::Ok
+                && self.search.require.passes(&col.cell(0, &r)),
+            result: r,
+        }));
+        self.results = results;
+        Ok(())
+    }
+
+    /// Keeps a round's answers' buffer for the next round.
+    fn reuse(&mut self, answers: Vec<Answer>) {
+        self.spare = answers;
     }
 
     /// Runs the queries `(drive, x)` of drives `first..` as one round.
@@ -197,11 +256,21 @@ impl<'a> SearchBackend<'a> {
         queries: &[(usize, f64)],
         tables: &[FrictionTable],
     ) -> Result<Vec<Answer>> {
-        let mut lanes = ParamColumns::with_capacity(queries.len());
-        for &(j, x) in queries {
-            self.push_query(first, j, x, &mut lanes)?;
+        let mut lanes = std::mem::take(&mut self.lanes);
+        let mut answers = std::mem::take(&mut self.spare);
+        answers.clear();
+        // In batches whose lanes stay in cache from their building to
+        // their integration (a round's lane columns built whole would be
+        // written out to memory and read back).
+        for batch in queries.chunks(self.batch) {
+            lanes.clear();
+            for &(j, x) in batch {
+                self.push_query(first, j, x, &mut lanes)?;
+            }
+            self.answer_into(first, &lanes, tables, &mut answers)?;
         }
-        self.answer(first, &lanes, tables)
+        self.lanes = lanes;
+        Ok(answers)
     }
 
     /// The first round's points of the bracket.
@@ -248,22 +317,25 @@ impl Backend for SearchBackend<'_> {
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
         let n = lanes.len();
-        if let Drives::Table(reader) = &mut self.drives {
-            self.specs.clear();
-            reader.fill_specs(n, &mut self.specs)?;
-        }
+        self.load_chunk(first, n)?;
         let rows = match self.search.at_least {
             Some(_) => share::search(self, first, n, tables)?,
             None => own::search(self, first, &(0..n).collect::<Vec<_>>(), tables)?,
         };
         out.clear();
-        let keep = lanes.clone();
-        lanes.clear();
+        // The drives' lanes as given, for a row with no lane of its own.
+        let given = std::mem::replace(lanes, ParamColumns::with_capacity(n));
         for (j, row) in rows.into_iter().enumerate() {
-            let (p, r) = row
-                .lane
-                .unwrap_or_else(|| (keep.params(j), LaneResult::EMPTY));
-            lanes.push(&p);
+            let r = match row.lane {
+                Some((x, r)) => {
+                    self.push_query(first, j, x, lanes)?;
+                    r
+                }
+                None => {
+                    lanes.push(&given.params(j));
+                    LaneResult::EMPTY
+                }
+            };
             out.push(LaneResult {
                 search: Some(row.outcome),
                 ..r

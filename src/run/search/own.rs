@@ -9,7 +9,6 @@ use crate::error::Result;
 use crate::integrator::LaneResult;
 use crate::integrator::{SearchOutcome, SearchStatus, Side};
 use crate::model::FrictionTable;
-use crate::params::Params;
 
 /// A drive being bisected.
 struct Bisecting {
@@ -43,6 +42,7 @@ pub(super) fn search(
             active.push((i, b));
         }
     }
+    s.reuse(answers);
     let tol = s.search.tol;
     keep_unfinished(&mut active, &mut rows, tol);
     while !active.is_empty() {
@@ -51,7 +51,7 @@ pub(super) fn search(
             .map(|(i, b)| (js[*i], 0.5 * (b.lo + b.hi)))
             .collect();
         let answers = s.round(first, &queries, tables)?;
-        for ((j, b), (a, &(_, x))) in active.iter_mut().zip(answers.into_iter().zip(&queries)) {
+        for ((j, b), (a, &(_, x))) in active.iter_mut().zip(answers.iter().zip(&queries)) {
             let row = &mut rows[*j];
             row.outcome.lanes += 1;
             // Met below the critical value: a met query raises the lower
@@ -61,11 +61,12 @@ pub(super) fn search(
                 (Side::Below, false) | (Side::Above, true) => b.hi = x,
             }
             if a.meets {
-                row.lane = Some((a.params, a.result));
+                row.lane = Some((x, a.result));
             }
             row.outcome.lo = b.lo;
             row.outcome.hi = b.hi;
         }
+        s.reuse(answers);
         keep_unfinished(&mut active, &mut rows, tol);
     }
     Ok(rows)
@@ -77,7 +78,7 @@ fn first_round(xs: &[f64], a: &[Answer], from: f64, to: f64) -> (Row, Option<Bis
     let changes: Vec<usize> = (0..a.len() - 1)
         .filter(|&p| a[p].meets != a[p + 1].meets)
         .collect();
-    let lane = |p: usize| -> Option<(Params, LaneResult)> { Some((a[p].params, a[p].result)) };
+    let lane = |p: usize| -> Option<(f64, LaneResult)> { Some((xs[p], a[p].result)) };
     let outcome = |status, lo, hi, side| SearchOutcome {
         lo,
         hi,

@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::integrator::{SearchOutcome, SearchStatus, Side};
 use crate::model::FrictionTable;
 use crate::params::ParamColumns;
-use crate::stats::order::{boundary_ranks, order_bracket};
+use crate::stats::order::{boundary_ranks, order_bracket, Ranks};
 
 /// Most rounds of a share boundary (each halves a target's bracket; 200
 /// is far beyond any bracket and tol a float can hold).
@@ -94,14 +94,23 @@ pub(super) fn search(
         per,
     };
     seed_round(s, first, &mut st, &active_groups, &cells, tables)?;
+    // Every group has `per` drives: its ranks depend only on its side.
+    let at_least = s.search.at_least.unwrap_or(0.5);
+    let ranks = |side| boundary_ranks(per, at_least, side);
+    let (below, above) = (ranks(Side::Below), ranks(Side::Above));
+    let mut los = Vec::with_capacity(per);
+    let mut his = Vec::with_capacity(per);
     for _ in 0..MAX_ROUNDS {
-        let queries: Vec<(usize, f64)> = active_groups
-            .iter()
-            .flat_map(|&g| {
-                let d = &st.drives[g * per..(g + 1) * per];
-                group_queries(s, d, sides[g].expect("active"), g * per)
-            })
-            .collect();
+        let mut queries: Vec<(usize, f64)> = Vec::new();
+        for &g in &active_groups {
+            let d = &st.drives[g * per..(g + 1) * per];
+            let ranks = match sides[g].expect("active") {
+                Side::Below => below,
+                Side::Above => above,
+            };
+            let targets = Targets::new(d, ranks, s.search.tol, (&mut los, &mut his));
+            group_queries(s, d, &targets, g * per, &mut queries);
+        }
         if queries.is_empty() {
             break;
         }
@@ -151,10 +160,11 @@ impl State<'_> {
     ) -> Result<()> {
         let answers = s.round(first, queries, tables)?;
         let ends = (s.search.from, s.search.to);
-        for (&(j, x), a) in queries.iter().zip(answers) {
+        for (&(j, x), a) in queries.iter().zip(&answers) {
             let side = self.sides[j / self.per].expect("active");
             absorb(&mut self.drives[j], &mut self.rows[j], side, x, a, ends);
         }
+        s.reuse(answers);
         Ok(())
     }
 }
@@ -223,6 +233,7 @@ fn nominal_sides(
             });
         }
     }
+    s.reuse(nominal);
     Ok((sides, cells))
 }
 
@@ -260,46 +271,78 @@ fn finish(found: &mut Row, d: Drive, search: &crate::input::sweep::search::Searc
     r
 }
 
+/// The brackets of a group's order statistics that still decide its
+/// answer: the boundary's and its interval's (the quantiles of the whole
+/// distribution would need every drive located: docs/model.md, section
+/// 13), those wider than `tol`.
+struct Targets {
+    open: [(f64, f64); 4],
+    len: usize,
+}
+
+impl Targets {
+    /// The unfinished targets of the group's drives `d` (`scratch`: two
+    /// buffers reused across rounds).
+    fn new(
+        d: &[Drive],
+        ranks: Ranks,
+        tol: f64,
+        (los, his): (&mut Vec<f64>, &mut Vec<f64>),
+    ) -> Targets {
+        let mut ts = [ranks.k, ranks.lo, ranks.hi, ranks.bound];
+        ts.sort_unstable();
+        los.clear();
+        his.clear();
+        los.extend(d.iter().map(|x| x.lo));
+        his.extend(d.iter().map(|x| x.hi));
+        let mut t = Targets {
+            open: [(0.0, 0.0); 4],
+            len: 0,
+        };
+        for (i, &r) in ts.iter().enumerate() {
+            if r == 0 || (i > 0 && ts[i - 1] == r) {
+                continue;
+            }
+            let (l, u) = order_bracket(los, his, r);
+            if u - l > tol {
+                t.open[t.len] = (l, u);
+                t.len += 1;
+            }
+        }
+        t
+    }
+
+    fn open(&self) -> &[(f64, f64)] {
+        &self.open[..self.len]
+    }
+}
+
 /// The queries of one group's drives `d` (the chunk's drives `base..`)
-/// this round: those overlapping an unfinished target, and the found
-/// ones against an end not yet integrated.
-fn group_queries(s: &SearchBackend<'_>, d: &[Drive], side: Side, base: usize) -> Vec<(usize, f64)> {
+/// this round, appended to `q`: those overlapping an unfinished target,
+/// and the found ones against an end not yet integrated.
+fn group_queries(
+    s: &SearchBackend<'_>,
+    d: &[Drive],
+    targets: &Targets,
+    base: usize,
+    q: &mut Vec<(usize, f64)>,
+) {
     let (tol, from, to) = (s.search.tol, s.search.from, s.search.to);
-    let at_least = s.search.at_least.unwrap_or(0.5);
-    let ranks = boundary_ranks(d.len(), at_least, side);
-    // The boundary's order statistics only: the quantiles of the whole
-    // distribution would need every drive located (docs/model.md,
-    // section 13).
-    let mut targets: Vec<usize> = [ranks.k, ranks.lo, ranks.hi, ranks.bound]
-        .into_iter()
-        .filter(|&t| t >= 1)
-        .collect();
-    targets.sort_unstable();
-    targets.dedup();
-    let (mut los, mut his): (Vec<f64>, Vec<f64>) = d.iter().map(|x| (x.lo, x.hi)).unzip();
-    let open: Vec<(f64, f64)> = targets
-        .iter()
-        .map(|&t| order_bracket(&mut los, &mut his, t))
-        .filter(|(l, u)| u - l > tol)
-        .collect();
-    let mut q = Vec::new();
+    let open = targets.open();
     for (i, x) in d.iter().enumerate() {
         let w = x.width();
         if !w.is_finite() {
             continue;
         }
         if w > tol {
-            let overlapping: Vec<&(f64, f64)> = open
-                .iter()
-                .filter(|(l, u)| x.lo < *u && x.hi > *l)
-                .collect();
-            if overlapping.is_empty() {
+            let mut overlapping = open.iter().filter(|(l, u)| x.lo < *u && x.hi > *l);
+            let Some(&(l0, u0)) = overlapping.next() else {
                 continue;
-            }
+            };
             // The target's middle where it is well inside the drive's
             // bracket: the target's drives are split at one point.
-            let inside = overlapping
-                .iter()
+            let inside = std::iter::once((l0, u0))
+                .chain(overlapping.copied())
                 .map(|(l, u)| 0.5 * (l + u))
                 .find(|&m| m > x.lo + 0.05 * w && m < x.hi - 0.05 * w);
             q.push((base + i, inside.unwrap_or(0.5 * (x.lo + x.hi))));
@@ -309,11 +352,10 @@ fn group_queries(s: &SearchBackend<'_>, d: &[Drive], side: Side, base: usize) ->
             q.push((base + i, from));
         }
     }
-    q
 }
 
 /// A query's answer `a` at `x` into drive `d` and its row.
-fn absorb(d: &mut Drive, row: &mut Row, side: Side, x: f64, a: Answer, (from, to): (f64, f64)) {
+fn absorb(d: &mut Drive, row: &mut Row, side: Side, x: f64, a: &Answer, (from, to): (f64, f64)) {
     row.outcome.lanes += 1;
     // Met below the critical value: a met query puts c above x.
     let c_above = match side {
@@ -342,6 +384,6 @@ fn absorb(d: &mut Drive, row: &mut Row, side: Side, x: f64, a: Answer, (from, to
     }
     // The row reports a meeting lane when it has one, else its last.
     if a.meets || row.lane.is_none() {
-        row.lane = Some((a.params, a.result));
+        row.lane = Some((x, a.result));
     }
 }
