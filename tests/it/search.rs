@@ -288,6 +288,55 @@ fn a_one_percent_boundary_of_2000_drives_costs_at_most_12000_lanes() {
     assert!((value - truth).abs() < 0.1, "{value} against {truth}");
 }
 
+/// With `quantiles = true` a share search also gives the critical
+/// value's P1 ... P99: each within tol / 2 of the nearest-rank quantile of
+/// the drives' closed-form critical values (from each drive's drawn μs
+/// in lanes.csv), at well under half the lanes of searching every drive.
+#[test]
+fn a_share_search_with_quantiles_gives_each_to_tol() {
+    let t = tempfile::tempdir().unwrap();
+    let (n, tol, alpha) = (500, 1e-4, 10.0);
+    let (text, _) = study(11, n, 0.95, alpha, tol);
+    let text = text.replace("at_least = 0.95\n", "at_least = 0.95\nquantiles = true\n");
+    assert!(text.contains("quantiles = true"));
+    file(t.path(), "s.toml", &text);
+    let out = ok(&["run", "s.toml", "--out", "o", "--no-report"], t.path());
+    let lanes: u64 = out
+        .split(" lanes integrated")
+        .next()
+        .and_then(|s| s.rsplit('(').next())
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no lane count in: {out}"));
+    // Every drive's own search: 9 first-round points and 17 bisections.
+    assert!(lanes * 2 < n * 26, "{lanes} lanes: {out}");
+    let (h, rows) = read_csv(&t.path().join("o/lanes.csv"));
+    let mut c: Vec<f64> = rows
+        .iter()
+        .map(|r| rho_s(num(col(&h, r, "mu_static")), alpha))
+        .collect();
+    c.sort_by(f64::total_cmp);
+    let (h, rows) = read_csv(&t.path().join("o/summary.csv"));
+    let r = rows
+        .iter()
+        .find(|r| col(&h, r, "kind") == "critical")
+        .expect("a critical row");
+    for (p, name) in [
+        (0.01, "p1"),
+        (0.05, "p5"),
+        (0.5, "p50"),
+        (0.95, "p95"),
+        (0.99, "p99"),
+    ] {
+        let k = ((p * n as f64).ceil() as usize).clamp(1, n as usize);
+        let got = num(col(&h, r, name));
+        assert!(
+            (got - c[k - 1]).abs() <= 0.5 * tol + 1e-9,
+            "{name}: {got} against {}",
+            c[k - 1]
+        );
+    }
+}
+
 /// A search split into shards merges into exactly the unsharded files;
 /// a tampered shard is refused.
 #[test]
@@ -389,6 +438,10 @@ fn bad_searches_are_refused_with_one_line() {
         (
             search(&format!("{ok_body}at_least = 0.99\n")),
             vec!["search.at_least", "[sampling]"],
+        ),
+        (
+            search(&format!("{ok_body}quantiles = true\n")),
+            vec!["search.quantiles", "needs at_least"],
         ),
         (
             format!(

@@ -38,6 +38,7 @@ pub(super) struct SearchDef {
     pub(super) require: Spanned<String>,
     pub(super) tol: Spanned<f64>,
     pub(super) at_least: Option<Spanned<f64>>,
+    pub(super) quantiles: Option<Spanned<bool>>,
 }
 
 #[derive(Deserialize)]

@@ -41,6 +41,9 @@ impl Sweep {
             if let Some(a) = s.at_least {
                 x.insert("at_least".into(), a.into());
             }
+            if s.quantiles {
+                x.insert("quantiles".into(), true.into());
+            }
             t.insert("search".into(), x.into());
         }
         if self.report != super::ReportSpec::default() {

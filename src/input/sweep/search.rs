@@ -12,6 +12,7 @@
 //! require = "hold = held"  # as [report] require
 //! tol = 1e-4               # the final bracket's width, in its unit
 //! at_least = 0.99          # with [sampling]: the boundary of this share
+//! quantiles = true         # with at_least: the P1 ... P99 too (more lanes)
 //! ```
 //!
 //! The search sets the parameter's nominal value (the value a grid would
@@ -45,6 +46,10 @@ pub struct Search {
     pub tol: f64,
     /// With a tolerance study: the share of drives whose boundary is found.
     pub at_least: Option<f64>,
+    /// With `at_least`: also refine the critical value's quantiles
+    /// ([`crate::stats::quantile::PROBS`]) to `tol` (each drive's own
+    /// search finds them anyway).
+    pub quantiles: bool,
 }
 
 impl Search {
@@ -111,6 +116,18 @@ pub(super) fn parse_search(
     check_law(at, d.param.span(), param, base, axes)?;
     let (from, to, tol) = bracket(at, d, param)?;
     let at_least = share(at, d, study)?;
+    let quantiles = match (&d.quantiles, at_least) {
+        (Some(q), None) if *q.get_ref() => {
+            return Err(at.bad(
+                q.span(),
+                "search.quantiles",
+                "needs at_least: without it every drive is searched to tol, and the \
+                 quantiles are known anyway"
+                    .into(),
+            ))
+        }
+        (q, _) => q.as_ref().is_some_and(|q| *q.get_ref()),
+    };
     let require = Requirement::parse(d.require.get_ref(), at_least.unwrap_or(1.0))
         .map_err(|m| at.bad(d.require.span(), "search.require", m))?;
     let search = Search {
@@ -120,6 +137,7 @@ pub(super) fn parse_search(
         require,
         tol,
         at_least,
+        quantiles,
     };
     if let Some(drives) = drives {
         search

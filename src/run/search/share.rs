@@ -17,7 +17,9 @@
 //! middle. Drives clear of every target stop early (`stopped_clear`). A
 //! drive found against an end of the bracket that no query has confirmed
 //! has that end integrated: a critical value beyond the bracket is then
-//! known as such (met at both ends, or at neither).
+//! known as such (met at both ends, or at neither). With `quantiles`,
+//! the order statistics of the critical value's quantiles are targets
+//! too.
 
 use super::{own, Answer, Row, SearchBackend};
 use crate::error::{Error, Result};
@@ -25,6 +27,7 @@ use crate::integrator::{SearchOutcome, SearchStatus, Side};
 use crate::model::FrictionTable;
 use crate::params::ParamColumns;
 use crate::stats::order::{boundary_ranks, order_bracket, Ranks};
+use crate::stats::quantile::PROBS;
 
 /// Most rounds of a share boundary (each halves a target's bracket; 200
 /// is far beyond any bracket and tol a float can hold).
@@ -98,6 +101,14 @@ pub(super) fn search(
     let at_least = s.search.at_least.unwrap_or(0.5);
     let ranks = |side| boundary_ranks(per, at_least, side);
     let (below, above) = (ranks(Side::Below), ranks(Side::Above));
+    // With `quantiles`: the nearest-rank quantiles' order statistics too.
+    let quantiles: Vec<usize> = match s.search.quantiles {
+        true => PROBS
+            .iter()
+            .map(|p| ((p * per as f64).ceil() as usize).clamp(1, per))
+            .collect(),
+        false => Vec::new(),
+    };
     let mut los = Vec::with_capacity(per);
     let mut his = Vec::with_capacity(per);
     for _ in 0..MAX_ROUNDS {
@@ -108,7 +119,7 @@ pub(super) fn search(
                 Side::Below => below,
                 Side::Above => above,
             };
-            let targets = Targets::new(d, ranks, s.search.tol, (&mut los, &mut his));
+            let targets = Targets::new(d, ranks, &quantiles, s.search.tol, (&mut los, &mut his));
             group_queries(s, d, &targets, g * per, &mut queries);
         }
         if queries.is_empty() {
@@ -272,12 +283,11 @@ fn finish(found: &mut Row, d: Drive, search: &crate::input::sweep::search::Searc
 }
 
 /// The brackets of a group's order statistics that still decide its
-/// answer: the boundary's and its interval's (the quantiles of the whole
-/// distribution would need every drive located: docs/model.md, section
-/// 13), those wider than `tol`.
+/// answer, those wider than `tol`: the boundary's and its interval's, and
+/// with `quantiles` the critical value's quantiles' (those cost more
+/// lanes: docs/model.md, section 13).
 struct Targets {
-    open: [(f64, f64); 4],
-    len: usize,
+    open: Vec<(f64, f64)>,
 }
 
 impl Targets {
@@ -286,34 +296,32 @@ impl Targets {
     fn new(
         d: &[Drive],
         ranks: Ranks,
+        quantiles: &[usize],
         tol: f64,
         (los, his): (&mut Vec<f64>, &mut Vec<f64>),
     ) -> Targets {
-        let mut ts = [ranks.k, ranks.lo, ranks.hi, ranks.bound];
+        let mut ts = vec![ranks.k, ranks.lo, ranks.hi, ranks.bound];
+        ts.extend_from_slice(quantiles);
         ts.sort_unstable();
         los.clear();
         his.clear();
         los.extend(d.iter().map(|x| x.lo));
         his.extend(d.iter().map(|x| x.hi));
-        let mut t = Targets {
-            open: [(0.0, 0.0); 4],
-            len: 0,
-        };
+        let mut t = Targets { open: Vec::new() };
         for (i, &r) in ts.iter().enumerate() {
             if r == 0 || (i > 0 && ts[i - 1] == r) {
                 continue;
             }
             let (l, u) = order_bracket(los, his, r);
             if u - l > tol {
-                t.open[t.len] = (l, u);
-                t.len += 1;
+                t.open.push((l, u));
             }
         }
         t
     }
 
     fn open(&self) -> &[(f64, f64)] {
-        &self.open[..self.len]
+        &self.open
     }
 }
 
