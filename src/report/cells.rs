@@ -49,3 +49,30 @@ pub(super) fn num(path: &Path, rec: &csv::ByteRecord, i: usize, name: &str) -> R
 pub(super) fn text(rec: &csv::ByteRecord, i: usize) -> String {
     String::from_utf8_lossy(rec.get(i).unwrap_or(b"")).into_owned()
 }
+
+/// A number column of a batch by name, as f64 (an integer column
+/// converted; NaN where empty, not a number, or the column is missing).
+pub(super) fn numbers(b: &arrow_array::RecordBatch, name: &str) -> Vec<f64> {
+    use arrow_array::{Array, Float64Array, Int64Array};
+    let n = b.num_rows();
+    let Some(a) = b.column_by_name(name) else {
+        return vec![f64::NAN; n];
+    };
+    if let Some(x) = a.as_any().downcast_ref::<Float64Array>() {
+        return (0..n)
+            .map(|r| if x.is_valid(r) { x.value(r) } else { f64::NAN })
+            .collect();
+    }
+    if let Some(x) = a.as_any().downcast_ref::<Int64Array>() {
+        return (0..n)
+            .map(|r| {
+                if x.is_valid(r) {
+                    x.value(r) as f64
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect();
+    }
+    vec![f64::NAN; n]
+}

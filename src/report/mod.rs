@@ -17,6 +17,7 @@ mod line;
 mod lines;
 pub mod map_plots;
 mod outcome;
+mod pareto;
 pub mod plots;
 mod ranges;
 mod require;
@@ -211,6 +212,7 @@ fn build_with(dir: &Path, scan: Option<Scan>) -> Result<String> {
     if let Some(s) = &sweep.search {
         search::section(&mut page, dir, &sweep, s)?;
     }
+    pareto::section(&mut page, dir, &sweep)?;
     if let Some(sheet) = &folder.sheet {
         sheet.section(&mut page);
     }

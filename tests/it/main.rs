@@ -16,6 +16,7 @@ mod fuzz;
 mod gear;
 mod gpu;
 mod output;
+mod pareto;
 mod probes;
 mod property;
 mod reference;

@@ -52,6 +52,7 @@ pub(super) struct ReportDef {
     pub(super) panels: Option<i64>,
     pub(super) require: Option<String>,
     pub(super) at_least: Option<f64>,
+    pub(super) pareto: Option<Vec<String>>,
 }
 
 #[derive(Deserialize)]

@@ -15,6 +15,7 @@ mod axes;
 mod design;
 mod file;
 mod laws;
+pub mod pareto;
 mod parse;
 pub mod require;
 mod resolved;
@@ -147,6 +148,8 @@ pub struct ReportSpec {
     pub panels: usize,
     /// A design requirement whose answer the report states.
     pub require: Option<require::Requirement>,
+    /// The objectives of a Pareto front the report draws (none: no front).
+    pub pareto: Vec<pareto::Objective>,
 }
 
 impl ReportSpec {

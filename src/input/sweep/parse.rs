@@ -268,12 +268,17 @@ fn parse_report(
                     .into(),
             )),
         };
+    let pareto = match &d.pareto {
+        None => Vec::new(),
+        Some(items) => super::pareto::parse(items).map_err(|m| ("report.pareto", m))?,
+    };
     Ok(super::ReportSpec {
         title: d.title.clone(),
         axes: chosen,
         results: d.results.clone(),
         panels,
         require,
+        pareto,
     })
 }
 

@@ -219,6 +219,10 @@ fn report_toml(r: &super::ReportSpec) -> toml::Table {
         x.insert("require".into(), q.text().into());
         x.insert("at_least".into(), q.at_least.into());
     }
+    if !r.pareto.is_empty() {
+        let v: Vec<toml::Value> = r.pareto.iter().map(|o| o.text().into()).collect();
+        x.insert("pareto".into(), v.into());
+    }
     x
 }
 

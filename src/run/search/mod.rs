@@ -19,6 +19,7 @@
 
 mod own;
 mod share;
+mod targets;
 
 use crate::backend::Backend;
 use crate::columns;

@@ -21,33 +21,18 @@
 //! the order statistics of the critical value's quantiles are targets
 //! too.
 
+use super::targets::{group_queries, Drive, Targets};
 use super::{own, Answer, Row, SearchBackend};
 use crate::error::{Error, Result};
 use crate::integrator::{SearchOutcome, SearchStatus, Side};
 use crate::model::FrictionTable;
 use crate::params::ParamColumns;
-use crate::stats::order::{boundary_ranks, order_bracket, Ranks};
+use crate::stats::order::boundary_ranks;
 use crate::stats::quantile::PROBS;
 
 /// Most rounds of a share boundary (each halves a target's bracket; 200
 /// is far beyond any bracket and tol a float can hold).
 const MAX_ROUNDS: usize = 200;
-
-/// A drive of a share search.
-#[derive(Clone, Copy)]
-struct Drive {
-    lo: f64,
-    hi: f64,
-    /// Whether `lo` (`hi`) is the bracket's end, not yet integrated.
-    lo_open: bool,
-    hi_open: bool,
-}
-
-impl Drive {
-    fn width(&self) -> f64 {
-        self.hi - self.lo
-    }
-}
 
 /// Searches the chunk's groups of drives `first..first + n`; their rows.
 pub(super) fn search(
@@ -97,6 +82,28 @@ pub(super) fn search(
         per,
     };
     seed_round(s, first, &mut st, &active_groups, &cells, tables)?;
+    refine(s, first, &mut st, &active_groups, tables)?;
+    for (j, row) in rows.iter_mut().enumerate() {
+        if row.is_none() {
+            *row = Some(finish(&mut found[j], state[j], &s.search));
+        }
+    }
+    Ok(rows
+        .into_iter()
+        .map(|r| r.expect("every drive has a row"))
+        .collect())
+}
+
+/// The rounds after the seed: each queries the drives that overlap an
+/// unfinished target of their group, until no target is unfinished.
+fn refine(
+    s: &mut SearchBackend<'_>,
+    first: u64,
+    st: &mut State<'_>,
+    active_groups: &[usize],
+    tables: &[FrictionTable],
+) -> Result<()> {
+    let per = st.per;
     // Every group has `per` drives: its ranks depend only on its side.
     let at_least = s.search.at_least.unwrap_or(0.5);
     let ranks = |side| boundary_ranks(per, at_least, side);
@@ -113,9 +120,9 @@ pub(super) fn search(
     let mut his = Vec::with_capacity(per);
     for _ in 0..MAX_ROUNDS {
         let mut queries: Vec<(usize, f64)> = Vec::new();
-        for &g in &active_groups {
+        for &g in active_groups {
             let d = &st.drives[g * per..(g + 1) * per];
-            let ranks = match sides[g].expect("active") {
+            let ranks = match st.sides[g].expect("active") {
                 Side::Below => below,
                 Side::Above => above,
             };
@@ -127,15 +134,7 @@ pub(super) fn search(
         }
         st.absorb_round(s, first, &queries, tables)?;
     }
-    for (j, row) in rows.iter_mut().enumerate() {
-        if row.is_none() {
-            *row = Some(finish(&mut found[j], state[j], &s.search));
-        }
-    }
-    Ok(rows
-        .into_iter()
-        .map(|r| r.expect("every drive has a row"))
-        .collect())
+    Ok(())
 }
 
 /// A drive's row before its first query: the whole bracket.
@@ -280,86 +279,6 @@ fn finish(found: &mut Row, d: Drive, search: &crate::input::sweep::search::Searc
         r.outcome.hi = r.outcome.hi.min(search.to);
     }
     r
-}
-
-/// The brackets of a group's order statistics that still decide its
-/// answer, those wider than `tol`: the boundary's and its interval's, and
-/// with `quantiles` the critical value's quantiles' (those cost more
-/// lanes: docs/model.md, section 13).
-struct Targets {
-    open: Vec<(f64, f64)>,
-}
-
-impl Targets {
-    /// The unfinished targets of the group's drives `d` (`scratch`: two
-    /// buffers reused across rounds).
-    fn new(
-        d: &[Drive],
-        ranks: Ranks,
-        quantiles: &[usize],
-        tol: f64,
-        (los, his): (&mut Vec<f64>, &mut Vec<f64>),
-    ) -> Targets {
-        let mut ts = vec![ranks.k, ranks.lo, ranks.hi, ranks.bound];
-        ts.extend_from_slice(quantiles);
-        ts.sort_unstable();
-        los.clear();
-        his.clear();
-        los.extend(d.iter().map(|x| x.lo));
-        his.extend(d.iter().map(|x| x.hi));
-        let mut t = Targets { open: Vec::new() };
-        for (i, &r) in ts.iter().enumerate() {
-            if r == 0 || (i > 0 && ts[i - 1] == r) {
-                continue;
-            }
-            let (l, u) = order_bracket(los, his, r);
-            if u - l > tol {
-                t.open.push((l, u));
-            }
-        }
-        t
-    }
-
-    fn open(&self) -> &[(f64, f64)] {
-        &self.open
-    }
-}
-
-/// The queries of one group's drives `d` (the chunk's drives `base..`)
-/// this round, appended to `q`: those overlapping an unfinished target,
-/// and the found ones against an end not yet integrated.
-fn group_queries(
-    s: &SearchBackend<'_>,
-    d: &[Drive],
-    targets: &Targets,
-    base: usize,
-    q: &mut Vec<(usize, f64)>,
-) {
-    let (tol, from, to) = (s.search.tol, s.search.from, s.search.to);
-    let open = targets.open();
-    for (i, x) in d.iter().enumerate() {
-        let w = x.width();
-        if !w.is_finite() {
-            continue;
-        }
-        if w > tol {
-            let mut overlapping = open.iter().filter(|(l, u)| x.lo < *u && x.hi > *l);
-            let Some(&(l0, u0)) = overlapping.next() else {
-                continue;
-            };
-            // The target's middle where it is well inside the drive's
-            // bracket: the target's drives are split at one point.
-            let inside = std::iter::once((l0, u0))
-                .chain(overlapping.copied())
-                .map(|(l, u)| 0.5 * (l + u))
-                .find(|&m| m > x.lo + 0.05 * w && m < x.hi - 0.05 * w);
-            q.push((base + i, inside.unwrap_or(0.5 * (x.lo + x.hi))));
-        } else if x.hi_open && x.hi == to {
-            q.push((base + i, to));
-        } else if x.lo_open && x.lo == from {
-            q.push((base + i, from));
-        }
-    }
 }
 
 /// A query's answer `a` at `x` into drive `d` and its row.
