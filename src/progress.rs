@@ -107,7 +107,8 @@ impl Show {
     }
 }
 
-/// A progress bar in use (see [`Show::bar`]).
+/// A progress bar in use (see [`Show::bar`]); a clone is the same bar.
+#[derive(Clone)]
 pub struct Bar {
     bar: indicatif::ProgressBar,
     watch: Option<Arc<Watch>>,
@@ -128,6 +129,28 @@ impl Bar {
         if let Some(w) = &self.watch {
             w.done.fetch_add(n, Ordering::Relaxed);
         }
+    }
+
+    /// Counts drives, not lanes, with `msg` saying how far the rounds have
+    /// got (a search: its rounds and the lanes they integrated).
+    pub fn count_drives(&self, msg: String) {
+        self.bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} drives searched, {msg}, eta {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        self.bar.set_message(msg);
+    }
+
+    /// Says how far a search's rounds have got (see [`Bar::count_drives`]).
+    pub fn set_message(&self, msg: String) {
+        self.bar.set_message(msg);
+    }
+
+    /// The bar's message.
+    pub fn message(&self) -> String {
+        self.bar.message()
     }
 
     /// Takes the bar off the terminal.

@@ -37,6 +37,10 @@ pub trait Backend {
         tables: &[FrictionTable],
         out: &mut Vec<LaneResult>,
     ) -> Result<()>;
+    /// Gives the run's progress bar to a backend that has more to say on
+    /// it than the rows done (a search: its rounds and lanes). By default
+    /// nothing.
+    fn show_on(&mut self, _bar: &crate::progress::Bar) {}
     /// Computes the rows of one chunk, whose lanes it may change: a search
     /// ([`crate::run::search`]) sets each drive's searched parameter to
     /// where its row's results were taken. By default the chunk's lanes,

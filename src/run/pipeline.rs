@@ -131,6 +131,7 @@ pub fn pipeline_timed<S: Sink>(
     use std::time::Instant;
     let tables = source.friction_tables().tables.clone();
     let bar = show.bar(Phase::Running, true, end - start, "");
+    backend.show_on(&bar);
     let chunk = backend.chunk_lanes().max(1);
     let mut reader = source.reader_range(start, end)?;
 

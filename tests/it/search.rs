@@ -478,3 +478,75 @@ fn bad_searches_are_refused_with_one_line() {
         assert!(!t.path().join("o").exists(), "{text}");
     }
 }
+
+/// On a terminal the bar of a search counts drives, rounds and the lanes
+/// they integrated (run under `script`, which gives it a terminal).
+#[test]
+fn a_searchs_bar_counts_drives_rounds_and_lanes() {
+    let Ok(script) = which("script") else {
+        crate::common::skipped(
+            "a_searchs_bar_counts_drives_rounds_and_lanes",
+            "no `script` (util-linux) to give the run a terminal",
+        );
+        return;
+    };
+    let t = tempfile::tempdir().unwrap();
+    // Ten times the shipped drives: a second or so, many redraws.
+    let text = std::fs::read_to_string(root().join("sweeps/lead_angle_holds.toml")).unwrap();
+    assert!(text.contains("\nn = 2000\n"));
+    file(
+        t.path(),
+        "s.toml",
+        &text.replace("\nn = 2000\n", "\nn = 20000\n"),
+    );
+    let cmd = format!(
+        "{} run s.toml --out o --no-report --backend cpu",
+        env!("CARGO_BIN_EXE_tswm")
+    );
+    let out = std::process::Command::new(script)
+        .args(["-qec", &cmd, "/dev/null"])
+        .current_dir(t.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let shown: Vec<&str> = text
+        .split(['\r', '\n'])
+        .filter(|l| l.contains("drives searched,"))
+        .collect();
+    assert!(!shown.is_empty(), "no bar in: {text}");
+    // The rounds and lanes only grow, to more lanes than drives.
+    let counts: Vec<(u64, u64)> = shown
+        .iter()
+        .filter_map(|l| {
+            let n = |key: &str| -> Option<u64> {
+                l.split(key)
+                    .next()?
+                    .rsplit([' ', ','])
+                    .find(|w| !w.is_empty())?
+                    .parse()
+                    .ok()
+            };
+            Some((n(" rounds")?, n(" lanes integrated")?))
+        })
+        .collect();
+    assert!(!counts.is_empty(), "{shown:?}");
+    assert!(
+        counts
+            .windows(2)
+            .all(|w| w[0].0 <= w[1].0 && w[0].1 <= w[1].1),
+        "{counts:?}"
+    );
+    assert!(counts.iter().any(|c| c.0 >= 2 && c.1 > 0), "{counts:?}");
+}
+
+/// The path of a program on PATH.
+fn which(name: &str) -> Result<std::path::PathBuf, ()> {
+    std::env::var_os("PATH")
+        .and_then(|p| {
+            std::env::split_paths(&p)
+                .map(|d| d.join(name))
+                .find(|f| f.is_file())
+        })
+        .ok_or(())
+}

@@ -66,6 +66,10 @@ pub struct SearchBackend<'a> {
     spare: Vec<Answer>,
     /// Lanes integrated at once.
     batch: usize,
+    /// The run's bar, the rounds run and the lanes they integrated.
+    bar: Option<crate::progress::Bar>,
+    rounds: u64,
+    integrated: u64,
     u: Uniforms,
 }
 
@@ -142,6 +146,9 @@ impl<'a> SearchBackend<'a> {
             results: Vec::new(),
             spare: Vec::new(),
             batch,
+            bar: None,
+            rounds: 0,
+            integrated: 0,
             u,
         })
     }
@@ -221,6 +228,7 @@ impl<'a> SearchBackend<'a> {
         let mut answers = std::mem::take(&mut self.spare);
         answers.clear();
         self.answer_into(first, lanes, tables, &mut answers)?;
+        self.round_done();
         Ok(answers)
     }
 
@@ -234,6 +242,7 @@ impl<'a> SearchBackend<'a> {
     ) -> Result<()> {
         let mut results = std::mem::take(&mut self.results);
         self.inner.run_chunk(first, lanes, tables, &mut results)?;
+        self.integrated += lanes.len() as u64;
         let col = columns::result(self.search.require.column)
             .ok_or_else(|| Error::Internal("a requirement on no column".into()))?;
         answers.extend(results.drain(..).map(|r| Answer {
@@ -271,7 +280,24 @@ impl<'a> SearchBackend<'a> {
             self.answer_into(first, &lanes, tables, &mut answers)?;
         }
         self.lanes = lanes;
+        self.round_done();
         Ok(answers)
+    }
+
+    /// Counts a round, and says so on the bar.
+    fn round_done(&mut self) {
+        self.rounds += 1;
+        if let Some(bar) = &self.bar {
+            bar.set_message(self.progress());
+        }
+    }
+
+    /// The rounds run and lanes integrated so far, as the bar says them.
+    fn progress(&self) -> String {
+        format!(
+            "{} rounds, {} lanes integrated",
+            self.rounds, self.integrated
+        )
     }
 
     /// The first round's points of the bracket.
@@ -296,6 +322,10 @@ impl Backend for SearchBackend<'_> {
     }
     fn tolerance(&self) -> f64 {
         self.inner.tolerance()
+    }
+    fn show_on(&mut self, bar: &crate::progress::Bar) {
+        bar.count_drives(self.progress());
+        self.bar = Some(bar.clone());
     }
     fn chunk_lanes(&self) -> usize {
         // Whole groups: a share boundary needs its group's every drive.
