@@ -79,15 +79,16 @@ pub fn execute(
             }
         },
     };
-    let be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
+    let mut be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
     let range = shard.as_ref().map_or((0, total), |s| s.range);
-    // A search runs its drives in rounds on the backend.
-    let mut be = run::search::around(be, &plan.source, range)?;
     if range.1 - range.0 > ESTIMATE_FROM {
-        // A long run says what it will cost before it starts.
+        // A long run says what it will cost before it starts (on the
+        // backend itself: a search's drives are read once, by its rounds).
         let e = estimate(&plan.source, be.as_mut(), plan.threads, flags.format, range)?;
         sayln!("{}", e.line());
     }
+    // A search runs its drives in rounds on the backend.
+    let mut be = run::search::around(be, &plan.source, range)?;
     let target = run::Target {
         dir: Some(dir.path()),
         format: flags.format,

@@ -160,11 +160,29 @@ mod tests {
         let mut laws = Vec::new();
         for m in MotorKind::ALL {
             for f in FrictionKind::ALL {
-                laws.push(Spec {
+                let law = Spec {
                     motor: Some(m),
                     friction: Some(f),
                     ..Spec::default()
-                });
+                };
+                // And with values given to the parameters whose checks
+                // read others (v_crit < v_sync, mu_static >= mu, t_max >
+                // t_end, n_crit < n_sync), where the law uses them.
+                let mut given = law.clone();
+                for (p, v) in [
+                    (Num::VCrit, 2.0),
+                    (Num::MuStatic, 0.08),
+                    (Num::TMax, 5.0),
+                    (Num::NCrit, 900.0),
+                ] {
+                    let mut one = given.clone();
+                    one.set(p, v);
+                    if one.resolve_into(&[], &mut ParamColumns::default()).is_ok() {
+                        given = one;
+                    }
+                }
+                laws.push(law);
+                laws.push(given);
             }
         }
         let xs = [

@@ -197,10 +197,13 @@ pub fn section(page: &mut Page, dir: &Path, sweep: &Sweep) -> Result<()> {
         ),
         None => "a lane".into(),
     };
+    let on = match f.overflow {
+        true => format!("more than {MAX_FRONT}"),
+        false => f.front.len().to_string(),
+    };
     page.note(&format!(
         "A design is {per}. The front holds the designs that no other design beats on every \
-         objective (at least as good on each, better on one); {} of {} designs are on it{}.",
-        f.front.len(),
+         objective (at least as good on each, better on one); {on} of {} designs are on it{}.",
         f.designs,
         match f.without {
             0 => String::new(),
@@ -216,9 +219,10 @@ pub fn section(page: &mut Page, dir: &Path, sweep: &Sweep) -> Result<()> {
     }
     if f.overflow {
         page.warning(&format!(
-            "More than {MAX_FRONT} designs are on the front: too many to draw or list (the \
-             objectives hardly conflict, or the grid is very fine); narrow the grid or choose \
-             other objectives."
+            "More than {MAX_FRONT} designs were on the front of the designs read up to some row \
+             (those that no design before them beats): too many to keep, so the front is \
+             neither drawn nor listed (the objectives hardly conflict, or the grid is very \
+             fine); narrow the grid or choose other objectives."
         ));
         return Ok(());
     }

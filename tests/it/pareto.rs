@@ -162,3 +162,26 @@ fn bad_objectives_are_refused_with_one_line() {
         assert!(!t.path().join("o").exists());
     }
 }
+
+/// A front too large to keep (one lead-angle axis of 6,000 values: every
+/// design trades efficiency for locking margin, so all are on it) is said,
+/// with neither a chart nor a list.
+#[test]
+fn a_front_too_large_to_keep_is_said_not_drawn() {
+    let t = tempfile::tempdir().unwrap();
+    file(
+        t.path(),
+        "p.toml",
+        "[base]\nfriction = \"coulomb\"\nmu = 0.05\nf2 = -3000.0\nt_end = 0.2\n\n\
+         [[grid]]\nparam = \"gamma_deg\"\nfrom = 1.0\nto = 20.0\nn = 6000\n\n\
+         [report]\npareto = [\"eta_direct_ss\", \"lock_margin_deg\"]\n",
+    );
+    let o = tswm(&cpu(&["run", "p.toml", "--out", "o"]), t.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(t.path().join("o/report.html")).unwrap();
+    let sec = &html[html.find("<h2>Trade-offs").unwrap()..];
+    let sec = &sec[..sec[4..].find("<h2>").map_or(sec.len(), |e| e + 4)];
+    assert!(sec.contains("more than 5000 of 6000 designs are on it"), "{sec}");
+    assert!(sec.contains("neither drawn nor listed"), "{sec}");
+    assert!(!sec.contains("<svg") && !sec.contains("<table"), "{sec}");
+}

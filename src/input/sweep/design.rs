@@ -69,6 +69,8 @@ impl Sensitivity {
 /// How a sample's draw moves a parameter from its nominal value.
 #[derive(Clone, Copy, Debug)]
 pub struct Shift {
+    /// Whether a tolerance moves the value at all ([`Shift::NONE`]: no).
+    drawn: bool,
     tol: f64,
     relative: bool,
     /// The distribution's quantile of the sample's uniform, in half-widths.
@@ -76,15 +78,20 @@ pub struct Shift {
 }
 
 impl Shift {
-    /// No tolerance: the nominal value itself (plus 0).
+    /// No tolerance: the nominal value itself.
     pub const NONE: Shift = Shift {
+        drawn: false,
         tol: 0.0,
         relative: false,
         z: 0.0,
     };
 
-    /// The drawn value around `nominal`.
+    /// The drawn value around `nominal` (`nominal` itself, bit for bit,
+    /// without a tolerance).
     pub fn apply(&self, nominal: f64) -> f64 {
+        if !self.drawn {
+            return nominal;
+        }
         let half = if self.relative {
             self.tol * nominal.abs()
         } else {
@@ -130,6 +137,7 @@ impl Study {
                 _ => u.next(),
             };
             let moved = Shift {
+                drawn: true,
                 tol: t.tol,
                 relative: t.relative,
                 z: t.dist.quantile(q),

@@ -90,3 +90,44 @@ fn latin_hypercube_puts_one_sample_in_each_stratum() {
     }
     assert!(hit.iter().all(|&h| h == 1), "{hit:?}");
 }
+
+/// A search's drive (its draws with the searched parameter left out, then
+/// the parameter set through its shift) is the lane `lane_spec_at` gives,
+/// value for value: Monte Carlo, Latin hypercube and a grid, with absolute
+/// and relative tolerances on the searched parameter and without one,
+/// at values of either sign (-0.0 included).
+#[test]
+fn a_search_drive_is_the_lane_at_each_value() {
+    let study = |method: &str, on: &str| {
+        format!(
+            "[[grid]]\nparam = \"mu\"\nvalues = [0.03, 0.06]\n\
+             [sampling]\nmethod = \"{method}\"\nn = 16\nseed = 9\n\
+             [[tolerance]]\nparam = \"mu_static\"\ndist = \"uniform\"\ntol_rel = 0.2\n\
+             {on}\
+             [[tolerance]]\nparam = \"gamma_deg\"\ndist = \"normal\"\ntol = 0.3\n"
+        )
+    };
+    let f2_rel = "[[tolerance]]\nparam = \"f2\"\ndist = \"normal\"\ntol_rel = 0.1\n";
+    let f2_abs = "[[tolerance]]\nparam = \"f2\"\ndist = \"uniform\"\ntol = 250.0\n";
+    let base = "[base]\nfriction = \"coulomb\"\nmu_static = 0.08\n";
+    let sweeps = [
+        format!("{base}{}", study("monte_carlo", f2_rel)),
+        format!("{base}{}", study("latin_hypercube", f2_abs)),
+        format!("{base}{}", study("monte_carlo", "")),
+        format!("{base}[[grid]]\nparam = \"mu\"\nvalues = [0.03, 0.06]\n"),
+    ];
+    for text in &sweeps {
+        let s = parse(text).unwrap();
+        for x in [-6000.0, -0.0, 0.0, 1234.5, 6000.0] {
+            for i in 0..s.lane_count() {
+                let (mut a, mut b) = (Spec::default(), Spec::default());
+                s.lane_spec_at(i, Some((Num::F2, x)), &mut s.uniforms(), &mut a);
+                let shift = s.search_drive(i, Num::F2, &mut s.uniforms(), &mut b);
+                b.set(Num::F2, shift.apply(x));
+                let bits = |sp: &Spec| sp.num.map(|v| v.map(f64::to_bits));
+                assert_eq!(bits(&a), bits(&b), "lane {i} at {x}: {text}");
+                assert_eq!((a.motor, a.friction), (b.motor, b.friction));
+            }
+        }
+    }
+}

@@ -29,8 +29,8 @@ pub(super) struct Targets {
 }
 
 impl Targets {
-    /// The unfinished targets of the group's drives `d` (`scratch`: two
-    /// buffers reused across rounds).
+    /// The unfinished targets of the group's drives `d` (`los`, `his`:
+    /// two buffers reused across rounds).
     pub(super) fn new(
         d: &[Drive],
         ranks: Ranks,
