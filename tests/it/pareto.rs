@@ -181,7 +181,10 @@ fn a_front_too_large_to_keep_is_said_not_drawn() {
     let html = std::fs::read_to_string(t.path().join("o/report.html")).unwrap();
     let sec = &html[html.find("<h2>Trade-offs").unwrap()..];
     let sec = &sec[..sec[4..].find("<h2>").map_or(sec.len(), |e| e + 4)];
-    assert!(sec.contains("more than 5000 of 6000 designs are on it"), "{sec}");
+    assert!(
+        sec.contains("more than 5000 of 6000 designs are on it"),
+        "{sec}"
+    );
     assert!(sec.contains("neither drawn nor listed"), "{sec}");
     assert!(!sec.contains("<svg") && !sec.contains("<table"), "{sec}");
 }
