@@ -148,11 +148,6 @@ impl Bar {
         self.bar.set_message(msg);
     }
 
-    /// The bar's message.
-    pub fn message(&self) -> String {
-        self.bar.message()
-    }
-
     /// Takes the bar off the terminal.
     pub fn finish_and_clear(&self) {
         self.bar.finish_and_clear();

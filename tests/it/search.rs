@@ -243,6 +243,16 @@ fn boundary(dir: &Path) -> (f64, f64, f64) {
     )
 }
 
+/// The lanes a search integrated, as its summary line says ("(N lanes
+/// integrated").
+fn lanes_integrated(out: &str) -> u64 {
+    out.split(" lanes integrated")
+        .next()
+        .and_then(|s| s.rsplit('(').next())
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no lane count in: {out}"))
+}
+
 /// Over 40 seeds the distribution-free 95 % interval of the 90 % share
 /// boundary holds the true quantile at least 36 times.
 #[test]
@@ -274,12 +284,7 @@ fn a_one_percent_boundary_of_2000_drives_costs_at_most_12000_lanes() {
     let (text, truth) = study(7, 2000, 0.99, 0.0, 1e-4);
     file(t.path(), "s.toml", &text);
     let out = ok(&["run", "s.toml", "--out", "o", "--no-report"], t.path());
-    let lanes: u64 = out
-        .split(" lanes integrated")
-        .next()
-        .and_then(|s| s.rsplit('(').next())
-        .and_then(|s| s.trim().parse().ok())
-        .unwrap_or_else(|| panic!("no lane count in: {out}"));
+    let lanes = lanes_integrated(&out);
     assert!(lanes <= 12_000, "{lanes} lanes: {out}");
     assert!(out.contains("2000 drives searched"), "{out}");
     let (value, lo, hi) = boundary(&t.path().join("o"));
@@ -301,12 +306,7 @@ fn a_share_search_with_quantiles_gives_each_to_tol() {
     assert!(text.contains("quantiles = true"));
     file(t.path(), "s.toml", &text);
     let out = ok(&["run", "s.toml", "--out", "o", "--no-report"], t.path());
-    let lanes: u64 = out
-        .split(" lanes integrated")
-        .next()
-        .and_then(|s| s.rsplit('(').next())
-        .and_then(|s| s.trim().parse().ok())
-        .unwrap_or_else(|| panic!("no lane count in: {out}"));
+    let lanes = lanes_integrated(&out);
     // Every drive's own search: 9 first-round points and 17 bisections.
     assert!(lanes * 2 < n * 26, "{lanes} lanes: {out}");
     let (h, rows) = read_csv(&t.path().join("o/lanes.csv"));
