@@ -36,7 +36,7 @@ use super::components::{powers, NY};
 use super::result::{LaneResult, Status};
 use super::settings::Settings;
 use super::stepper::Trial;
-use crate::lanewise::{by_lane, Lanewise};
+use crate::lanewise::Lanewise;
 
 /// Results the budget covers: x1, ẋ1, w_motor, w_load, w_friction, w1_in,
 /// w1_out, w2_in, w2_out (lanes.csv's order).
@@ -64,23 +64,22 @@ crate::lanewise_struct! {
     }
 }
 
-/// Rates of the results at a derivative k of the state (x1, ẋ1, w_motor,
-/// w_load, w_friction, ∫p1): ẋ1, a, F1ẋ1, F2ẋ2, p1 + p2, and the in and
-/// out parts of p1 and p2.
-#[inline]
-fn rates(k: &[f64; NY]) -> [f64; RESULTS] {
-    let (p1, p2) = powers(k[4], k[5]);
-    [
-        k[0],
-        k[1],
-        k[2],
-        k[3],
-        k[4],
-        p1.max(0.0),
-        (-p1).max(0.0),
-        p2.max(0.0),
-        (-p2).max(0.0),
-    ]
+/// Rates of the results at derivatives k of W lanes (the state's
+/// components x1, ẋ1, w_motor, w_load, w_friction, ∫p1): ẋ1, a, F1ẋ1,
+/// F2ẋ2, p1 + p2, and the in and out parts of p1 and p2; component-major,
+/// so each is a loop over the lanes.
+#[inline(always)]
+fn rates<const N: usize>(k: &[[f64; N]; NY]) -> [[f64; N]; RESULTS] {
+    let mut r = [[0.0; N]; RESULTS];
+    r[..5].copy_from_slice(&k[..5]);
+    for j in 0..N {
+        let (p1, p2) = powers(k[4][j], k[5][j]);
+        r[5][j] = p1.max(0.0);
+        r[6][j] = (-p1).max(0.0);
+        r[7][j] = p2.max(0.0);
+        r[8][j] = (-p2).max(0.0);
+    }
+    r
 }
 
 impl ErrorBudget {
@@ -112,44 +111,13 @@ impl ErrorBudget {
     }
 }
 
-/// [`ErrorBudget::add_step`]'s arithmetic on one lane's terms: adds the
-/// step to `phase` and `local` and returns the new lag. `est` is the
-/// step's error estimates (`Trial::est`).
-#[inline(always)]
-fn step_terms(
-    lag: f64,
-    k0: &[f64; NY],
-    k7: &[f64; NY],
-    est: &[f64; NY + 1],
-    flow: &[f64; 4],
-    phase: &mut [f64; RESULTS],
-    local: &mut [f64; RESULTS],
-) -> f64 {
-    let (r0, r1) = (rates(k0), rates(k7));
-    for i in 0..RESULTS {
-        phase[i] += (r1[i] - r0[i]).abs() * lag;
-    }
-    for (l, e) in local[..5].iter_mut().zip(est) {
-        *l += e;
-    }
-    // ∫p1's estimate goes to the p1 parts the step fed, ∫p2's to p2's.
-    for (q, e) in [(0, est[5]), (1, est[5]), (2, est[NY]), (3, est[NY])] {
-        if flow[q] != 0.0 {
-            local[5 + q] += e;
-        }
-    }
-    let a = k0[1].abs().max(k7[1].abs());
-    if a > 0.0 {
-        lag + est[1] / a
-    } else {
-        lag
-    }
-}
-
 impl<const N: usize> Budgets<N> {
     /// Adds an accepted step to each lane j with `take[j]`: its derivatives
-    /// `k0` at the start and `k7` at the end, its error estimates `est` and
-    /// its energy flow `flow`, all component-major.
+    /// `k0` at the start and `k7` at the end, its error estimates `est`
+    /// (`Trial::est`) and its energy flow `flow` (its share of w1_in,
+    /// w1_out, w2_in, w2_out, which says which parts it fed), all
+    /// component-major: every line a loop over the lanes, a lane's
+    /// arithmetic the same whatever N.
     #[inline(always)]
     pub fn add_steps(
         &mut self,
@@ -159,24 +127,35 @@ impl<const N: usize> Budgets<N> {
         est: &[[f64; N]; NY + 1],
         flow: &[[f64; N]; 4],
     ) {
-        for j in 0..N {
-            let mut phase: [f64; RESULTS] = by_lane(|i| self.phase[i][j]);
-            let mut local: [f64; RESULTS] = by_lane(|i| self.local[i][j]);
-            let lag = step_terms(
-                self.lag[j],
-                &by_lane(|i| k0[i][j]),
-                &by_lane(|i| k7[i][j]),
-                &by_lane(|i| est[i][j]),
-                &by_lane(|q| flow[q][j]),
-                &mut phase,
-                &mut local,
-            );
-            let t = take[j];
-            self.lag[j] = if t { lag } else { self.lag[j] };
-            for i in 0..RESULTS {
-                self.phase[i][j] = if t { phase[i] } else { self.phase[i][j] };
-                self.local[i][j] = if t { local[i] } else { self.local[i][j] };
+        let (r0, r1) = (rates(k0), rates(k7));
+        for i in 0..RESULTS {
+            for j in 0..N {
+                let p = self.phase[i][j] + (r1[i][j] - r0[i][j]).abs() * self.lag[j];
+                self.phase[i][j] = if take[j] { p } else { self.phase[i][j] };
             }
+        }
+        for (local, e) in self.local[..5].iter_mut().zip(&est[..5]) {
+            for j in 0..N {
+                let l = local[j] + e[j];
+                local[j] = if take[j] { l } else { local[j] };
+            }
+        }
+        // ∫p1's estimate goes to the p1 parts the step fed, ∫p2's to p2's.
+        for (q, e) in [(0, &est[5]), (1, &est[5]), (2, &est[NY]), (3, &est[NY])] {
+            for j in 0..N {
+                let l = self.local[5 + q][j] + e[j];
+                // `&`, not `&&`: no branch, so the loop stays vector code.
+                let fed = take[j] & (flow[q][j] != 0.0);
+                self.local[5 + q][j] = if fed { l } else { self.local[5 + q][j] };
+            }
+        }
+        for j in 0..N {
+            let a = k0[1][j].abs().max(k7[1][j].abs());
+            // Divided whatever a is, kept where a > 0: a select, not a
+            // branch around the division.
+            let lag = self.lag[j] + est[1][j] / a;
+            let grow = take[j] & (a > 0.0);
+            self.lag[j] = if grow { lag } else { self.lag[j] };
         }
     }
 }

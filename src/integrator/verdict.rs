@@ -66,20 +66,22 @@ pub(crate) fn verdicts<const W: usize>(
         let ends = watch
             .lane(j)
             .at_end(tr.y1[1][j], tr.k7[1][j], tr.g_switch[j]);
-        let event = ends.iter().any(|g| *g < 0.0);
+        // Folds with `|` and `&`, not `any`, `all` or `&&`: no branch, so
+        // the loop over the lanes stays vector code.
+        let event = ends.iter().fold(false, |e, g| e | (*g < 0.0));
         // The mesh powers p1 and p2 at the step's ends.
         let (p1_0, p2_0) = powers(k1[4][j], k1[5][j]);
         let (p1_end, p2_end) = powers(tr.k7[4][j], tr.k7[5][j]);
-        let finite = (0..NY).all(|i| tr.y1[i][j].is_finite());
+        let finite = (0..NY).fold(true, |f, i| f & tr.y1[i][j].is_finite());
         let common = !event
-            && !landing[j]
-            && !crosses(p1_0, p1_end)
-            && !crosses(p2_0, p2_end)
-            && finite
-            && steps[j] < set.max_steps;
-        v.plain[j] = active[j] && !rejected && common;
-        v.retry[j] = active[j] && rejected && !underflow;
-        v.slow[j] = active[j] && !v.plain[j] && !v.retry[j];
+            & !landing[j]
+            & !crosses(p1_0, p1_end)
+            & !crosses(p2_0, p2_end)
+            & finite
+            & (steps[j] < set.max_steps);
+        v.plain[j] = active[j] & !rejected & common;
+        v.retry[j] = active[j] & rejected & !underflow;
+        v.slow[j] = active[j] & !v.plain[j] & !v.retry[j];
         v.h_next[j] = if rejected { h_retry } else { h[j] * tr.fac[j] };
         [v.flow[0][j], v.flow[1][j]] = split_whole(tr.dw[0][j], p1_0, p1_end);
         [v.flow[2][j], v.flow[3][j]] = split_whole(tr.dw[1][j], p2_0, p2_end);
