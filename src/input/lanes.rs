@@ -8,6 +8,9 @@
 use std::path::{Path, PathBuf};
 
 mod check;
+mod kept;
+
+pub use kept::RunLanes;
 
 pub use super::reader::LaneReader;
 use crate::error::{Error, Result};
@@ -43,6 +46,9 @@ pub enum Source {
         search: Option<crate::input::sweep::search::Search>,
         /// Number of rows (counted by [`Source::open`]).
         rows: u64,
+        /// The rows as checked by [`Source::open`], when they are few
+        /// enough to keep (`kept`): the run reads them there.
+        checked: Option<Box<ParamColumns>>,
     },
 }
 
@@ -97,9 +103,10 @@ impl Source {
                 (Some(s), None) => Source::sweep_in(s)?,
                 (s, Some(l)) => Source::table(l, s)?,
             };
-        let n = src.validate(show)?;
+        let (n, kept) = src.validate(show)?;
         if let Source::Table {
             rows,
+            checked,
             trace,
             search,
             table,
@@ -107,6 +114,7 @@ impl Source {
         } = &mut src
         {
             *rows = n;
+            *checked = kept.map(Box::new);
             if let (Some(s), Some(f)) = (search.as_ref(), sweep) {
                 s.check_size(n)
                     .map_err(|m| Error::input(f.name(), None, Some("search"), m))?;
@@ -186,6 +194,7 @@ impl Source {
             trace,
             search,
             rows: 0,
+            checked: None,
         })
     }
 

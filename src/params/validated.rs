@@ -183,6 +183,31 @@ impl ParamColumns {
         self.r2.push(f64::NAN);
     }
 
+    /// Appends lanes `rows` of `src`, column by column.
+    pub fn extend_from(&mut self, src: &ParamColumns, rows: std::ops::Range<usize>) {
+        if self.num.len() != N_NUM {
+            self.num = vec![Vec::new(); N_NUM];
+        }
+        for (c, s) in self.num.iter_mut().zip(&src.num) {
+            c.extend_from_slice(&s[rows.clone()]);
+        }
+        self.motor.extend_from_slice(&src.motor[rows.clone()]);
+        self.friction.extend_from_slice(&src.friction[rows.clone()]);
+        self.friction_table
+            .extend_from_slice(&src.friction_table[rows.clone()]);
+        self.table.extend_from_slice(&src.table[rows.clone()]);
+        self.r1.extend_from_slice(&src.r1[rows.clone()]);
+        self.r2.extend_from_slice(&src.r2[rows]);
+    }
+
+    /// The bytes a lane takes in these columns.
+    pub const LANE_BYTES: usize = N_NUM * 8
+        + std::mem::size_of::<MotorKind>()
+        + std::mem::size_of::<FrictionKind>()
+        + std::mem::size_of::<Option<TableName>>()
+        + std::mem::size_of::<usize>()
+        + 16;
+
     /// Takes the column of `p` out, leaving it empty until
     /// [`ParamColumns::put_num`] puts it back (a batch of the results
     /// table holds it meanwhile): no lane may be read in between.

@@ -73,7 +73,7 @@ pub fn pipeline_range<S: Sink>(
 /// buffers given back when free, until the end, an error or a closed
 /// channel (the run stopped).
 fn produce(
-    reader: &mut crate::input::lanes::LaneReader<'_>,
+    reader: &mut crate::input::lanes::RunLanes<'_>,
     mut first: u64,
     chunk: usize,
     recycled: std::sync::mpsc::Receiver<Batch>,
@@ -133,7 +133,7 @@ pub fn pipeline_timed<S: Sink>(
     let bar = show.bar(Phase::Running, true, end - start, "");
     backend.show_on(&bar);
     let chunk = backend.chunk_lanes().max(1);
-    let mut reader = source.reader_range(start, end)?;
+    let mut reader = source.run_lanes(start, end)?;
 
     const IN_FLIGHT: usize = 1;
     let (to_backend, from_producer) = std::sync::mpsc::sync_channel::<Result<Batch>>(IN_FLIGHT);

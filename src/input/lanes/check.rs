@@ -2,6 +2,7 @@
 //! parallel blocks for a sweep, so a bad lane is refused before anything
 //! is written.
 
+use super::kept::KEEP_BYTES;
 use super::{Source, TableIn};
 use crate::error::{Error, Result};
 use crate::input::reader::check_quotes;
@@ -67,8 +68,10 @@ impl Source {
         bad.unwrap_or(Ok(()))
     }
 
-    /// Checks every lane; returns the count. Errors name the lane or row.
-    pub(super) fn validate(&self, show: &Show) -> Result<u64> {
+    /// Checks every lane; returns the count, and for a lane table of at
+    /// most [`KEEP_BYTES`] of parameters its lanes as checked (the run
+    /// reads them there: `Source::run_lanes`). Errors name the lane or row.
+    pub(super) fn validate(&self, show: &Show) -> Result<(u64, Option<ParamColumns>)> {
         if let Source::Table {
             table: TableIn::File(path),
             ..
@@ -79,6 +82,7 @@ impl Source {
         let mut r = self.reader()?;
         let mut buf = ParamColumns::with_capacity(4096);
         let mut n = 0;
+        let mut kept = matches!(self, Source::Table { .. }).then(ParamColumns::default);
         loop {
             show.check()?;
             buf.clear();
@@ -87,6 +91,13 @@ impl Source {
                 break;
             }
             n += buf.len() as u64;
+            if let Some(k) = &mut kept {
+                if (k.len() + buf.len()) * ParamColumns::LANE_BYTES <= KEEP_BYTES {
+                    k.extend_from(&buf, 0..buf.len());
+                } else {
+                    kept = None;
+                }
+            }
         }
         if n == 0 {
             if let Source::Table { table, .. } = self {
@@ -98,6 +109,6 @@ impl Source {
                 ));
             }
         }
-        Ok(n)
+        Ok((n, kept))
     }
 }
