@@ -100,6 +100,12 @@ impl ErrorBudget {
         *self = b.lane(0);
     }
 
+    /// The phase and local terms of each result, absolute (for studies of
+    /// the estimate: `examples/estimate_scan.rs`).
+    pub fn terms(&self) -> ([f64; RESULTS], [f64; RESULTS]) {
+        (self.phase, self.local)
+    }
+
     /// Whether every result of `r` is within [`LIMIT`] × [`BOUND`] by the
     /// estimate. A lane that did not end `ok` has no results to refine.
     pub fn within(&self, r: &LaneResult) -> bool {
