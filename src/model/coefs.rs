@@ -151,13 +151,20 @@ pub fn motions<const W: usize>(
             mu[j] = tan_series(rho[j]);
         }
     }
-    for j in 0..W {
-        // The rare lanes off the vector's path: another law, or a
-        // friction angle past the series' range (`tan_small`'s rule).
-        if c.other[j] {
-            mu[j] = mu_sliding(lane[j], tables, vs[j], c.upper[j]);
-        } else if rho[j].abs() > TAN_SERIES_MAX {
-            mu[j] = rho[j].tan();
+    // The rare lanes off the vector's path: another law, or a friction
+    // angle past the series' range (`tan_small`'s rule). Whether there is
+    // one is a vector fold; the loop that branches lane by lane runs only
+    // then.
+    let rare = (0..W).fold(false, |r, j| {
+        r | c.other[j] | (rho[j].abs() > TAN_SERIES_MAX)
+    });
+    if rare {
+        for j in 0..W {
+            if c.other[j] {
+                mu[j] = mu_sliding(lane[j], tables, vs[j], c.upper[j]);
+            } else if rho[j].abs() > TAN_SERIES_MAX {
+                mu[j] = rho[j].tan();
+            }
         }
     }
     for j in 0..W {
