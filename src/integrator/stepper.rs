@@ -3,9 +3,11 @@
 //!
 //! The per-stage arithmetic is written once, per lane, in the small
 //! `stage*_v`, `increment`, `error_term`, `error_scale` and `dense_coeffs`
-//! functions; `try_steps` runs them for N interleaved lanes and the
-//! shader's `try_step` (section `src/integrator/stepper.rs` of
-//! `shaders/integrator/stepper.wgsl`) for one, line for line.
+//! functions; `try_steps` runs them for N interleaved lanes. The shader's
+//! `try_step` (`shaders/integrator/stepper.wgsl`) has the same tableau,
+//! stages and dense output for one lane in f32; its error norm holds
+//! every component to one tolerance, as the CPU's does unless a lane is
+//! refined (`Settings::traj_weight`), which the GPU does not do.
 
 use super::components::{powers, NY};
 use super::control::step_factor;

@@ -7,7 +7,7 @@
 //! loop over the lanes, and both get the same bits.
 //!
 //! [`KERNEL`] lists them; the shader has a function of each name
-//! (`shaders/model.wgsl`), and an architecture test fails when one is
+//! (`shaders/model/kernel.wgsl`), and an architecture test fails when one is
 //! defined twice in `src/` or missing from the shader.
 
 use super::laws::MotorKind;

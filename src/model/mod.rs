@@ -8,7 +8,8 @@
 //! the kernel with one lane's fields. The friction laws are in
 //! [`friction`], the laws' enums in [`laws`].
 //!
-//! The shader mirrors these files in `shaders/model.wgsl`.
+//! The shader mirrors these files in `shaders/model/`, a file of the same
+//! name for each it mirrors.
 
 pub mod coefs;
 pub mod friction;

@@ -239,23 +239,6 @@ impl AtomicFile {
         &self.dest
     }
 
-    /// Bytes written so far (flushes the buffer).
-    pub fn flushed_len(&mut self) -> Result<u64> {
-        let (w, tmp) = (
-            self.w.as_mut().expect("writer used after commit"),
-            &self.tmp,
-        );
-        w.flush().map_err(|e| Error::io(tmp, e))?;
-        let len = w
-            .get_ref()
-            .get_ref()
-            .file()
-            .metadata()
-            .map_err(|e| Error::io(tmp, e))?
-            .len();
-        Ok(len)
-    }
-
     /// Takes the writer, for a writer that must own it (Parquet's); give
     /// it back with [`AtomicFile::restore_writer`] before the commit.
     pub fn take_writer(&mut self) -> FileWriter {

@@ -185,6 +185,21 @@ pub fn cpu<'a>(args: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
+/// Whether there is no GPU adapter, said as a skip of `test`; with
+/// TSWM_REQUIRE_GPU=1 (as in CI) a missing adapter fails the test instead.
+pub fn no_gpu(test: &str) -> bool {
+    quiet_mesa();
+    if !tswm::backend::gpu::adapters().is_empty() {
+        return false;
+    }
+    assert!(
+        std::env::var("TSWM_REQUIRE_GPU").as_deref() != Ok("1"),
+        "{test}: TSWM_REQUIRE_GPU=1 but there is no GPU adapter"
+    );
+    skipped(test, "no GPU adapter");
+    true
+}
+
 /// Says that (part of) a test is skipped and why, straight to stderr so
 /// that a passing run shows it (libtest captures `eprintln!`).
 pub fn skipped(test: &str, why: &str) {

@@ -161,9 +161,7 @@ fn drive_and_the_starting_efficiencies_follow_the_model_on_every_lane() {
     assert!(seen.iter().all(|&k| k > 0), "{seen:?}");
     // The GPU's rows give the same words (its end state, the same
     // conversion to a row).
-    quiet_mesa();
-    if tswm::backend::gpu::adapters().is_empty() {
-        skipped("drive on the GPU", "no GPU adapter");
+    if no_gpu("drive on the GPU") {
         return;
     }
     let mut gpu = args.to_vec();

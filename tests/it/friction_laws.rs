@@ -252,9 +252,7 @@ fn two_named_tables_run_side_by_side_with_a_panel_each() {
     let (_, h2, rows2) = run_ok(&cpu(&["run", "s.toml", "--out", "o"]), &again);
     assert_eq!((h, rows), (h2, rows2));
     // The GPU keeps each lane's table too.
-    quiet_mesa();
-    if tswm::backend::gpu::adapters().is_empty() {
-        skipped("the GPU half of two named tables", "no GPU adapter");
+    if no_gpu("the GPU half of two named tables") {
         return;
     }
     let out = tswm(&["check", "s.toml"], dir.path());

@@ -234,9 +234,7 @@ fn lane_tables_are_traced_reported_and_sharded() {
 /// taken from: the f64 row, marked `cpu:traced`, equal to the CPU run's.
 #[test]
 fn a_traced_lanes_row_and_trace_are_one_integration_on_the_gpu() {
-    quiet_mesa();
-    if tswm::backend::gpu::adapters().is_empty() {
-        skipped("traced rows on the GPU", "no GPU adapter");
+    if no_gpu("traced rows on the GPU") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -51,14 +51,6 @@ impl Format {
         }
     }
 
-    /// The other format's file name (an earlier run's, stale beside ours).
-    pub fn other(self) -> Format {
-        match self {
-            Format::Csv => Format::Parquet,
-            Format::Parquet => Format::Csv,
-        }
-    }
-
     /// The results table of the folder `dir`: `lanes.csv`, else
     /// `lanes.parquet`; an error naming the folder when neither is there.
     pub fn of_folder(dir: &Path) -> Result<Format> {

@@ -161,12 +161,6 @@ impl ParquetRows {
 }
 
 impl RowReader {
-    /// Opens the results table of `dir` (`lanes.csv` or `lanes.parquet`).
-    pub fn open_folder(dir: &Path) -> Result<RowReader> {
-        let f = Format::of_folder(dir)?;
-        RowReader::open(&dir.join(f.file_name()), f)
-    }
-
     /// Opens `path` in `format`.
     pub fn open(path: &Path, format: Format) -> Result<RowReader> {
         let bad = |m: String| Error::input(path, None, None, m);
