@@ -82,7 +82,10 @@ impl Source {
         let mut r = self.reader()?;
         let mut buf = ParamColumns::with_capacity(4096);
         let mut n = 0;
-        let mut kept = matches!(self, Source::Table { .. }).then(ParamColumns::default);
+        // A search reads its drives again itself (`reader_range`): nothing
+        // to keep for it.
+        let keep = matches!(self, Source::Table { .. }) && self.search().is_none();
+        let mut kept = keep.then(ParamColumns::default);
         loop {
             show.check()?;
             buf.clear();
