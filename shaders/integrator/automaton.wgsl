@@ -69,7 +69,7 @@ fn init(l: Lane, st: ptr<function, State>) {
     (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
     (*st).flags = F_STARTED;
     set_flag(st, F_MOTOR_ON, motor_on);
-    set_flag(st, F_UPPER, l.friction == FRICTION_AGMA && agma_upper(sliding_speed(1.0, abs(v), l.inv_cos_g)));
+    set_flag(st, F_UPPER, above_branch(l, sliding_speed(1.0, abs(v), l.inv_cos_g)));
     (*st).status = S_OK;
     (*st).switches = 0u;
     (*st).reversals = 0u;

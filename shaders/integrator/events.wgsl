@@ -20,7 +20,7 @@ fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
     if (which == EV_REST) { return f32(m.dir) * v; }
     if (which == EV_BRANCH) {
         let vs = sliding_speed(f32(m.dir), v, l.inv_cos_g);
-        return select(AGMA_JUMP_M_S - vs, vs - AGMA_JUMP_M_S, m.upper);
+        return select(l.branch_speed - vs, vs - l.branch_speed, m.upper);
     }
     return -f32(m.dir) * motion(l, m, v).acc;
 }
@@ -66,7 +66,7 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<f32> {
         let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
         if (th < theta) { theta = th; which = EV_SPEEDING; }
     }
-    if (l.friction == FRICTION_AGMA) {
+    if (has_branches(l)) {
         let g_branch = event_value(l, m, EV_BRANCH, tr.y1[1]);
         if (g_branch < 0.0) {
             let th = locate_root(l, m, EV_BRANCH, tr.dense, g_branch);

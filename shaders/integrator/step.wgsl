@@ -26,7 +26,7 @@ fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
         set_flag(st, F_K1_VALID, true);
     }
     let remaining = (t_stop - (*st).t_hi) + (*st).t_lo;
-    let s = step_size((*st).h, steep_at_rest(l.friction), f32((*st).dir), (*st).y[1], (*st).k1[1], remaining);
+    let s = step_size((*st).h, l.steep != 0u, f32((*st).dir), (*st).y[1], (*st).k1[1], remaining);
     return StepPlan(true, m, s.h, t_stop, s.landing);
 }
 

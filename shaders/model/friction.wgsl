@@ -1,6 +1,6 @@
 // Mirrors src/model/friction.rs: the friction laws' μ(Vs).
 
-// The agma law: keep in sync with src/model/friction.rs.
+// The agma law: the constants of src/model/laws.rs (a test compares them).
 const FT_PER_MIN_PER_M_PER_S: f32 = 196.8503937007874;
 const AGMA_LOW_A: f32 = 0.124;
 const AGMA_LOW_B: f32 = 0.074;
@@ -9,7 +9,6 @@ const AGMA_HIGH_A: f32 = 0.103;
 const AGMA_HIGH_B: f32 = 0.110;
 const AGMA_HIGH_E: f32 = 0.450;
 const AGMA_HIGH_C: f32 = 0.012;
-const AGMA_JUMP_M_S: f32 = 0.0508;
 
 fn tan_small(x: f32) -> f32 {
     if (abs(x) > 0.15) { return tan(x); }
@@ -37,15 +36,14 @@ fn agma_mu(vs: f32, upper: bool) -> f32 {
     return AGMA_LOW_A * exp(-AGMA_LOW_B * pw);
 }
 
-fn agma_upper(vs: f32) -> bool {
-    return vs > AGMA_JUMP_M_S;
-}
-
+// The lane's law on its slots `l.law` (the law's parameters in the
+// parameter table's order), as tan ρ: a coefficient μ over cos αn.
 fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
+    let s = l.law;
     if (l.friction == FRICTION_PAPER) {
-        return tan_small(paper_rho(l.fric_a, l.fric_b, l.fric_c, vs));
+        return tan_small(paper_rho(s[0], s[1], s[2], vs));
     }
-    if (l.friction == FRICTION_COULOMB) { return l.mu; }
+    if (l.friction == FRICTION_COULOMB) { return s[0] * l.inv_cos_an; }
     if (l.friction == FRICTION_AGMA) { return agma_mu(vs, upper) * l.inv_cos_an; }
     if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
         // No such law or table: NaN makes the lane `nonfinite`, never a number.

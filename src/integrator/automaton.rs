@@ -1,6 +1,6 @@
 //! The lane automaton: a lane's state between steps and the transitions of
 //! docs/model.md sections 3 to 5 (switches, rest, sticking, departure, motor
-//! cut-off, running on past t_end, the `agma` law's change of branch); `step` takes it through one trial step
+//! cut-off, running on past t_end, the friction law's change of branch); `step` takes it through one trial step
 //! of the stepper.
 //!
 //! A lane is a fixed-size [`LaneState`] that [`advance`](super::step::advance) moves forward by
@@ -14,7 +14,7 @@ use super::control::H_INITIAL;
 use super::result::{speeding_up, EndState, Status};
 use super::rhs::rhs;
 use crate::model::kernel::sliding_speed;
-use crate::model::{agma_upper, phi, side_of, stick_test, FrictionKind, FrictionTable, Lane, Mode};
+use crate::model::{phi, side_of, stick_test, FrictionTable, Lane, Mode};
 
 crate::lanewise_struct! {
     /// The complete state of one lane between calls to
@@ -36,7 +36,7 @@ crate::lanewise_struct! {
         pub stuck: bool,
         /// The motor's force is on.
         pub motor_on: bool,
-        /// On the `agma` law's upper branch (Vs above 10 ft/min); always
+        /// On the friction law's upper branch (Vs above its branch speed); always
         /// false for the other laws.
         pub upper: bool,
         /// Finished, or abandoned with `status`.
@@ -126,8 +126,7 @@ pub fn init(lane: &Lane, tables: &[FrictionTable]) -> LaneState {
         },
         stuck: false,
         motor_on,
-        upper: lane.friction == FrictionKind::Agma
-            && agma_upper(sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
+        upper: lane.above_branch(sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
         done: false,
         running_on: false,
         speeding: false,

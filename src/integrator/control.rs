@@ -16,7 +16,7 @@ pub const STEP_UNDERFLOW: f64 = 1e-15;
 /// The size of the step to try from the proposed size `h`, at speed `v`
 /// and acceleration `a` in direction `dir`, `remaining` before the next
 /// time event; and whether the step lands on that event. `steep`: the
-/// lane's friction law is steep at rest (`FrictionKind::steep_at_rest`).
+/// lane's friction law is steep at rest (`Lane::steep`).
 #[inline(always)]
 pub fn step_size(h: f64, steep: bool, dir: f64, v: f64, a: f64, remaining: f64) -> (f64, bool) {
     let mut h = h;

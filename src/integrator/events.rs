@@ -7,7 +7,7 @@
 
 use super::stepper::Trial;
 use crate::model::kernel::sliding_speed;
-use crate::model::{motion, phi, FrictionKind, FrictionTable, Lane, Mode, AGMA_JUMP_M_S};
+use crate::model::{motion, phi, FrictionTable, Lane, Mode};
 
 /// Root-location tolerance for events, s.
 pub const T_ROOT_TOL: f64 = 1e-13;
@@ -31,9 +31,9 @@ pub enum EventFn {
     /// −s·ẍ1: leaves > 0 when a lane running on past t_end stops
     /// slowing down (only then is it looked for).
     Speeding = 2,
-    /// Under the `agma` law, the sliding speed's distance from 10 ft/min
-    /// on the side of the mode's branch: leaves > 0 when the speed
-    /// crosses to the other branch.
+    /// Under a law with two branches (`agma`), the sliding speed's
+    /// distance from the law's branch speed on the side of the mode's
+    /// branch: leaves > 0 when the speed crosses to the other branch.
     Branch = 3,
 }
 
@@ -51,7 +51,13 @@ pub fn event_value(
         EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
         EventFn::Rest => rest_value(mode.dir as f64, v),
         EventFn::Speeding => speeding_value(mode.dir as f64, motion(lane, tables, mode, v).acc),
-        EventFn::Branch => branch_value(mode.dir as f64, v, lane.inv_cos_g, mode.upper),
+        EventFn::Branch => branch_value(
+            mode.dir as f64,
+            v,
+            lane.inv_cos_g,
+            lane.branch_speed,
+            mode.upper,
+        ),
     }
 }
 
@@ -67,15 +73,15 @@ fn speeding_value(dir: f64, acc: f64) -> f64 {
     -dir * acc
 }
 
-/// The `agma` branch event's function at speed `v`: the sliding speed's
-/// distance from 10 ft/min on the side of the branch.
+/// The branch event's function at speed `v`: the sliding speed's
+/// distance from the law's branch speed on the side of the branch.
 #[inline(always)]
-fn branch_value(dir: f64, v: f64, inv_cos_g: f64, upper: bool) -> f64 {
+fn branch_value(dir: f64, v: f64, inv_cos_g: f64, branch_speed: f64, upper: bool) -> f64 {
     let vs = sliding_speed(dir, v, inv_cos_g);
     if upper {
-        vs - AGMA_JUMP_M_S
+        vs - branch_speed
     } else {
-        AGMA_JUMP_M_S - vs
+        branch_speed - vs
     }
 }
 
@@ -88,9 +94,11 @@ crate::lanewise_struct! {
         pub(crate) dir: f64,
         /// Running on past t_end: speeding up is an event.
         pub(crate) running_on: bool,
-        /// Under the `agma` law: the change of branch is an event.
-        pub(crate) agma: bool,
-        /// The mode's `agma` branch.
+        /// The law has two branches: the change of branch is an event.
+        pub(crate) branches: bool,
+        /// The sliding speed where the law changes branch, m/s.
+        pub(crate) branch_speed: f64,
+        /// The mode's branch.
         pub(crate) upper: bool,
         /// 1 / cos γ.
         pub(crate) inv_cos_g: f64,
@@ -104,7 +112,8 @@ impl Watch {
         Watch {
             dir: mode.dir as f64,
             running_on,
-            agma: lane.friction == FrictionKind::Agma,
+            branches: lane.branch_speed.is_finite(),
+            branch_speed: lane.branch_speed,
             upper: mode.upper,
             inv_cos_g: lane.inv_cos_g,
         }
@@ -125,8 +134,8 @@ impl Watch {
             } else {
                 off
             },
-            if self.agma {
-                branch_value(self.dir, v, self.inv_cos_g, self.upper)
+            if self.branches {
+                branch_value(self.dir, v, self.inv_cos_g, self.branch_speed, self.upper)
             } else {
                 off
             },

@@ -59,7 +59,7 @@ impl<const N: usize> Lanes<N> {
         self.st.set_lane(j, *st);
         self.ready[j] = !st.stuck && st.k1_valid && !st.done;
         self.t_stop[j] = time_stop(lane, st);
-        self.steep[j] = lane.friction.steep_at_rest();
+        self.steep[j] = lane.steep;
         self.watch
             .set_lane(j, Watch::of(lane, st.mode(), st.running_on));
     }

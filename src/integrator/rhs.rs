@@ -140,13 +140,14 @@ mod tests {
             }
         };
         let vs = (mode.dir as f64 * v).max(0.0) * l.inv_cos_g;
+        let [a, b, c, ..] = l.law;
         let mu = match l.friction {
             FrictionKind::Paper => {
-                let rho = (std::f64::consts::PI / 180.0)
-                    / (l.fric_a * crate::model::vmath::pow(vs, l.fric_b) + l.fric_c);
+                let rho =
+                    (std::f64::consts::PI / 180.0) / (a * crate::model::vmath::pow(vs, b) + c);
                 crate::model::tan_small(rho)
             }
-            FrictionKind::Coulomb => l.mu,
+            FrictionKind::Coulomb => a * l.inv_cos_an,
             _ => crate::model::agma_mu(vs, mode.upper) * l.inv_cos_an,
         };
         let t = (mode.side * mode.dir) as f64 * mu;

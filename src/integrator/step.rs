@@ -95,7 +95,7 @@ pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Opt
     }
     let (h, landing) = step_size(
         st.h,
-        lane.friction.steep_at_rest(),
+        lane.steep,
         st.dir as f64,
         st.y[1],
         st.k1[1],

@@ -24,7 +24,7 @@ crate::lanewise_struct! {
         pub side: f64,
         /// c s: the sign of tan ρ in ψ.
         pub sd: f64,
-        /// The mode's `agma` branch.
+        /// The mode's branch of the friction law (`Mode::upper`).
         pub upper: bool,
         /// 1 / cos γ.
         pub inv_cos_g: f64,
@@ -36,7 +36,7 @@ crate::lanewise_struct! {
         pub m2: f64,
         /// The load F2, N.
         pub f2: f64,
-        /// The paper law's a, b and c.
+        /// The paper law's a, b and c (its law slots; read only for its lanes).
         pub fa: f64,
         /// See `fa`.
         pub fb: f64,
@@ -77,9 +77,9 @@ impl Coef {
             m1: lane.m1,
             m2: lane.m2,
             f2: lane.f2,
-            fa: lane.fric_a,
-            fb: lane.fric_b,
-            fc: lane.fric_c,
+            fa: lane.law[0],
+            fb: lane.law[1],
+            fc: lane.law[2],
             motor: lane.motor,
             motor_on: mode.motor_on,
 

@@ -1,58 +1,15 @@
-//! The friction laws of docs/model.md section 5: the paper's fit, a
-//! constant μ, a table μ(Vs), and AGMA's curve for a steel worm on a
-//! bronze wheel; each gives tan ρ, the wedge's friction, with the flank's
-//! pressure angle folded in for the laws that give a coefficient.
+//! The friction laws of docs/model.md section 5 as the wedge feels them:
+//! each law's μ(Vs) (declared in [`super::laws`]) turned into tan ρ, with
+//! the flank's pressure angle folded in for the laws that give a
+//! coefficient; and the friction tables of the `table` law.
 
 use super::kernel::paper_rho;
-use super::{FrictionKind, Lane};
+use super::laws::{agma_mu, FrictionKind};
+use super::Lane;
 
 /// Most friction tables one run may hold (the GPU keeps them all in one
 /// fixed-size uniform).
 pub const MAX_TABLES: usize = 8;
-
-/// ft/min in one m/s: the `agma` law is stated in ft/min.
-pub const FT_PER_MIN_PER_M_PER_S: f64 = 196.850_393_700_787_4;
-/// The `agma` law's static coefficient μs.
-pub const AGMA_MU_STATIC: f64 = 0.150;
-/// Sliding speed, ft/min, where the `agma` curve changes branch (and jumps
-/// by 2 %).
-pub const AGMA_JUMP_FT_MIN: f64 = 10.0;
-/// Lower branch (0 < Vs <= 10 ft/min): μ = A exp(−B Vs^E).
-pub const AGMA_LOW_A: f64 = 0.124;
-/// See [`AGMA_LOW_A`].
-pub const AGMA_LOW_B: f64 = 0.074;
-/// See [`AGMA_LOW_A`].
-pub const AGMA_LOW_E: f64 = 0.645;
-/// Upper branch (Vs > 10 ft/min): μ = A exp(−B Vs^E) + C.
-pub const AGMA_HIGH_A: f64 = 0.103;
-/// See [`AGMA_HIGH_A`].
-pub const AGMA_HIGH_B: f64 = 0.110;
-/// See [`AGMA_HIGH_A`].
-pub const AGMA_HIGH_E: f64 = 0.450;
-/// See [`AGMA_HIGH_A`].
-pub const AGMA_HIGH_C: f64 = 0.012;
-/// [`AGMA_JUMP_FT_MIN`] in m/s (0.0508).
-pub const AGMA_JUMP_M_S: f64 = AGMA_JUMP_FT_MIN / FT_PER_MIN_PER_M_PER_S;
-
-/// The `agma` law's sliding μ at `vs` (m/s) on the branch `upper` (Vs
-/// above 10 ft/min) or the lower one. Inside a step the branch is frozen
-/// (the mode's), so the right-hand side stays smooth and the jump is
-/// located as an event; [`agma_upper`] says which branch a speed is on.
-#[inline]
-pub fn agma_mu(vs: f64, upper: bool) -> f64 {
-    let v = vs.max(0.0) * FT_PER_MIN_PER_M_PER_S;
-    if upper {
-        AGMA_HIGH_A * (-AGMA_HIGH_B * v.powf(AGMA_HIGH_E)).exp() + AGMA_HIGH_C
-    } else {
-        AGMA_LOW_A * (-AGMA_LOW_B * v.powf(AGMA_LOW_E)).exp()
-    }
-}
-
-/// Whether sliding speed `vs` (m/s) is on the `agma` law's upper branch.
-#[inline]
-pub fn agma_upper(vs: f64) -> bool {
-    vs > AGMA_JUMP_M_S
-}
 
 /// Most points a friction table may hold (fixed so the GPU can keep it in a
 /// fixed-size uniform).
@@ -126,31 +83,31 @@ impl FrictionTable {
     }
 }
 
-/// The wedge's sliding friction tan ρ at sliding speed `vs` >= 0. For the
-/// laws that give a coefficient μ (coulomb, table, agma) tan ρ = μ / cos αn
-/// (the flank's normal force is N / cos αn); `lane.mu` holds coulomb's
-/// already divided. `upper`: the `agma` branch the step is frozen on.
+/// The wedge's sliding friction tan ρ at sliding speed `vs` >= 0: the
+/// lane's law on its slots (`lane.law`, the law's parameters in the
+/// parameter table's order). For the laws that give a coefficient μ,
+/// tan ρ = μ / cos αn (the flank's normal force is N / cos αn). `upper`:
+/// the branch the step is frozen on, for a law that has two.
 #[inline]
 pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, upper: bool) -> f64 {
-    match lane.friction {
-        FrictionKind::Paper => tan_small(paper_rho(lane.fric_a, lane.fric_b, lane.fric_c, vs)),
-        FrictionKind::Coulomb => lane.mu,
-        FrictionKind::Table => {
-            // No such table: NaN makes the lane `nonfinite`, never a number.
-            tables
-                .get(lane.table as usize)
-                .map_or(f64::NAN, |t| t.mu_at(vs))
-                * lane.inv_cos_an
-        }
-        FrictionKind::Agma => agma_mu(vs, upper) * lane.inv_cos_an,
-    }
+    let s = &lane.law;
+    let mu = match lane.friction {
+        FrictionKind::Paper => return tan_small(paper_rho(s[0], s[1], s[2], vs)),
+        FrictionKind::Coulomb => s[0],
+        // No such table: NaN makes the lane `nonfinite`, never a number.
+        FrictionKind::Table => tables
+            .get(lane.table as usize)
+            .map_or(f64::NAN, |t| t.mu_at(vs)),
+        FrictionKind::Agma => agma_mu(vs, upper),
+    };
+    mu * lane.inv_cos_an
 }
 
 /// tan ρ at sliding speed `vs` on the branch that speed is on: the law as
 /// a function of speed alone, for results read at one speed.
 #[inline]
 pub fn mu_at(lane: &Lane, tables: &[FrictionTable], vs: f64) -> f64 {
-    mu_sliding(lane, tables, vs, agma_upper(vs))
+    mu_sliding(lane, tables, vs, lane.above_branch(vs))
 }
 
 /// tan x, by its Taylor series up to x^15 where that is exact to the last
@@ -220,35 +177,5 @@ mod tests {
         assert!((t.mu_at(2.0) - 0.05).abs() < 1e-15);
         assert_eq!(t.mu_at(10.0), 0.04);
         assert!(FrictionTable::new(&[1.0, 0.5], &[0.1, 0.1]).is_err());
-    }
-
-    /// The table of docs/model.md section 5, to 1e-5.
-    #[test]
-    fn agma_law_gives_the_model_table() {
-        let rows: [(f64, bool, f64); 10] = [
-            (0.01, false, 0.11058),
-            (0.0508, false, 0.08944),
-            (0.0508, true, 0.08754),
-            (0.1, true, 0.07964),
-            (0.5, true, 0.05526),
-            (1.0, true, 0.04349),
-            (2.0, true, 0.03241),
-            (5.0, true, 0.02093),
-            (10.0, true, 0.01565),
-            (20.0, true, 0.01307),
-        ];
-        for (vs, upper, want) in rows {
-            let mu = agma_mu(vs, upper);
-            assert!((mu - want).abs() < 1e-5, "{vs} m/s: {mu} (want {want})");
-            if vs != 0.0508 {
-                assert_eq!(agma_upper(vs), upper, "{vs} m/s");
-            }
-        }
-        // 10 ft/min is 0.0508 m/s, on the lower branch; just above, the upper.
-        assert!((AGMA_JUMP_M_S - 0.0508).abs() < 1e-12);
-        assert!(!agma_upper(AGMA_JUMP_M_S) && agma_upper(AGMA_JUMP_M_S * (1.0 + 1e-12)));
-        // The jump is 2 %.
-        let (lo, hi) = (agma_mu(AGMA_JUMP_M_S, false), agma_mu(AGMA_JUMP_M_S, true));
-        assert!(((lo - hi) / lo - 0.0213).abs() < 1e-3);
     }
 }

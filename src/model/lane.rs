@@ -2,11 +2,12 @@
 //! as their enums, trigonometry done once. Built from a lane's validated
 //! parameters by `Lane::new` (in `params`, which owns the parameters).
 
-use super::laws::{FrictionKind, MotorKind};
+use super::laws::{FrictionKind, MotorKind, LAW_SLOTS};
 
 /// A lane's constants in the form the integrator uses.
 ///
-/// Keep in sync with `GpuLane` in `src/backend/gpu/layout.rs` and `Lane` in the shader.
+/// The GPU's twin is `GpuLane` in `src/backend/gpu/layout.rs` and `Lane`
+/// in the shader (a test holds their layouts together).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lane {
     /// Mass of body 1 (the worm's side), kg.
@@ -41,16 +42,18 @@ pub struct Lane {
     pub table: u32,
     /// 1 / cos αn: a coefficient law's μ becomes the wedge's tan ρ = μ / cos αn.
     pub inv_cos_an: f64,
-    /// The paper law's a.
-    pub fric_a: f64,
-    /// The paper law's b.
-    pub fric_b: f64,
-    /// The paper law's c.
-    pub fric_c: f64,
-    /// coulomb's tan ρ = μ / cos αn
-    pub mu: f64,
+    /// The friction law's parameters, in the parameter table's column
+    /// order (the paper law's a, b, c; coulomb's μ, μs; ...); unused
+    /// slots are 0.
+    pub law: [f64; LAW_SLOTS],
     /// static tan ρs for every law (μs / cos αn, or tan ρ(0))
     pub mu_s: f64,
+    /// The law's slope is unbounded at rest, so steps into a stop are
+    /// graded (`laws::SteepAtRest`).
+    pub steep: bool,
+    /// The sliding speed, m/s, where the law changes branch; +inf for a
+    /// law with one branch.
+    pub branch_speed: f64,
     /// Position x1 at t = 0, m.
     pub x1_0: f64,
     /// Speed ẋ1 at t = 0, m/s.
@@ -68,6 +71,13 @@ impl Lane {
     #[inline]
     pub fn motor_cut(&self) -> bool {
         self.motor_off < self.t_end
+    }
+
+    /// Whether sliding speed `vs` is above the law's branch speed (on
+    /// its upper branch); always false for a law with one branch.
+    #[inline]
+    pub fn above_branch(&self, vs: f64) -> bool {
+        vs > self.branch_speed
     }
 
     /// The direction the motor drives body 1 (+1 or −1): +x1 for `kloss`,

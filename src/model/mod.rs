@@ -5,8 +5,8 @@
 //! Each formula is written once, in [`kernel`]; [`coefs`] composes them
 //! into the equation of motion of W lanes at once, and the one-lane
 //! functions here ([`motion`], [`phi`], ...) are its W = 1 case or call
-//! the kernel with one lane's fields. The friction laws are in
-//! [`friction`], the laws' enums in [`laws`].
+//! the kernel with one lane's fields. The laws are declared in [`laws`];
+//! [`friction`] turns a friction law into the wedge's tan ρ.
 //!
 //! The shader mirrors these files in `shaders/model/`, a file of the same
 //! name for each it mirrors.
@@ -19,13 +19,10 @@ pub mod laws;
 pub mod vmath;
 
 pub use coefs::{motions, Coef, Coefs};
-pub use friction::{
-    agma_mu, agma_upper, mu_at, mu_sliding, tan_small, FrictionTable, AGMA_JUMP_M_S, MAX_TABLES,
-    MAX_TABLE_POINTS,
-};
+pub use friction::{mu_at, mu_sliding, tan_small, FrictionTable, MAX_TABLES, MAX_TABLE_POINTS};
 pub use kernel::{Motion, Motions};
 pub use lane::Lane;
-pub use laws::{FrictionKind, MotorKind};
+pub use laws::{agma_mu, agma_upper, FrictionKind, MotorKind, AGMA_JUMP_M_S};
 
 use crate::lanewise::Lanewise;
 use kernel::{load_term, motor_force_of, switching};
@@ -62,7 +59,7 @@ pub fn side_of(phi: f64) -> i32 {
 }
 
 /// The mode a lane slides in between events, frozen for a whole step:
-/// contact side, direction, motor, and the `agma` law's branch.
+/// contact side, direction, motor, and the friction law's branch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Mode {
     /// Contact side c: +1 a-a, −1 b-b.
@@ -71,9 +68,10 @@ pub struct Mode {
     pub dir: i32,
     /// Motor force on.
     pub motor_on: bool,
-    /// The `agma` law's upper branch (Vs above 10 ft/min); false for the
-    /// other laws. Frozen so a step's right-hand side is smooth: the jump
-    /// between the branches is an event.
+    /// The friction law's upper branch (Vs above its branch speed, 10
+    /// ft/min for `agma`); false for the laws with one branch. Frozen so a
+    /// step's right-hand side is smooth: the jump between the branches is
+    /// an event.
     pub upper: bool,
 }
 

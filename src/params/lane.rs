@@ -2,10 +2,10 @@
 //! ([`Lane::new`]): the parameters are this module's to read, the
 //! [`Lane`] the model's.
 
-use super::table::Num;
+use super::table::{law_params, Num};
 use super::validated::LaneParams;
-use crate::model::friction::AGMA_MU_STATIC;
-use crate::model::{mu_sliding, FrictionKind, FrictionTable, Lane, MotorKind};
+use crate::model::laws::{StaticMu, SteepAtRest, LAW_SLOTS};
+use crate::model::{mu_sliding, FrictionTable, Lane, MotorKind};
 
 impl Lane {
     /// Derives a lane's constants from validated parameters.
@@ -46,21 +46,31 @@ impl Lane {
             friction: p.friction(),
             table: p.table() as u32,
             inv_cos_an,
-            fric_a: nan_to(p.get(Num::FricA), 0.0),
-            fric_b: nan_to(p.get(Num::FricB), 1.0),
-            fric_c: nan_to(p.get(Num::FricC), 1.0),
-            mu: nan_to(p.get(Num::Mu), 0.0) * inv_cos_an,
+            law: [0.0; LAW_SLOTS],
             mu_s: 0.0,
+            steep: false,
+            branch_speed: f64::INFINITY,
             x1_0: p.get(Num::X10),
             v1_0: p.get(Num::V10),
             t_end: p.get(Num::TEnd),
             t_max: nan_to(p.get(Num::TMax), p.get(Num::TEnd)),
         };
-        lane.mu_s = match p.friction() {
-            FrictionKind::Coulomb => p.get(Num::MuStatic) * inv_cos_an,
-            FrictionKind::Agma => AGMA_MU_STATIC * inv_cos_an,
-            _ => mu_sliding(&lane, tables, 0.0, false),
+        // The law's declaration says the rest.
+        let law = p.friction().law();
+        for (slot, &n) in lane.law.iter_mut().zip(law_params(p.friction())) {
+            *slot = p.get(n);
+        }
+        lane.mu_s = match law.static_mu {
+            StaticMu::AtRest => mu_sliding(&lane, tables, 0.0, false),
+            StaticMu::Slot(i) => lane.law[i] * inv_cos_an,
+            StaticMu::Value(mu) => mu * inv_cos_an,
         };
+        lane.steep = match law.steep {
+            SteepAtRest::No => false,
+            SteepAtRest::Yes => true,
+            SteepAtRest::ExponentBelowOne(i) => lane.law[i] < 1.0,
+        };
+        lane.branch_speed = law.branch_speed.unwrap_or(f64::INFINITY);
         lane
     }
 }

@@ -11,21 +11,17 @@ pub use crate::model::laws::{FrictionKind, MotorKind};
 /// Which law a numeric parameter belongs to: set under another law it is
 /// refused rather than ignored (a user who sets `mu` but forgets
 /// `friction = "coulomb"` would otherwise get the paper law unnoticed).
+/// A friction law's parameters are the rows that name it, and a lane
+/// holds them in its law slots in the table's order ([`law_params`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Owner {
     /// Every lane uses it.
     All,
-    /// `motor = kloss`
-    Kloss,
-    /// `motor = constant`
-    ConstantMotor,
-    /// `friction = paper`
-    PaperFriction,
-    /// `friction = coulomb`
-    Coulomb,
-    /// `friction = table`
-    TableFriction,
-    /// The laws that give a coefficient μ: coulomb, table, agma.
+    /// These motor laws.
+    Motor(&'static [MotorKind]),
+    /// These friction laws.
+    Friction(&'static [FrictionKind]),
+    /// The laws that give a coefficient μ (`FrictionLaw::gives_coefficient`).
     Coefficient,
 }
 
@@ -34,27 +30,51 @@ impl Owner {
     pub fn applies(self, motor: MotorKind, friction: FrictionKind) -> bool {
         match self {
             Owner::All => true,
-            Owner::Kloss => motor == MotorKind::Kloss,
-            Owner::ConstantMotor => motor == MotorKind::Constant,
-            Owner::PaperFriction => friction == FrictionKind::Paper,
-            Owner::Coulomb => friction == FrictionKind::Coulomb,
-            Owner::TableFriction => friction == FrictionKind::Table,
+            Owner::Motor(m) => m.contains(&motor),
+            Owner::Friction(f) => f.contains(&friction),
             Owner::Coefficient => friction.gives_coefficient(),
         }
     }
 
-    /// The law as a user writes it ("motor = kloss"); empty for `All`.
-    pub fn law(self) -> &'static str {
+    /// The law as a user writes it ("motor = kloss", "friction = coulomb
+    /// or stribeck"); empty for `All`.
+    pub fn law(self) -> String {
+        let words = |w: Vec<&str>| match w.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+            _ => w.concat(),
+        };
         match self {
-            Owner::All => "",
-            Owner::Kloss => "motor = kloss",
-            Owner::ConstantMotor => "motor = constant",
-            Owner::PaperFriction => "friction = paper",
-            Owner::Coulomb => "friction = coulomb",
-            Owner::TableFriction => "friction = table",
-            Owner::Coefficient => "friction = coulomb, table or agma",
+            Owner::All => String::new(),
+            Owner::Motor(m) => format!("motor = {}", words(m.iter().map(|k| k.name()).collect())),
+            Owner::Friction(f) => {
+                format!("friction = {}", words(f.iter().map(|k| k.name()).collect()))
+            }
+            Owner::Coefficient => {
+                let laws = FrictionKind::ALL
+                    .into_iter()
+                    .filter(|k| k.gives_coefficient());
+                format!("friction = {}", words(laws.map(|k| k.name()).collect()))
+            }
         }
     }
+}
+
+/// A friction law's parameters: the rows whose owner names the law, in
+/// the table's order, which is the order of the lane's law slots
+/// (`model::Lane::law`).
+pub fn law_params(law: FrictionKind) -> &'static [Num] {
+    static PARAMS: std::sync::OnceLock<Vec<Vec<Num>>> = std::sync::OnceLock::new();
+    let all = PARAMS.get_or_init(|| {
+        FrictionKind::ALL
+            .map(|k| {
+                Num::ALL
+                    .into_iter()
+                    .filter(|n| matches!(n.def().owner, Owner::Friction(f) if f.contains(&k)))
+                    .collect()
+            })
+            .to_vec()
+    });
+    &all[law as usize]
 }
 
 /// What an unset parameter takes.
@@ -192,33 +212,33 @@ parameter_table! {
         default: Fallback::Value(4774.0), paper: true, ..ROW }
     selector Motor
     num VSync { name: "v_sync", unit: "m/s", meaning: "Kloss motor: synchronous speed",
-        default: Fallback::Value(3.35), owner: Owner::Kloss, lo: Bound::Open(0.0),
+        default: Fallback::Value(3.35), owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0),
         hi: Bound::Closed(100.0), why: "sliding speeds of real drives", paper: true, ..ROW }
     num VCrit { name: "v_crit", unit: "m/s", meaning: "Kloss motor: speed at the peak force",
-        default: Fallback::Value(2.07), owner: Owner::Kloss, lo: Bound::Closed(0.0),
+        default: Fallback::Value(2.07), owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Closed(0.0),
         below: Some(Num::VSync), paper: true, ..ROW }
     num FCrit { name: "f_crit", unit: "N", meaning: "Kloss motor: peak force",
-        default: Fallback::Value(4375.0), owner: Owner::Kloss, lo: Bound::Open(0.0), paper: true, ..ROW }
+        default: Fallback::Value(4375.0), owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0), paper: true, ..ROW }
     num F1 { name: "f1", unit: "N", meaning: "force of a constant motor",
-        owner: Owner::ConstantMotor, ..ROW }
+        owner: Owner::Motor(&[MotorKind::Constant]), ..ROW }
     num MotorOff { name: "motor_off", unit: "s", meaning: "motor force 0 from this time",
         default: Fallback::Never, lo: Bound::Closed(0.0), why: "or unset for never", ..ROW }
     selector Friction
     selector FrictionTable
     num FricA { name: "fric_a", unit: "", meaning: "paper law rho[deg] = 1/(a Vs^b + c)",
-        default: Fallback::Value(0.174), owner: Owner::PaperFriction, lo: Bound::Closed(0.0),
+        default: Fallback::Value(0.174), owner: Owner::Friction(&[FrictionKind::Paper]), lo: Bound::Closed(0.0),
         hi: Bound::Closed(100.0), ..ROW }
     num FricB { name: "fric_b", unit: "", meaning: "paper law exponent b",
-        default: Fallback::Value(0.612), owner: Owner::PaperFriction, lo: Bound::Open(0.0),
+        default: Fallback::Value(0.612), owner: Owner::Friction(&[FrictionKind::Paper]), lo: Bound::Open(0.0),
         hi: Bound::Closed(5.0), ..ROW }
     num FricC { name: "fric_c", unit: "", meaning: "paper law c = 1/rho(0)",
-        default: Fallback::Value(0.14), owner: Owner::PaperFriction,
+        default: Fallback::Value(0.14), owner: Owner::Friction(&[FrictionKind::Paper]),
         lo: Bound::Open(1.0 / 90.0), hi: Bound::Closed(100.0),
         why: "1/90: rho(0) = 1/c deg < 90 deg", ..ROW }
     num Mu { name: "mu", unit: "", meaning: "Coulomb law: sliding friction coefficient",
-        owner: Owner::Coulomb, lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
+        owner: Owner::Friction(&[FrictionKind::Coulomb]), lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
     num MuStatic { name: "mu_static", unit: "", meaning: "Coulomb law: static coefficient",
-        default: Fallback::SameAs(Num::Mu), owner: Owner::Coulomb, at_least: Some(Num::Mu),
+        default: Fallback::SameAs(Num::Mu), owner: Owner::Friction(&[FrictionKind::Coulomb]), at_least: Some(Num::Mu),
         hi: Bound::Closed(10.0),
         why: "static friction below sliding friction would stop a departing lane at once",
         ..ROW }
@@ -259,21 +279,21 @@ parameter_table! {
         meaning: "inertia turning with the wheel (wheel, output, load)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1e9), ..ROW }
     num T1 { name: "t1", unit: "N m", meaning: "torque of a constant motor on the worm shaft",
-        default: Fallback::NotSet, owner: Owner::ConstantMotor, ..ROW }
+        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Constant]), ..ROW }
     num T2 { name: "t2", unit: "N m",
         meaning: "load torque on the wheel shaft (+ overhauling, - resisting)",
         default: Fallback::NotSet, ..ROW }
     num NSync { name: "n_sync", unit: "rpm",
         meaning: "Kloss motor: synchronous speed",
-        default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Open(0.0),
+        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0),
         hi: Bound::Closed(1e5), ..ROW }
     num NCrit { name: "n_crit", unit: "rpm",
         meaning: "Kloss motor: speed at the breakdown torque",
-        default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Closed(0.0),
+        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Closed(0.0),
         below: Some(Num::NSync), ..ROW }
     num TCrit { name: "t_crit", unit: "N m",
         meaning: "Kloss motor: breakdown torque",
-        default: Fallback::NotSet, owner: Owner::Kloss, lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0), ..ROW }
     num N10 { name: "n1_0", unit: "rpm", meaning: "initial worm speed",
         default: Fallback::NotSet, lo: Bound::Closed(-1e5), hi: Bound::Closed(1e5), ..ROW }
 }
@@ -496,6 +516,29 @@ mod tests {
         assert!(
             guide.contains(&want),
             "docs/guide.md's parameter table differs; it should read:\n{want}"
+        );
+    }
+
+    /// Each law's parameters fit the lane's slots, and the laws' words
+    /// read as a person writes them.
+    #[test]
+    fn law_params_fit_the_slots() {
+        for k in FrictionKind::ALL {
+            assert!(
+                law_params(k).len() <= crate::model::laws::LAW_SLOTS,
+                "{}",
+                k.name()
+            );
+        }
+        assert_eq!(
+            law_params(FrictionKind::Paper),
+            [Num::FricA, Num::FricB, Num::FricC]
+        );
+        assert_eq!(Num::Mu.def().owner.law(), "friction = coulomb");
+        assert_eq!(Num::FCrit.def().owner.law(), "motor = kloss");
+        assert_eq!(
+            Num::AlphaNDeg.def().owner.law(),
+            "friction = coulomb, table or agma"
         );
     }
 

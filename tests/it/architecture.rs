@@ -320,7 +320,7 @@ fn each_kernel_formula_is_written_once_and_mirrored_in_the_shader() {
         .map(|(p, _)| without_comments(&code(p)))
         .collect::<Vec<_>>()
         .join("\n");
-    let wgsl = without_comments(SHADER);
+    let wgsl = without_comments(&SHADER);
     let mut bad = Vec::new();
     for name in KERNEL {
         let n = definitions(&rust, name);

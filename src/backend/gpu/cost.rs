@@ -34,7 +34,7 @@ pub const LEARN_PER_CALL: usize = 8192;
 pub const MIN_LEARNT: usize = 256;
 
 /// Raw parameters a lane's cost may depend on (besides t_end).
-const N_RAW: usize = 18;
+const N_RAW: usize = 19;
 
 fn raw(l: &Lane) -> [f64; N_RAW] {
     let r = [
@@ -49,10 +49,11 @@ fn raw(l: &Lane) -> [f64; N_RAW] {
         l.f1,
         l.t_end - l.motor_off.min(l.t_end),
         l.friction.code() as f64,
-        l.fric_a,
-        l.fric_b,
-        l.fric_c,
-        l.mu,
+        l.law[0],
+        l.law[1],
+        l.law[2],
+        l.law[3],
+        l.law[4],
         l.mu_s,
         l.x1_0,
         l.v1_0,

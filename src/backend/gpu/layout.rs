@@ -5,12 +5,14 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::integrator::{EndState, Settings, Status, NY};
+use crate::model::laws::LAW_SLOTS;
 use crate::model::{FrictionTable, Lane, MAX_TABLES, MAX_TABLE_POINTS};
 
 /// "Never" for f32 times: WGSL may assume there are no infinities.
 pub const NEVER: f32 = 3.0e38;
 
-/// A lane's constants, f32. Keep in sync with `Lane` in shaders/model/lane.wgsl.
+/// A lane's constants, f32: `Lane` in shaders/model/lane.wgsl (a test
+/// compares the layouts).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuLane {
@@ -42,14 +44,8 @@ pub struct GpuLane {
     pub motor_off: f32,
     /// [`Lane::friction`] as its code ([`FrictionKind::code`](crate::model::FrictionKind::code)).
     pub friction: u32,
-    /// [`Lane::fric_a`] in f32.
-    pub fric_a: f32,
-    /// [`Lane::fric_b`] in f32.
-    pub fric_b: f32,
-    /// [`Lane::fric_c`] in f32.
-    pub fric_c: f32,
-    /// [`Lane::mu`] in f32.
-    pub mu: f32,
+    /// [`Lane::law`] in f32.
+    pub law: [f32; LAW_SLOTS],
     /// [`Lane::mu_s`] in f32.
     pub mu_s: f32,
     /// [`Lane::x1_0`] in f32.
@@ -64,8 +60,10 @@ pub struct GpuLane {
     pub table: u32,
     /// 1 / cos αn (see `model::Lane::inv_cos_an`).
     pub inv_cos_an: f32,
-    /// Padding: the shader's struct is a whole number of 16-byte rows.
-    pub pad0: u32,
+    /// [`Lane::steep`]: 1 when the friction law is steep at rest.
+    pub steep: u32,
+    /// [`Lane::branch_speed`] in f32; [`NEVER`] for a law with one branch.
+    pub branch_speed: f32,
 }
 
 impl From<&Lane> for GpuLane {
@@ -89,10 +87,7 @@ impl From<&Lane> for GpuLane {
                 NEVER
             },
             friction: l.friction.code(),
-            fric_a: l.fric_a as f32,
-            fric_b: l.fric_b as f32,
-            fric_c: l.fric_c as f32,
-            mu: l.mu as f32,
+            law: l.law.map(|v| v as f32),
             mu_s: l.mu_s as f32,
             x1_0: l.x1_0 as f32,
             v1_0: l.v1_0 as f32,
@@ -100,7 +95,12 @@ impl From<&Lane> for GpuLane {
             t_max: l.t_max as f32,
             table: l.table,
             inv_cos_an: l.inv_cos_an as f32,
-            pad0: 0,
+            steep: l.steep as u32,
+            branch_speed: if l.branch_speed.is_finite() {
+                l.branch_speed as f32
+            } else {
+                NEVER
+            },
         }
     }
 }
@@ -121,7 +121,7 @@ pub mod flags {
     pub const RUNNING_ON: u32 = 32;
     /// Running on ended because the lane began to speed up.
     pub const SPEEDING: u32 = 64;
-    /// On the `agma` law's upper branch.
+    /// On the friction law's upper branch.
     pub const UPPER: u32 = 128;
 }
 

@@ -9,9 +9,10 @@
 //! line names the Rust file it mirrors, and a Rust helper with a WGSL twin
 //! has the same name there ([`MIRRORED`], and the model's
 //! [`KERNEL`](crate::model::kernel::KERNEL)); a test checks the names on
-//! both sides and the constants the two share (law codes, flags, status
-//! and event codes, the Dormand–Prince tableau, the agma law's constants
-//! and the limits below).
+//! both sides and the constants the two share (flags, status and event
+//! codes, the Dormand–Prince tableau, the agma law's constants and the
+//! limits below). The law codes are not kept in step: the [`prelude`]
+//! generates them from the Rust declarations.
 //!
 //! Differences forced by f32: x1, the works and the time are compensated
 //! (Kahan) sums; the per-step tolerance is 1e-6 rather than 1e-8
@@ -25,19 +26,46 @@
 //! sign inside a step, the f64 path finds the zero by the Illinois method,
 //! the shader by halvings down to [`P_ZERO_TOL`].
 
+use std::fmt::Write;
+use std::sync::LazyLock;
+
+use crate::model::laws::LAW_SLOTS;
+use crate::model::{FrictionKind, MotorKind};
+
 /// Lists the shader's files once: [`SHADER_FILES`] names them and
-/// [`SHADER`] joins their text, in that order.
+/// [`SHADER`] joins their text, in that order, after the [`prelude`].
 macro_rules! shader_files {
     ($($path:literal),* $(,)?) => {
         /// The shader's files under `shaders/`, in the order they are joined.
         pub const SHADER_FILES: &[&str] = &[$($path),*];
-        /// The shader source: the files of [`SHADER_FILES`] joined.
-        pub const SHADER: &str = concat!($(include_str!(concat!("../../../shaders/", $path)), "\n"),*);
+        /// The files of [`SHADER_FILES`] joined.
+        const FILES: &str = concat!($(include_str!(concat!("../../../shaders/", $path)), "\n"),*);
     };
 }
 
+/// The shader source: the [`prelude`] generated from the Rust
+/// declarations, then the files of [`SHADER_FILES`].
+pub static SHADER: LazyLock<String> = LazyLock::new(|| prelude() + FILES);
+
+/// What the shader reads from the Rust declarations, generated rather than
+/// kept in step by hand: each law's code under its word (`MOTOR_KLOSS`,
+/// `FRICTION_AGMA`, from `model::laws`) and the number of law slots of a
+/// lane.
+pub fn prelude() -> String {
+    let mut s = String::from("// Generated from the Rust declarations (model/laws.rs).\n");
+    for m in MotorKind::ALL {
+        let name = m.name().to_uppercase();
+        let _ = writeln!(s, "const MOTOR_{name}: u32 = {}u;", m.code());
+    }
+    for f in FrictionKind::ALL {
+        let name = f.name().to_uppercase();
+        let _ = writeln!(s, "const FRICTION_{name}: u32 = {}u;", f.code());
+    }
+    let _ = writeln!(s, "const LAW_SLOTS: u32 = {LAW_SLOTS}u;");
+    s
+}
+
 shader_files!(
-    "model/laws.wgsl",
     "model/lane.wgsl",
     "model/kernel.wgsl",
     "model/friction.wgsl",
@@ -59,11 +87,10 @@ shader_files!(
 /// shader.
 pub const MIRRORED: &[&str] = &[
     // model
-    "steep_at_rest",
+    "above_branch",
     "motor_force",
     "tan_small",
     "agma_mu",
-    "agma_upper",
     "mu_sliding",
     "phi",
     "side_of",
