@@ -100,6 +100,14 @@ impl ErrorBudget {
         *self = b.lane(0);
     }
 
+    /// Adds a step's [`split_error`](super::flow::split_error) of ∫p1 and
+    /// ∫p2 to the local terms of their in and out parts.
+    pub fn add_split(&mut self, err: [f64; 2]) {
+        for (q, e) in [err[0], err[0], err[1], err[1]].into_iter().enumerate() {
+            self.local[5 + q] += e;
+        }
+    }
+
     /// The phase and local terms of each result, absolute (for studies of
     /// the estimate: `examples/estimate_scan.rs`).
     pub fn terms(&self) -> ([f64; RESULTS], [f64; RESULTS]) {

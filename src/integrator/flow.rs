@@ -83,6 +83,39 @@ fn split_crossing(r: &[f64; 5], p0: f64) -> [f64; 2] {
     }
 }
 
+/// How far [`split`]'s parts may be off: where p changes sign inside the
+/// step, the quartic's last term at the zero θ*, θ*²(1−θ*)²|r4| (what the
+/// dense output adds there to the cubic through the step's ends and
+/// slopes, which overstates its own error); 0 where p keeps its sign.
+/// For the error budget: a long step across the zero of a strongly curved
+/// p splits its increment less accurately than it integrates it.
+#[cold]
+pub fn split_error(r: &[f64; 5], p0: f64, p_end: f64) -> f64 {
+    if !crosses(p0, p_end) {
+        return 0.0;
+    }
+    let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
+    let g = |th: f64| sign * dense_slope(r, th);
+    let (a, b) = illinois(g, g(0.0), g(1.0), P_ZERO_TOL);
+    let th = 0.5 * (a + b);
+    let w = th * (1.0 - th);
+    w * w * r[4].abs()
+}
+
+/// [`split_error`] of ∫p1 and ∫p2 over an accepted step (as
+/// [`step_flow`] splits them).
+pub fn step_flow_error(k1: &[f64; NY], trial: &Trial, h: f64) -> [f64; 2] {
+    let k7 = &trial.k7;
+    let (p1_0, p2_0) = powers(k1[4], k1[5]);
+    let (p1_end, p2_end) = powers(k7[4], k7[5]);
+    let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
+    let r2 = dense_w(trial.dw[1], h, p2_0, p2_end, trial.dw_r4[1]);
+    [
+        split_error(&r1, p1_0, p1_end),
+        split_error(&r2, p2_0, p2_end),
+    ]
+}
+
 /// The dense output (r0 = 0) of an increment `dw` of a quadrature over a
 /// step of size h with derivatives `q0` and `q_end` at its ends and last
 /// coefficient `r4`: the same coefficients as `stepper::dense_coeffs`.

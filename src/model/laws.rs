@@ -59,16 +59,19 @@ pub enum StaticMu {
     Value(f64),
 }
 
-/// Whether a law's slope dμ/dVs is unbounded at rest, so that steps into
-/// a stop are graded (docs/model.md section 8).
+/// Whether a law is steep at rest, so that steps into a stop are graded
+/// (docs/model.md section 8): its slope dμ/dVs is unbounded there, or its
+/// curvature is (a power Vs^δ with 1 < δ < 2), which the step's error
+/// estimate misreads just as badly.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SteepAtRest {
     /// Never.
     No,
     /// Always.
     Yes,
-    /// When the exponent in this law slot is below 1 (Vs^δ, δ < 1).
-    ExponentBelowOne(usize),
+    /// Unless the exponent δ in this law slot is a whole number (Vs^δ is
+    /// then smooth at rest).
+    UnlessWholeExponent(usize),
 }
 
 /// One friction law's declaration.

@@ -68,7 +68,7 @@ impl Lane {
         lane.steep = match law.steep {
             SteepAtRest::No => false,
             SteepAtRest::Yes => true,
-            SteepAtRest::ExponentBelowOne(i) => lane.law[i] < 1.0,
+            SteepAtRest::UnlessWholeExponent(i) => lane.law[i].fract() != 0.0,
         };
         lane.branch_speed = law.branch_speed.unwrap_or(f64::INFINITY);
         lane
