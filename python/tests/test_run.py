@@ -112,7 +112,7 @@ def test_the_table_is_shared_not_copied(root):
     # The columns are the engine's buffers: one chunk a batch, read-only.
     col = t.column("x1_end").chunk(0)
     assert col.buffers()[1] is not None
-    assert t.num_rows == 2 and t.num_columns == 67
+    assert t.num_rows == 2 and t.num_columns == 70
 
 
 def test_bench_check_and_devices(root):

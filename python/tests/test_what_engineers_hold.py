@@ -292,7 +292,7 @@ def test_text_that_is_not_text(tmp_path):
     # parameter's name: shown as U+FFFD, refused with the lane.
     df = pd.DataFrame({"gamma_deg": [4.0, 8.0], "friction": pd.Series(["coulomb", "cou\ud800"], dtype=object)})
     assert input_error(lambda: run(df)) == (
-        "lanes: lane 1: friction: `cou\ufffd` is not a friction law; allowed: paper, coulomb, table, agma"
+        "lanes: lane 1: friction: `cou\ufffd` is not a friction law; allowed: paper, coulomb, table, agma, stribeck"
     )
     df = pd.DataFrame([[4.0]], columns=pd.Index(["gamma\ud800"], dtype=object))
     assert input_error(lambda: run(df)).startswith("lanes: gamma\ufffd: unknown column; allowed: m1, m2")

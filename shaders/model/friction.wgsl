@@ -36,6 +36,14 @@ fn agma_mu(vs: f32, upper: bool) -> f32 {
     return AGMA_LOW_A * exp(-AGMA_LOW_B * pw);
 }
 
+// The stribeck law from its slots (μc, μs, v_st, δ, kv).
+fn stribeck_mu(s: array<f32, LAW_SLOTS>, vs: f32) -> f32 {
+    // pow(0, δ) is not defined in WGSL: (Vs/v_st)^δ = 0 at rest.
+    var pw = 0.0;
+    if (vs > 0.0) { pw = pow(vs / s[2], s[3]); }
+    return s[0] + (s[1] - s[0]) * exp(-pw) + s[4] * vs;
+}
+
 // The lane's law on its slots `l.law` (the law's parameters in the
 // parameter table's order), as tan ρ: a coefficient μ over cos αn.
 fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
@@ -45,6 +53,7 @@ fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
     }
     if (l.friction == FRICTION_COULOMB) { return s[0] * l.inv_cos_an; }
     if (l.friction == FRICTION_AGMA) { return agma_mu(vs, upper) * l.inv_cos_an; }
+    if (l.friction == FRICTION_STRIBECK) { return stribeck_mu(s, vs) * l.inv_cos_an; }
     if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
         // No such law or table: NaN makes the lane `nonfinite`, never a number.
         return bitcast<f32>(0x7fc00000u);

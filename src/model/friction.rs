@@ -4,7 +4,7 @@
 //! coefficient; and the friction tables of the `table` law.
 
 use super::kernel::paper_rho;
-use super::laws::{agma_mu, FrictionKind};
+use super::laws::{agma_mu, stribeck_mu, FrictionKind};
 use super::Lane;
 
 /// Most friction tables one run may hold (the GPU keeps them all in one
@@ -99,6 +99,7 @@ pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, upper: bool) -
             .get(lane.table as usize)
             .map_or(f64::NAN, |t| t.mu_at(vs)),
         FrictionKind::Agma => agma_mu(vs, upper),
+        FrictionKind::Stribeck => stribeck_mu(s, vs),
     };
     mu * lane.inv_cos_an
 }

@@ -42,6 +42,9 @@ pub enum FrictionKind {
     Table = 2,
     /// AGMA's curve for a hardened steel worm on a bronze wheel.
     Agma = 3,
+    /// The Stribeck curve: breakaway μs falling to Coulomb's μc, plus a
+    /// viscous share.
+    Stribeck = 4,
 }
 
 /// Most parameters one friction law holds in a lane (the lane's law
@@ -93,7 +96,7 @@ pub struct FrictionLaw {
 }
 
 /// The friction laws, indexed by [`FrictionKind`]'s code.
-pub const FRICTION_LAWS: [FrictionLaw; 4] = [
+pub const FRICTION_LAWS: [FrictionLaw; 5] = [
     FrictionLaw {
         name: "paper",
         gives_coefficient: false,
@@ -122,6 +125,13 @@ pub const FRICTION_LAWS: [FrictionLaw; 4] = [
         steep: SteepAtRest::Yes,
         branch_speed: Some(AGMA_JUMP_M_S),
     },
+    FrictionLaw {
+        name: "stribeck",
+        gives_coefficient: true,
+        static_mu: StaticMu::Slot(1),
+        steep: SteepAtRest::UnlessWholeExponent(3),
+        branch_speed: None,
+    },
 ];
 
 impl MotorKind {
@@ -148,6 +158,7 @@ impl FrictionKind {
         FrictionKind::Coulomb,
         FrictionKind::Table,
         FrictionKind::Agma,
+        FrictionKind::Stribeck,
     ];
     /// The law's code in the GPU's lane (`FRICTION_*` in the shader).
     pub fn code(self) -> u32 {
@@ -214,6 +225,14 @@ pub fn agma_upper(vs: f64) -> bool {
     vs > AGMA_JUMP_M_S
 }
 
+/// The `stribeck` law's μ at sliding speed `vs` (m/s) from its slots
+/// (μc, μs, v_st, δ, kv): μc + (μs − μc) exp(−(Vs/v_st)^δ) + kv Vs.
+#[inline]
+pub fn stribeck_mu(s: &[f64; LAW_SLOTS], vs: f64) -> f64 {
+    let [mu_c, mu_s, v_st, delta, kv] = *s;
+    mu_c + (mu_s - mu_c) * (-(vs / v_st).powf(delta)).exp() + kv * vs
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,6 +243,21 @@ mod tests {
             assert_eq!(k.code() as usize, i);
             assert_eq!(k.name(), FRICTION_LAWS[i].name);
         }
+    }
+
+    /// docs/model.md section 5's check values, to 7 digits.
+    #[test]
+    fn stribeck_law_gives_the_models_check_values() {
+        let s = [0.04, 0.10, 0.1, 2.0, 0.002];
+        for (vs, want) in [
+            (0.05, 0.0868280),
+            (0.1, 0.0622728),
+            (1.0, 0.0420000),
+            (5.0, 0.05),
+        ] {
+            assert!((stribeck_mu(&s, vs) - want).abs() < 5e-8, "{vs} m/s");
+        }
+        assert_eq!(stribeck_mu(&s, 0.0), 0.10);
     }
 
     /// The table of docs/model.md section 5, to 1e-5.

@@ -235,13 +235,25 @@ parameter_table! {
         default: Fallback::Value(0.14), owner: Owner::Friction(&[FrictionKind::Paper]),
         lo: Bound::Open(1.0 / 90.0), hi: Bound::Closed(100.0),
         why: "1/90: rho(0) = 1/c deg < 90 deg", ..ROW }
-    num Mu { name: "mu", unit: "", meaning: "Coulomb law: sliding friction coefficient",
-        owner: Owner::Friction(&[FrictionKind::Coulomb]), lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
-    num MuStatic { name: "mu_static", unit: "", meaning: "Coulomb law: static coefficient",
-        default: Fallback::SameAs(Num::Mu), owner: Owner::Friction(&[FrictionKind::Coulomb]), at_least: Some(Num::Mu),
-        hi: Bound::Closed(10.0),
+    num Mu { name: "mu", unit: "", meaning: "sliding (Coulomb) friction coefficient",
+        owner: Owner::Friction(&[FrictionKind::Coulomb, FrictionKind::Stribeck]),
+        lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
+    num MuStatic { name: "mu_static", unit: "", meaning: "static (breakaway) coefficient",
+        default: Fallback::SameAs(Num::Mu),
+        owner: Owner::Friction(&[FrictionKind::Coulomb, FrictionKind::Stribeck]),
+        at_least: Some(Num::Mu), hi: Bound::Closed(10.0),
         why: "static friction below sliding friction would stop a departing lane at once",
         ..ROW }
+    num VStribeck { name: "v_stribeck", unit: "m/s", meaning: "Stribeck speed v_st",
+        owner: Owner::Friction(&[FrictionKind::Stribeck]), lo: Bound::Open(0.0),
+        hi: Bound::Closed(100.0), why: "sliding speeds of real drives", ..ROW }
+    num StribeckExp { name: "stribeck_exp", unit: "", meaning: "Stribeck exponent δ",
+        default: Fallback::Value(2.0), owner: Owner::Friction(&[FrictionKind::Stribeck]),
+        lo: Bound::Closed(0.5), hi: Bound::Closed(2.0), ..ROW }
+    num MuViscous { name: "mu_viscous", unit: "s/m",
+        meaning: "viscous share kv of μ (μ grows by kv Vs)",
+        default: Fallback::Value(0.0), owner: Owner::Friction(&[FrictionKind::Stribeck]),
+        lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
     num AlphaNDeg { name: "alpha_n_deg", unit: "deg",
         meaning: "normal pressure angle of the thread flank",
         default: Fallback::Value(0.0), owner: Owner::Coefficient, lo: Bound::Closed(0.0),
@@ -497,7 +509,7 @@ mod tests {
         assert_eq!(
             names.join(","),
             "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,friction_table,\
-             fric_a,fric_b,fric_c,mu,mu_static,alpha_n_deg,x1_0,v1_0,t_end,t_max,\
+             fric_a,fric_b,fric_c,mu,mu_static,v_stribeck,stribeck_exp,mu_viscous,alpha_n_deg,x1_0,v1_0,t_end,t_max,\
              d1,z1,z2,m_x,r1,r2,j1,j2,t1,t2,n_sync,n_crit,t_crit,n1_0"
         );
         for p in Param::COLUMNS {
@@ -534,11 +546,21 @@ mod tests {
             law_params(FrictionKind::Paper),
             [Num::FricA, Num::FricB, Num::FricC]
         );
-        assert_eq!(Num::Mu.def().owner.law(), "friction = coulomb");
+        assert_eq!(Num::Mu.def().owner.law(), "friction = coulomb or stribeck");
+        assert_eq!(
+            law_params(FrictionKind::Stribeck),
+            [
+                Num::Mu,
+                Num::MuStatic,
+                Num::VStribeck,
+                Num::StribeckExp,
+                Num::MuViscous
+            ]
+        );
         assert_eq!(Num::FCrit.def().owner.law(), "motor = kloss");
         assert_eq!(
             Num::AlphaNDeg.def().owner.law(),
-            "friction = coulomb, table or agma"
+            "friction = coulomb, table, agma or stribeck"
         );
     }
 

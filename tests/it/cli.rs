@@ -4,7 +4,7 @@
 use crate::common::*;
 
 const HEADER: &str = "m1,m2,gamma_deg,f2,motor,v_sync,v_crit,f_crit,f1,motor_off,friction,friction_table,\
-fric_a,fric_b,fric_c,mu,mu_static,alpha_n_deg,x1_0,v1_0,t_end,t_max,d1,z1,z2,m_x,r1,r2,j1,j2,t1,t2,n_sync,n_crit,\
+fric_a,fric_b,fric_c,mu,mu_static,v_stribeck,stribeck_exp,mu_viscous,alpha_n_deg,x1_0,v1_0,t_end,t_max,d1,z1,z2,m_x,r1,r2,j1,j2,t1,t2,n_sync,n_crit,\
 t_crit,n1_0,lane,status,switches,t_first_switch,reversals,sticks,contact_end,x1_end,v1_end,w_motor,w_load,w_friction,\
 eta_end,steps,w1_in,w1_out,w2_in,w2_out,eta_direct,eta_inverse,eta_direct_ss,eta_inverse_ss,lock_margin_deg,eta_direct_start,eta_inverse_start,hold,drive,\
 t_stop,n1_end,n2_end,path";

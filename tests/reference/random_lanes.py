@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -26,6 +26,14 @@ to 1.5 times the paper's, t_end 0.5 to 4 s, the motor cut in 50 % of
 lanes (with t_max, t_end + 2 to 20 s, in half of those), constant motors
 (500 to 6,500 N) in 20 %, initial speeds (-3 to 3 m/s) in 25 %: lanes
 that start, stop, reverse and cross 10 ft/min both ways.
+
+`stribeck` draws lanes under the Stribeck curve, as `agma` does otherwise:
+mu_c 0.02 to 0.08, static 1 to 2.5 times it, v_st 0.02 to 0.5 m/s, the
+exponent 0.5 to 2 (below 1 in a third of the lanes: a slope unbounded at
+rest), a viscous term 0 to 0.01 s/m in 60 %, a flank angle 0 to 30 deg in
+half, lead angle 2 to 15 deg (static friction often above it: lanes that
+hold), load -9 to +9 kN, the motor cut in 50 % (with t_max in half of
+those), constant motors in 20 %, initial speeds in 25 %.
 """
 import csv
 import random
@@ -95,6 +103,36 @@ if sys.argv[4:] == ["agma"]:
             row.update(gamma_deg=2 + 23 * rng.random(), f2=-9000 + 18000 * rng.random(),
                        m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
                        t_end=t_end, friction="agma", alpha_n_deg=5 + 25 * rng.random())
+            if rng.random() < 0.5:
+                row["motor_off"] = t_end * rng.random()
+                if rng.random() < 0.5:
+                    row["t_max"] = t_end + 2 + 18 * rng.random()
+            if rng.random() < 0.2:
+                row.update(motor="constant", f1=500 + 6000 * rng.random())
+            if rng.random() < 0.25:
+                row["v1_0"] = -3 + 6 * rng.random()
+            w.writerow([row[c] for c in cols])
+    sys.exit(0)
+if sys.argv[4:] == ["stribeck"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "mu",
+            "mu_static", "v_stribeck", "stribeck_exp", "mu_viscous", "alpha_n_deg", "motor", "f1",
+            "v1_0"]
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for _ in range(n):
+            t_end = 0.5 + 3.5 * rng.random()
+            mu = 0.02 + 0.06 * rng.random()
+            delta = 0.5 + 0.5 * rng.random() if rng.random() < 1 / 3 else 1 + rng.random()
+            row = {c: "" for c in cols}
+            row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                       t_end=t_end, friction="stribeck", mu=mu, mu_static=mu * (1 + 1.5 * rng.random()),
+                       v_stribeck=0.02 + 0.48 * rng.random(), stribeck_exp=delta)
+            if rng.random() < 0.6:
+                row["mu_viscous"] = 0.01 * rng.random()
+            if rng.random() < 0.5:
+                row["alpha_n_deg"] = 30 * rng.random()
             if rng.random() < 0.5:
                 row["motor_off"] = t_end * rng.random()
                 if rng.random() < 0.5:

@@ -6,16 +6,21 @@ rtol = atol = 1e-12 with located events, for checking tswm's results.
 
 LANES.csv holds lanes.csv's parameter columns (tswm's own lanes.csv will
 do); OUT.csv gets lane, status, contact_end, x1_end, v1_end, the works and
-the four mesh energies, then hold, t_stop and branches (the agma law's
-changes of branch: crossings of 10 ft/min) ("Does it hold?": a lane whose
+the four mesh energies, then hold, t_stop, branches (the agma law's
+changes of branch: crossings of 10 ft/min), and the counts switches
+(changes of contact side; a stick phase has none of its own, and a lane
+that starts at rest starts on the side of phi at t = 0), reversals
+(changes of the direction of motion) and sticks (stick phases) ("Does it hold?": a lane whose
 motor is cut and that still slides, slowing down, at t_end runs on to
 t_max until it comes to rest (held, or it departs: runs away) or its
 acceleration turns to driving it (runs away)).
 
-Friction laws: the paper's fit, a constant mu, and AGMA's steel-on-bronze
+Friction laws: the paper's fit, a constant mu, AGMA's steel-on-bronze
 curve (docs/model.md section 5, in ft/min; its jump at 10 ft/min located
-as an event, each branch kept smooth up to it); the laws that give a
-coefficient take the flank's pressure angle: tan rho = mu / cos(alpha_n).
+as an event, each branch kept smooth up to it) and the Stribeck curve
+mu = mu_c + (mu_s - mu_c) exp(-(Vs/v_st)^delta) + kv Vs; the laws that
+give a coefficient take the flank's pressure angle: tan rho = mu /
+cos(alpha_n).
 """
 import csv
 import math
@@ -54,7 +59,10 @@ class Lane:
         self.friction = row["friction"]
         self.a, self.b, self.c = num(row, "fric_a"), num(row, "fric_b"), num(row, "fric_c")
         self.mu_c = num(row, "mu")
-        self.mu_static = num(row, "mu_static")
+        self.mu_static = num(row, "mu_static", self.mu_c)
+        self.v_st = num(row, "v_stribeck")
+        self.delta = num(row, "stribeck_exp", 2.0)
+        self.kv = num(row, "mu_viscous", 0.0)
         self.x0, self.v0, self.t_end = num(row, "x1_0"), num(row, "v1_0"), num(row, "t_end")
         self.t_max = num(row, "t_max", self.t_end)
         self.k = 1.0 / math.cos(math.radians(num(row, "alpha_n_deg", 0.0) or 0.0))
@@ -66,10 +74,13 @@ class Lane:
             return math.tan(math.radians(1.0 / (self.a * vs ** self.b + self.c)))
         if self.friction == "agma":
             return agma(vs, vs > AGMA_JUMP if upper is None else upper) * self.k
+        if self.friction == "stribeck":
+            drop = math.exp(-((vs / self.v_st) ** self.delta))
+            return (self.mu_c + (self.mu_static - self.mu_c) * drop + self.kv * vs) * self.k
         return self.mu_c * self.k
 
     def mu_s(self):
-        if self.friction == "coulomb":
+        if self.friction in ("coulomb", "stribeck"):
             return self.mu_static * self.k
         if self.friction == "agma":
             return 0.150 * self.k
@@ -98,6 +109,7 @@ class Lane:
 
 
 BRANCHES = [0]  # the agma law's changes of branch in the lane being run
+COUNTS = {}  # switches, reversals, sticks of the lane being run
 
 
 def simulate(L):
@@ -109,6 +121,8 @@ def simulate(L):
     s, stuck = (1 if L.v0 > 0 else -1 if L.v0 < 0 else 0), False
     upper = L.friction == "agma" and abs(L.v0) / L.cg > AGMA_JUMP
 
+    COUNTS.update(switches=0, reversals=0, sticks=0)
+
     def rest():
         nonlocal s, c, stuck, upper
         y[1] = 0.0
@@ -117,10 +131,18 @@ def simulate(L):
         n = abs(L.f2 * L.cg - f1 * L.sg)
         T = f1 * L.cg + L.f2 * L.sg
         if abs(T) <= L.mu_s() * n:
+            if not stuck:  # a new stick phase (a stuck lane re-tested stays in its own)
+                COUNTS["sticks"] += 1
             stuck = True
             return
-        stuck, s = False, (1 if T > 0 else -1)
-        c = 1 if L.phi(0.0, on) >= 0 else -1
+        new_s = 1 if T > 0 else -1
+        if s != 0 and new_s != s:
+            COUNTS["reversals"] += 1
+        stuck, s = False, new_s
+        new_c = 1 if L.phi(0.0, on) >= 0 else -1
+        if new_c != c:
+            COUNTS["switches"] += 1
+        c = new_c
 
     if L.v0 == 0.0:
         rest()
@@ -143,8 +165,9 @@ def simulate(L):
                 v = z[1]
                 acc, _, s1, s2, f1 = L.forces(v, c, s, on, u)
                 p1, p2 = s1 * v, s2 * v * L.tg
-                return [v, acc, f1 * v, L.f2 * v * L.tg, p1 + p2,
-                        max(p1, 0), max(-p1, 0), max(p2, 0), max(-p2, 0)]
+                # The smooth integrals of p1 and p2; their in and out
+                # parts are shared out after the segment (below).
+                return [v, acc, f1 * v, L.f2 * v * L.tg, p1 + p2, p1, p2]
 
             def ev_rest(_, z, s=s):
                 return s * z[1]
@@ -177,9 +200,23 @@ def simulate(L):
                 e.terminal, e.direction = True, -1
             if L.forces(y[1], c, s, on, upper)[1] <= 0:
                 return "inconsistent", y, c, stuck, "", t
-            sol = solve_ivp(rhs, (t, t_stop), y, method="DOP853", rtol=RTOL, atol=ATOL,
-                            events=events, first_step=1e-8)
-            y, t = list(sol.y[:, -1]), sol.t[-1]
+            # p1 = S1 x1' and p2 = S2 x2' change sign only where x1' = 0
+            # (rest), S2 = 0 (phi = 0, a switch) or S1 = psi S2 = 0 (the
+            # kink): all terminal events. So each segment's increments of
+            # their integrals go whole to the in or the out part, by the
+            # sign at the segment's middle. (Integrating max(+-p, 0)
+            # instead puts a kink at the rest event inside the step that
+            # overshoots it, and the dense output at the event reads the
+            # part past it: 1.8e-6 J of a w1_out that is 0.)
+            z0 = y[:5] + [0.0, 0.0]
+            sol = solve_ivp(rhs, (t, t_stop), z0, method="DOP853", rtol=RTOL, atol=ATOL,
+                            events=events, first_step=1e-8, dense_output=True)
+            z, t_mid = sol.y[:, -1], 0.5 * (sol.t[0] + sol.t[-1])
+            p1m, p2m = rhs(t_mid, sol.sol(t_mid))[5:7]
+            flow = y[5:9]
+            flow[0 if p1m > 0 else 1] += abs(z[5])
+            flow[2 if p2m > 0 else 3] += abs(z[6])
+            y, t = list(z[:5]) + flow, sol.t[-1]
             hit = [len(te) > 0 and te[0] > sol.t[0] for te in sol.t_events]
             if sol.status == 1 and hit[0]:
                 rest()
@@ -191,6 +228,7 @@ def simulate(L):
                 return "ok", y, c, stuck, hold(stuck, c, s, True), t
             if sol.status == 1 and hit[1]:
                 c = -c
+                COUNTS["switches"] += 1
                 continue
             if sol.status == 1 and hit[2]:
                 after_kink = True
@@ -210,7 +248,10 @@ def simulate(L):
         if stuck:
             rest()
         else:
-            c = 1 if L.phi(y[1], on) >= 0 else -1
+            new_c = 1 if L.phi(y[1], on) >= 0 else -1
+            if new_c != c:
+                COUNTS["switches"] += 1
+            c = new_c
     return "max_events", y, c, stuck, "", t
 
 
@@ -221,13 +262,14 @@ def main():
         w = csv.writer(f)
         w.writerow(["lane", "status", "contact_end", "x1_end", "v1_end", "w_motor", "w_load",
                     "w_friction", "w1_in", "w1_out", "w2_in", "w2_out", "hold", "t_stop",
-                    "branches"])
+                    "branches", "switches", "reversals", "sticks"])
         for i, row in enumerate(rows):
             BRANCHES[0] = 0
             status, y, c, stuck, hold, t = simulate(Lane(row))
             contact = "stick" if stuck else ("aa" if c > 0 else "bb")
             w.writerow([row.get("lane", i), status, contact] + [repr(float(v)) for v in y]
-                       + [hold, repr(float(t)), BRANCHES[0]])
+                       + [hold, repr(float(t)), BRANCHES[0], COUNTS["switches"],
+                          COUNTS["reversals"], COUNTS["sticks"]])
 
 
 if __name__ == "__main__":
