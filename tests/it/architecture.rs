@@ -425,3 +425,61 @@ fn each_shader_file_names_the_rust_file_it_mirrors() {
         );
     }
 }
+
+/// ARCHITECTURE.md's table of changes, first row: a friction law is its
+/// declaration (`model::laws`) and the places that cannot be derived from
+/// it, and each of those has it. Every law has its code in the shader's
+/// generated prelude, an arm in the CPU's and the shader's `mu_sliding`,
+/// at most `LAW_SLOTS` parameters, its word in docs/model.md section 5,
+/// and a branch in the independent reference (but `table`, whose points a
+/// lane's row does not carry).
+#[test]
+fn each_friction_law_is_in_every_place_its_declaration_cannot_reach() {
+    use tswm::model::laws::LAW_SLOTS;
+    use tswm::model::FrictionKind;
+    use tswm::params::table::law_params;
+    let prelude = tswm::backend::gpu::shader::prelude();
+    let read = |p: &str| std::fs::read_to_string(root().join(p)).unwrap();
+    let wgsl = without_comments(&read("shaders/model/friction.wgsl"));
+    let rust = without_comments(&read("src/model/friction.rs"));
+    let model = read("docs/model.md");
+    let reference = read("tests/reference/scipy_reference.py");
+    let mut bad = Vec::new();
+    for k in FrictionKind::ALL {
+        let name = k.name();
+        let upper = name.to_uppercase();
+        let variant = format!("{k:?}");
+        let checks = [
+            (
+                "a code in the prelude",
+                prelude.contains(&format!("const FRICTION_{upper}: u32 = {}u;", k.code())),
+            ),
+            (
+                "an arm in the shader's mu_sliding",
+                wgsl.contains(&format!("FRICTION_{upper}")),
+            ),
+            (
+                "an arm in mu_sliding",
+                rust.contains(&format!("FrictionKind::{variant} =>")),
+            ),
+            (
+                "at most LAW_SLOTS parameters",
+                law_params(k).len() <= LAW_SLOTS,
+            ),
+            (
+                "its word in docs/model.md",
+                model.contains(&format!("`{name}`")),
+            ),
+            (
+                "a branch in scipy_reference.py",
+                k == FrictionKind::Table || reference.contains(&format!("\"{name}\"")),
+            ),
+        ];
+        for (what, ok) in checks {
+            if !ok {
+                bad.push(format!("{name}: no {what}"));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
