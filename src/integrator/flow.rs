@@ -33,15 +33,16 @@ pub fn dense_slope(r: &[f64; 5], th: f64) -> f64 {
 }
 
 /// Shares a step's increment of ∫p dt between the in (p > 0) and out
-/// (p < 0) parts, as [in, out]: `r` is the step's dense output of the
-/// integral with r0 = 0 (so r1 is the increment and W(θ) the part up to θ),
-/// `p0` and `p_end` the integrand at the step's ends.
+/// (p < 0) parts, as [in, out], with how far they may be off (see
+/// [`split_error`]): `r` is the step's dense output of the integral with
+/// r0 = 0 (so r1 is the increment and W(θ) the part up to θ), `p0` and
+/// `p_end` the integrand at the step's ends.
 #[inline]
-pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> [f64; 2] {
+pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> ([f64; 2], f64) {
     if crosses(p0, p_end) {
         return split_crossing(r, p0);
     }
-    split_whole(r[1], p0, p_end)
+    (split_whole(r[1], p0, p_end), 0.0)
 }
 
 /// Whether p changes sign inside a step from `p0` to `p_end` (a zero at
@@ -66,7 +67,7 @@ pub fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
 /// [`split`] where p changes sign inside the step (about 1 % of steps,
 /// kept out of the hot path).
 #[cold]
-fn split_crossing(r: &[f64; 5], p0: f64) -> [f64; 2] {
+fn split_crossing(r: &[f64; 5], p0: f64) -> ([f64; 2], f64) {
     let total = r[1];
     let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
     // The zero of the slope by the Illinois method, as events are located:
@@ -74,46 +75,27 @@ fn split_crossing(r: &[f64; 5], p0: f64) -> [f64; 2] {
     // bisects: in f32 that is 24 halvings.)
     let g = |th: f64| sign * dense_slope(r, th);
     let (a, b) = illinois(g, g(0.0), g(1.0), P_ZERO_TOL);
-    let first = dense_v(r, 0.5 * (a + b));
+    let th = 0.5 * (a + b);
+    let first = dense_v(r, th);
     let rest = total - first;
-    if sign > 0.0 {
+    let parts = if sign > 0.0 {
         [first, -rest]
     } else {
         [rest, -first]
-    }
+    };
+    (parts, split_error(r, th))
 }
 
-/// How far [`split`]'s parts may be off: where p changes sign inside the
-/// step, the quartic's last term at the zero θ*, θ*²(1−θ*)²|r4| (what the
-/// dense output adds there to the cubic through the step's ends and
-/// slopes, which overstates its own error); 0 where p keeps its sign.
-/// For the error budget: a long step across the zero of a strongly curved
-/// p splits its increment less accurately than it integrates it.
-#[cold]
-pub fn split_error(r: &[f64; 5], p0: f64, p_end: f64) -> f64 {
-    if !crosses(p0, p_end) {
-        return 0.0;
-    }
-    let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
-    let g = |th: f64| sign * dense_slope(r, th);
-    let (a, b) = illinois(g, g(0.0), g(1.0), P_ZERO_TOL);
-    let th = 0.5 * (a + b);
+/// How far [`split`]'s parts may be off where p changes sign at θ inside
+/// the step: the quartic's last term there, θ²(1−θ)²|r4| (what the dense
+/// output adds to the cubic through the step's ends and slopes, which
+/// overstates its own error). For the error budget: a long step across
+/// the zero of a strongly curved p splits its increment less accurately
+/// than it integrates it.
+#[inline]
+pub fn split_error(r: &[f64; 5], th: f64) -> f64 {
     let w = th * (1.0 - th);
     w * w * r[4].abs()
-}
-
-/// [`split_error`] of ∫p1 and ∫p2 over an accepted step (as
-/// [`step_flow`] splits them).
-pub fn step_flow_error(k1: &[f64; NY], trial: &Trial, h: f64) -> [f64; 2] {
-    let k7 = &trial.k7;
-    let (p1_0, p2_0) = powers(k1[4], k1[5]);
-    let (p1_end, p2_end) = powers(k7[4], k7[5]);
-    let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
-    let r2 = dense_w(trial.dw[1], h, p2_0, p2_end, trial.dw_r4[1]);
-    [
-        split_error(&r1, p1_0, p1_end),
-        split_error(&r2, p2_0, p2_end),
-    ]
 }
 
 /// The dense output (r0 = 0) of an increment `dw` of a quadrature over a
@@ -126,17 +108,18 @@ pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
 }
 
 /// The increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step
-/// of size `h`, from the derivative `k1` at its start to `trial`.
+/// of size `h`, from the derivative `k1` at its start to `trial`, and
+/// how far the split of ∫p1 and of ∫p2 may be off ([`split_error`]).
 #[inline]
-pub fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> [f64; 4] {
+pub fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> ([f64; 4], [f64; 2]) {
     let k7 = &trial.k7;
     let (p1_0, p2_0) = powers(k1[4], k1[5]);
     let (p1_end, p2_end) = powers(k7[4], k7[5]);
     let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
     let r2 = dense_w(trial.dw[1], h, p2_0, p2_end, trial.dw_r4[1]);
-    let [i1, o1] = split(&r1, p1_0, p1_end);
-    let [i2, o2] = split(&r2, p2_0, p2_end);
-    [i1, o1, i2, o2]
+    let ([i1, o1], e1) = split(&r1, p1_0, p1_end);
+    let ([i2, o2], e2) = split(&r2, p2_0, p2_end);
+    ([i1, o1, i2, o2], [e1, e2])
 }
 
 #[cfg(test)]
@@ -158,12 +141,21 @@ mod tests {
         // W(θ) = θ − θ²: slope 1 − 2θ, zero at 1/2, W(1/2) = 1/4, W(1) = 0.
         // As a dense output: r1 = 0, r2 = 1 (θ(1−θ)·1), r3 = r4 = 0.
         let r = [0.0, 0.0, 1.0, 0.0, 0.0];
-        let [inp, out] = split(&r, 1.0, -1.0);
+        let ([inp, out], err) = split(&r, 1.0, -1.0);
+        assert_eq!(err, 0.0); // r4 = 0: the quartic is the cubic
         assert!(
             (inp - 0.25).abs() < 1e-15 && (out - 0.25).abs() < 1e-15,
             "{inp} {out}"
         );
-        assert_eq!(split(&[0.0, 2.0, 0.0, 0.0, 0.0], 1.0, 3.0), [2.0, 0.0]);
-        assert_eq!(split(&[0.0, -2.0, 0.0, 0.0, 0.0], -1.0, 0.0), [0.0, 2.0]);
+        assert_eq!(
+            split(&[0.0, 2.0, 0.0, 0.0, 0.0], 1.0, 3.0),
+            ([2.0, 0.0], 0.0)
+        );
+        assert_eq!(
+            split(&[0.0, -2.0, 0.0, 0.0, 0.0], -1.0, 0.0),
+            ([0.0, 2.0], 0.0)
+        );
+        // The zero at 1/2 and r4 = 1: the error term is (1/4)² = 1/16.
+        assert_eq!(split(&[0.0, 0.0, 1.0, 0.0, 1.0], 1.0, -1.0).1, 1.0 / 16.0);
     }
 }

@@ -9,7 +9,7 @@
 use super::automaton::{check_mode, come_to_rest, horizon, reach_time_event, set_side, LaneState};
 use super::control::step_size;
 use super::events::{earliest_event, EventFn, Watch};
-use super::flow::{step_flow, step_flow_error};
+use super::flow::step_flow;
 use super::result::Status;
 use super::rhs::rhs;
 use super::settings::Settings;
@@ -197,9 +197,9 @@ pub(crate) fn finish_uncommon(
 /// Adds an accepted step's energy flow (from `st`, before it moves).
 #[inline]
 fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
-    let d = step_flow(&st.k1, trial, h);
+    let (d, split_err) = step_flow(&st.k1, trial, h);
     st.budget.add_step(&st.k1, trial, &d);
-    st.budget.add_split(step_flow_error(&st.k1, trial, h));
+    st.budget.add_split(split_err);
     for (f, d) in st.flow.iter_mut().zip(d) {
         *f += d;
     }

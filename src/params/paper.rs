@@ -66,7 +66,7 @@ pub fn paper_defaults(g: &Given) -> Vec<String> {
         out.push(format!("motor = {}", MotorKind::Kloss.name()));
     }
     if g.motors.contains(&MotorKind::Kloss) {
-        out.extend(of(Owner::Motor(&[MotorKind::Kloss])));
+        out.extend(of(Owner::Motor(super::table::motors(&[MotorKind::Kloss]))));
     }
     if !g.params.contains(&Param::Friction) {
         out.push(format!("friction = {}", FrictionKind::Paper.name()));

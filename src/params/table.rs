@@ -17,10 +17,10 @@ pub use crate::model::laws::{FrictionKind, MotorKind};
 pub enum Owner {
     /// Every lane uses it.
     All,
-    /// These motor laws.
-    Motor(&'static [MotorKind]),
-    /// These friction laws.
-    Friction(&'static [FrictionKind]),
+    /// These motor laws (a set of codes: [`motors`]).
+    Motor(u32),
+    /// These friction laws (a set of codes: [`frictions`]).
+    Friction(u32),
     /// The laws that give a coefficient μ (`FrictionLaw::gives_coefficient`).
     Coefficient,
 }
@@ -30,8 +30,8 @@ impl Owner {
     pub fn applies(self, motor: MotorKind, friction: FrictionKind) -> bool {
         match self {
             Owner::All => true,
-            Owner::Motor(m) => m.contains(&motor),
-            Owner::Friction(f) => f.contains(&friction),
+            Owner::Motor(m) => m >> motor.code() & 1 == 1,
+            Owner::Friction(f) => f >> friction.code() & 1 == 1,
             Owner::Coefficient => friction.gives_coefficient(),
         }
     }
@@ -45,9 +45,17 @@ impl Owner {
         };
         match self {
             Owner::All => String::new(),
-            Owner::Motor(m) => format!("motor = {}", words(m.iter().map(|k| k.name()).collect())),
+            Owner::Motor(m) => {
+                let laws = MotorKind::ALL
+                    .into_iter()
+                    .filter(|k| m >> k.code() & 1 == 1);
+                format!("motor = {}", words(laws.map(|k| k.name()).collect()))
+            }
             Owner::Friction(f) => {
-                format!("friction = {}", words(f.iter().map(|k| k.name()).collect()))
+                let laws = FrictionKind::ALL
+                    .into_iter()
+                    .filter(|k| f >> k.code() & 1 == 1);
+                format!("friction = {}", words(laws.map(|k| k.name()).collect()))
             }
             Owner::Coefficient => {
                 let laws = FrictionKind::ALL
@@ -57,6 +65,26 @@ impl Owner {
             }
         }
     }
+}
+
+/// The set of motor laws an [`Owner::Motor`] holds, as a bit a code.
+pub const fn motors(kinds: &[MotorKind]) -> u32 {
+    let (mut set, mut i) = (0, 0);
+    while i < kinds.len() {
+        set |= 1 << kinds[i] as u8;
+        i += 1;
+    }
+    set
+}
+
+/// The set of friction laws an [`Owner::Friction`] holds, as a bit a code.
+pub const fn frictions(kinds: &[FrictionKind]) -> u32 {
+    let (mut set, mut i) = (0, 0);
+    while i < kinds.len() {
+        set |= 1 << kinds[i] as u32;
+        i += 1;
+    }
+    set
 }
 
 /// A friction law's parameters: the rows whose owner names the law, in
@@ -69,7 +97,9 @@ pub fn law_params(law: FrictionKind) -> &'static [Num] {
             .map(|k| {
                 Num::ALL
                     .into_iter()
-                    .filter(|n| matches!(n.def().owner, Owner::Friction(f) if f.contains(&k)))
+                    .filter(
+                        |n| matches!(n.def().owner, Owner::Friction(f) if f >> k.code() & 1 == 1),
+                    )
                     .collect()
             })
             .to_vec()
@@ -212,47 +242,47 @@ parameter_table! {
         default: Fallback::Value(4774.0), paper: true, ..ROW }
     selector Motor
     num VSync { name: "v_sync", unit: "m/s", meaning: "Kloss motor: synchronous speed",
-        default: Fallback::Value(3.35), owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0),
+        default: Fallback::Value(3.35), owner: Owner::Motor(motors(&[MotorKind::Kloss])), lo: Bound::Open(0.0),
         hi: Bound::Closed(100.0), why: "sliding speeds of real drives", paper: true, ..ROW }
     num VCrit { name: "v_crit", unit: "m/s", meaning: "Kloss motor: speed at the peak force",
-        default: Fallback::Value(2.07), owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Closed(0.0),
+        default: Fallback::Value(2.07), owner: Owner::Motor(motors(&[MotorKind::Kloss])), lo: Bound::Closed(0.0),
         below: Some(Num::VSync), paper: true, ..ROW }
     num FCrit { name: "f_crit", unit: "N", meaning: "Kloss motor: peak force",
-        default: Fallback::Value(4375.0), owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0), paper: true, ..ROW }
+        default: Fallback::Value(4375.0), owner: Owner::Motor(motors(&[MotorKind::Kloss])), lo: Bound::Open(0.0), paper: true, ..ROW }
     num F1 { name: "f1", unit: "N", meaning: "force of a constant motor",
-        owner: Owner::Motor(&[MotorKind::Constant]), ..ROW }
+        owner: Owner::Motor(motors(&[MotorKind::Constant])), ..ROW }
     num MotorOff { name: "motor_off", unit: "s", meaning: "motor force 0 from this time",
         default: Fallback::Never, lo: Bound::Closed(0.0), why: "or unset for never", ..ROW }
     selector Friction
     selector FrictionTable
     num FricA { name: "fric_a", unit: "", meaning: "paper law rho[deg] = 1/(a Vs^b + c)",
-        default: Fallback::Value(0.174), owner: Owner::Friction(&[FrictionKind::Paper]), lo: Bound::Closed(0.0),
+        default: Fallback::Value(0.174), owner: Owner::Friction(frictions(&[FrictionKind::Paper])), lo: Bound::Closed(0.0),
         hi: Bound::Closed(100.0), ..ROW }
     num FricB { name: "fric_b", unit: "", meaning: "paper law exponent b",
-        default: Fallback::Value(0.612), owner: Owner::Friction(&[FrictionKind::Paper]), lo: Bound::Open(0.0),
+        default: Fallback::Value(0.612), owner: Owner::Friction(frictions(&[FrictionKind::Paper])), lo: Bound::Open(0.0),
         hi: Bound::Closed(5.0), ..ROW }
     num FricC { name: "fric_c", unit: "", meaning: "paper law c = 1/rho(0)",
-        default: Fallback::Value(0.14), owner: Owner::Friction(&[FrictionKind::Paper]),
+        default: Fallback::Value(0.14), owner: Owner::Friction(frictions(&[FrictionKind::Paper])),
         lo: Bound::Open(1.0 / 90.0), hi: Bound::Closed(100.0),
         why: "1/90: rho(0) = 1/c deg < 90 deg", ..ROW }
     num Mu { name: "mu", unit: "", meaning: "sliding (Coulomb) friction coefficient",
-        owner: Owner::Friction(&[FrictionKind::Coulomb, FrictionKind::Stribeck]),
+        owner: Owner::Friction(frictions(&[FrictionKind::Coulomb, FrictionKind::Stribeck])),
         lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
     num MuStatic { name: "mu_static", unit: "", meaning: "static (breakaway) coefficient",
         default: Fallback::SameAs(Num::Mu),
-        owner: Owner::Friction(&[FrictionKind::Coulomb, FrictionKind::Stribeck]),
+        owner: Owner::Friction(frictions(&[FrictionKind::Coulomb, FrictionKind::Stribeck])),
         at_least: Some(Num::Mu), hi: Bound::Closed(10.0),
         why: "static friction below sliding friction would stop a departing lane at once",
         ..ROW }
     num VStribeck { name: "v_stribeck", unit: "m/s", meaning: "Stribeck speed v_st",
-        owner: Owner::Friction(&[FrictionKind::Stribeck]), lo: Bound::Open(0.0),
+        owner: Owner::Friction(frictions(&[FrictionKind::Stribeck])), lo: Bound::Open(0.0),
         hi: Bound::Closed(100.0), why: "sliding speeds of real drives", ..ROW }
     num StribeckExp { name: "stribeck_exp", unit: "", meaning: "Stribeck exponent δ",
-        default: Fallback::Value(2.0), owner: Owner::Friction(&[FrictionKind::Stribeck]),
+        default: Fallback::Value(2.0), owner: Owner::Friction(frictions(&[FrictionKind::Stribeck])),
         lo: Bound::Closed(0.5), hi: Bound::Closed(2.0), ..ROW }
     num MuViscous { name: "mu_viscous", unit: "s/m",
         meaning: "viscous share kv of μ (μ grows by kv Vs)",
-        default: Fallback::Value(0.0), owner: Owner::Friction(&[FrictionKind::Stribeck]),
+        default: Fallback::Value(0.0), owner: Owner::Friction(frictions(&[FrictionKind::Stribeck])),
         lo: Bound::Closed(0.0), hi: Bound::Closed(10.0), ..ROW }
     num AlphaNDeg { name: "alpha_n_deg", unit: "deg",
         meaning: "normal pressure angle of the thread flank",
@@ -291,21 +321,21 @@ parameter_table! {
         meaning: "inertia turning with the wheel (wheel, output, load)",
         default: Fallback::NotSet, lo: Bound::Open(0.0), hi: Bound::Closed(1e9), ..ROW }
     num T1 { name: "t1", unit: "N m", meaning: "torque of a constant motor on the worm shaft",
-        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Constant]), ..ROW }
+        default: Fallback::NotSet, owner: Owner::Motor(motors(&[MotorKind::Constant])), ..ROW }
     num T2 { name: "t2", unit: "N m",
         meaning: "load torque on the wheel shaft (+ overhauling, - resisting)",
         default: Fallback::NotSet, ..ROW }
     num NSync { name: "n_sync", unit: "rpm",
         meaning: "Kloss motor: synchronous speed",
-        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0),
+        default: Fallback::NotSet, owner: Owner::Motor(motors(&[MotorKind::Kloss])), lo: Bound::Open(0.0),
         hi: Bound::Closed(1e5), ..ROW }
     num NCrit { name: "n_crit", unit: "rpm",
         meaning: "Kloss motor: speed at the breakdown torque",
-        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Closed(0.0),
+        default: Fallback::NotSet, owner: Owner::Motor(motors(&[MotorKind::Kloss])), lo: Bound::Closed(0.0),
         below: Some(Num::NSync), ..ROW }
     num TCrit { name: "t_crit", unit: "N m",
         meaning: "Kloss motor: breakdown torque",
-        default: Fallback::NotSet, owner: Owner::Motor(&[MotorKind::Kloss]), lo: Bound::Open(0.0), ..ROW }
+        default: Fallback::NotSet, owner: Owner::Motor(motors(&[MotorKind::Kloss])), lo: Bound::Open(0.0), ..ROW }
     num N10 { name: "n1_0", unit: "rpm", meaning: "initial worm speed",
         default: Fallback::NotSet, lo: Bound::Closed(-1e5), hi: Bound::Closed(1e5), ..ROW }
 }
