@@ -8,6 +8,7 @@
 pub mod compare;
 pub mod estimate;
 pub mod merge;
+mod merge_batches;
 pub mod pipeline;
 pub mod search;
 pub mod shard;

@@ -464,6 +464,71 @@ fn parquet_shards_merge_to_the_unsharded_csv() {
         dir,
     );
     assert_same_values(&dir.join("mp/lanes.parquet"), &dir.join("full/lanes.csv"));
+    // Merged batch by batch (never through text): the bytes of one run.
+    ok(
+        &cpu(&[
+            "run",
+            &s,
+            "--no-report",
+            "--format",
+            "parquet",
+            "--out",
+            "fp",
+        ]),
+        dir,
+    );
+    assert!(bytes(&dir.join("mp/lanes.parquet")) == bytes(&dir.join("fp/lanes.parquet")));
+    assert!(bytes(&dir.join("mp/summary.csv")) == bytes(&dir.join("fp/summary.csv")));
+}
+
+/// The word columns of `lanes.parquet` (dictionary-encoded pages) read
+/// as the same strings in pyarrow, polars and DuckDB, and as `lanes.csv`
+/// has them.
+#[test]
+fn parquet_words_read_the_same_in_pyarrow_polars_and_duckdb() {
+    const READERS: crate::reference::Needs = crate::reference::Needs {
+        modules: "pyarrow, polars, duckdb",
+        vars: &["TSWM_PYTHON"],
+        install: "pip install pyarrow polars duckdb, or set TSWM_PYTHON",
+    };
+    let Some(py) = crate::reference::python_for(&READERS, "parquet words in three readers") else {
+        return;
+    };
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    run_both_formats(&sweep("heterogeneous.toml"), dir);
+    let code = r#"
+import csv, sys
+import duckdb, polars as pl, pyarrow.parquet as pq
+p, c = sys.argv[1], sys.argv[2]
+rows = list(csv.DictReader(open(c)))
+t = pq.read_table(p)
+md = pq.ParquetFile(p).metadata
+words = [f.name for f in t.schema if str(f.type) == "string"]
+assert {"motor", "friction", "status", "contact_end", "hold", "drive", "path"} <= set(words), words
+df = pl.read_parquet(p)
+for w in words:
+    i = t.schema.get_field_index(w)
+    assert "RLE_DICTIONARY" in md.row_group(0).column(i).encodings, w
+    want = [r[w] or None for r in rows]
+    a = t.column(w).to_pylist()
+    b = df[w].to_list()
+    q = 'SELECT "%s" FROM read_parquet(?) ORDER BY lane' % w
+    d = [x[0] for x in duckdb.execute(q, [p]).fetchall()]
+    assert a == want and b == want and d == want, w
+print(len(words), "word columns,", len(rows), "rows")
+"#;
+    let out = std::process::Command::new(&py)
+        .args(["-c", code])
+        .arg(dir.join("p/lanes.parquet"))
+        .arg(dir.join("c/lanes.csv"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// Rows of one run come from one f64 tolerance: a shard run with another
