@@ -101,7 +101,7 @@ pub(super) fn panel_label(sweep: &Sweep, skip: &[usize], p: u64) -> String {
     }
     parts
         .iter()
-        .map(|(a, v)| format!("{} = {v}", super::param_label(a.param)))
+        .map(|(a, v)| format!("{} = {v}", super::words::param_label(a.param)))
         .collect::<Vec<_>>()
         .join(", ")
 }

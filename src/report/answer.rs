@@ -7,10 +7,10 @@ use plotters::chart::SeriesLabelPosition;
 use super::charts::{points_chart, Series, VERDICT_COLOURS};
 use super::html::Page;
 use super::line::XAxis;
-use super::percent;
 use super::plots::{self, Axis};
 use super::require::{RequireData, Verdict};
 use super::scan::{Folder, LINE_POINTS};
+use super::words::percent;
 use crate::input::sweep::Sweep;
 use crate::params::Param;
 
@@ -40,7 +40,7 @@ pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
     let ok = f.by_status.iter().find(|s| s.0 == "ok").map_or(0, |s| s.1);
     let mut s = format!(
         "{}{shape}. {} finished",
-        super::lanes_text(f.lanes).trim_end_matches('.'),
+        super::words::lanes_text(f.lanes).trim_end_matches('.'),
         if ok == f.lanes && f.lanes > 1 {
             "All".to_string()
         } else {
@@ -70,7 +70,7 @@ pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
              motor cannot start (or keep moving) the load. They have not \"held\" anything, and \
              have no running point: their running (_ss) efficiencies are left out of the ranges \
              and maps (the starting values are eta_direct_start and eta_inverse_start).",
-            super::plural(ok),
+            super::words::plural(ok),
             if stalled == 1 { "is" } else { "are" }
         ));
     }
@@ -78,7 +78,7 @@ pub(super) fn findings(page: &mut Page, f: &Folder, sweep: &Sweep) {
         page.warning(&format!(
             "{} could not be finished (their status is not ok; listed under Outcomes): they have \
              no results.",
-            super::lanes_text(f.unfinished_total).trim_end_matches('.')
+            super::words::lanes_text(f.unfinished_total).trim_end_matches('.')
         ));
     }
     super::ranges::ranges(page, f, sweep);
@@ -113,7 +113,7 @@ pub(super) fn undecided(page: &mut Page, f: &Folder) {
          their run ended: whether they hold the load is not decided, and their final contact is not \
          an answer to it. To decide them, {what}.",
         f.hold_lanes,
-        super::plural(f.hold_lanes),
+        super::words::plural(f.hold_lanes),
         if coasting == 1 { "was" } else { "were" }
     ));
 }
@@ -267,7 +267,7 @@ fn whole_run(r: &RequireData) -> String {
     if r.exact {
         format!(
             "{verdict} ({k} of {n} lane{}, {}).",
-            super::plural(n),
+            super::words::plural(n),
             percent(share)
         )
     } else {
@@ -279,7 +279,7 @@ fn whole_run(r: &RequireData) -> String {
         };
         format!(
             "{verdict} ({k} of {n} lane{}, {}; {bounds}).",
-            super::plural(n),
+            super::words::plural(n),
             percent(share)
         )
     }

@@ -67,7 +67,7 @@ impl XAxis {
 
     /// The categorical axis of a points chart over the points.
     pub fn categories(&self) -> super::plots::Axis {
-        let label = super::param_label(self.param);
+        let label = super::words::param_label(self.param);
         match &self.words {
             Some(w) => super::plots::Axis::words(&label, w.clone()),
             None => super::plots::Axis::grid(&label, &self.xs),
@@ -211,7 +211,7 @@ impl LinePanel {
     /// outcome of `shown` its share with its interval (where the lanes
     /// are independent draws).
     pub fn outcome_rows(&self, x: &XAxis, shown: &[usize]) -> Vec<Vec<String>> {
-        let pct = super::percent;
+        let pct = super::words::percent;
         self.outcome
             .iter()
             .enumerate()
@@ -219,7 +219,7 @@ impl LinePanel {
                 let n: u32 = c.iter().sum();
                 let mut row = vec![x.text(i), n.to_string()];
                 for &k in shown {
-                    let (lo, hi) = super::interval(c[k] as u64, n as u64, self.independent);
+                    let (lo, hi) = super::words::interval(c[k] as u64, n as u64, self.independent);
                     row.push(if n == 0 {
                         "-".into()
                     } else if lo.is_nan() {
@@ -247,7 +247,7 @@ impl LinePanel {
                 if n == 0 {
                     return (f64::NAN, f64::NAN, f64::NAN);
                 }
-                let (lo, hi) = super::interval(c[i] as u64, n as u64, self.independent);
+                let (lo, hi) = super::words::interval(c[i] as u64, n as u64, self.independent);
                 (c[i] as f64 / n as f64, lo, hi)
             })
             .collect()

@@ -12,7 +12,7 @@ use super::outcome::{self, OUTCOMES};
 use super::plots::Axis;
 use super::scan::Folder;
 use super::sections::efficiency_note;
-use super::{param_label, FEW};
+use super::words::{param_label, FEW};
 
 pub(super) fn lines(page: &mut Page, f: &Folder) {
     let l = f.line.as_ref().expect("checked");

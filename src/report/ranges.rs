@@ -32,7 +32,7 @@ pub(super) fn ranges(page: &mut Page, f: &Folder, sweep: &Sweep) {
             if e.at_rest > 0 {
                 notes.push(format!(
                     "{} at rest left out (no running point)",
-                    super::lanes_text(e.at_rest).trim_end_matches('.')
+                    super::words::lanes_text(e.at_rest).trim_end_matches('.')
                 ));
             }
             let note = notes.join("; ");

@@ -76,7 +76,7 @@ pub fn section(page: &mut Page, dir: &Path, sweep: &Sweep, s: &Search) -> Result
         val(s.tol),
     ));
     let axis = sweep.axes.first().filter(|a| !a.is_words());
-    let x_label = axis.map(|a| super::param_label(a.param));
+    let x_label = axis.map(|a| super::words::param_label(a.param));
     if sweep.study.is_some() {
         let points = read_summary(&dir.join(SUMMARY), sweep)?;
         study_answers(page, s, &points);
@@ -126,7 +126,7 @@ fn study_answers(page: &mut Page, s: &Search, points: &[Point]) {
                      (estimate {}, 95 % interval {} to {}; {} drives).",
                     quantity(s),
                     s.require.text(),
-                    super::percent(share),
+                    super::words::percent(share),
                     named(s, value),
                     named(s, lo),
                     named(s, hi),

@@ -7,7 +7,7 @@ use super::map_plots::{category_map, heat_map, HeatMarks};
 use super::outcome::{self, OUTCOMES};
 use super::plots::Axis;
 use super::scan::{Folder, CONTACT_NAMES};
-use super::{param_label, share_cells};
+use super::words::{param_label, share_cells};
 use crate::columns::Column;
 use crate::columns::{DRIVE, HOLD, LANE, STATUS};
 use crate::output::names::{SUMMARY, TRACES};
@@ -35,7 +35,7 @@ fn share_table(page: &mut Page, f: &Folder, head: &str, counts: &[(String, u64)]
 
 pub(super) fn outcomes(page: &mut Page, f: &Folder) {
     page.section("Outcomes");
-    page.note(&super::lanes_text(f.lanes));
+    page.note(&super::words::lanes_text(f.lanes));
     if !f.independent {
         page.note(
             "No intervals: the lanes of a sensitivity design are not independent draws (a row \

@@ -65,7 +65,7 @@ impl Folder {
                 } else {
                     super::plots::tick(num(path, rec, i, a.param.name())?)
                 };
-                parts.push(format!("{} = {v}", super::param_label(a.param)));
+                parts.push(format!("{} = {v}", super::words::param_label(a.param)));
             }
             self.groups[g].label = if parts.is_empty() {
                 "all lanes".into()
@@ -116,7 +116,7 @@ impl Folder {
             .find(|c| c.0 == nm)
             .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
         let kind = text(rec, cols.kind);
-        let pct = super::percent;
+        let pct = super::words::percent;
         let (s, l, h) = (
             num(path, rec, cols.share, "share")?,
             num(path, rec, cols.lo, "ci95_low")?,
