@@ -24,6 +24,7 @@ const F_STARTED: u32 = 16u;
 const F_RUNNING_ON: u32 = 32u;
 const F_SPEEDING: u32 = 64u;
 const F_UPPER: u32 = 128u;
+const F_FLOW_TURN: u32 = 256u;
 
 const NO_FIRST_SWITCH: f32 = -1.0;
 

@@ -52,6 +52,24 @@ fn dense_w(dw: f32, h: f32, q0: f32, q_end: f32, r4: f32) -> array<f32, 5> {
     return array<f32, 5>(0.0, dw, r2, dw - h * q_end - r2, r4);
 }
 
+// Whether p turned and turned back inside a step: the same sign at both
+// ends, the other at the middle of its dense output. The split cannot see
+// it; the row is recomputed in f64 (`Recheck::FlowTurn`). (The f64 path's
+// steps, a hundred times tighter, were not seen to miss one.)
+fn turns_inside(r: array<f32, 5>, p0: f32, p_end: f32) -> bool {
+    return !crosses(p0, p_end) && dense_slope(r, 0.5) * (p0 + p_end) < 0.0;
+}
+
+// Whether p1 or p2 turned and turned back inside an accepted step.
+fn flow_turns(k1: array<f32, NY>, tr: Trial, h: f32) -> bool {
+    let p1_0 = k1[5];
+    let p1_end = tr.k7[5];
+    let p2_0 = k1[4] - k1[5];
+    let p2_end = tr.k7[4] - tr.k7[5];
+    return turns_inside(dense_w(tr.dw.x, h, p1_0, p1_end, tr.dw_r4.x), p1_0, p1_end)
+        || turns_inside(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
+}
+
 // Increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step.
 fn step_flow(k1: array<f32, NY>, tr: Trial, h: f32) -> vec4<f32> {
     let p1_0 = k1[5];

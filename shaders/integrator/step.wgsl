@@ -70,6 +70,7 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
 // Compensated (Kahan) sum of an accepted step's energy flow, before the
 // state moves.
 fn add_flow(st: ptr<function, State>, tr: Trial, h: f32) {
+    if (flow_turns((*st).k1, tr, h)) { set_flag(st, F_FLOW_TURN, true); }
     let yy = step_flow((*st).k1, tr, h) - (*st).flow_c;
     let s = (*st).flow + yy;
     (*st).flow_c = (s - (*st).flow) - yy;

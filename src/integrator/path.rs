@@ -19,6 +19,11 @@ pub enum Recheck {
     StiffMotor,
     /// A work that cancels below what f32 resolves of the energy that flowed.
     Cancellation,
+    /// A step's mesh power turned and turned back inside it (the slope of
+    /// its dense output at the step's middle against its ends): the
+    /// split of that step's energy flow into in and out parts cannot be
+    /// vouched for.
+    FlowTurn,
     /// A traced lane: its row comes from the f64 integration its trace is
     /// taken from, so the row and the trace are one integration.
     Traced,
@@ -26,7 +31,7 @@ pub enum Recheck {
 
 impl Recheck {
     /// Every reason, in order.
-    pub const ALL: [Recheck; 8] = [
+    pub const ALL: [Recheck; 9] = [
         Recheck::F32Range,
         Recheck::Unfinished,
         Recheck::GpuStatus,
@@ -34,6 +39,7 @@ impl Recheck {
         Recheck::EnergyBalance,
         Recheck::StiffMotor,
         Recheck::Cancellation,
+        Recheck::FlowTurn,
         Recheck::Traced,
     ];
 
@@ -47,6 +53,7 @@ impl Recheck {
             Recheck::EnergyBalance => "energy_balance",
             Recheck::StiffMotor => "stiff_motor",
             Recheck::Cancellation => "cancellation",
+            Recheck::FlowTurn => "flow_turn",
             Recheck::Traced => "traced",
         }
     }

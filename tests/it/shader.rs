@@ -125,6 +125,7 @@ fn shared_u32() -> Vec<(String, u32)> {
         ("F_RUNNING_ON", flags::RUNNING_ON),
         ("F_SPEEDING", flags::SPEEDING),
         ("F_UPPER", flags::UPPER),
+        ("F_FLOW_TURN", flags::FLOW_TURN),
         ("S_OK", Status::Ok as u32),
         ("S_INCONSISTENT", Status::Inconsistent as u32),
         ("S_NONFINITE", Status::NonFinite as u32),

@@ -136,7 +136,10 @@ impl Backend for GpuBackend {
                 .result(&self.lanes64[i], tables);
             r.path = RowPath::Gpu;
             let finished = st.flags & flags::DONE != 0;
-            match verify::recheck(&self.lanes64[i], &r, finished) {
+            let turned = st.flags & flags::FLOW_TURN != 0;
+            let why = verify::recheck(&self.lanes64[i], &r, finished)
+                .or(turned.then_some(crate::integrator::path::Recheck::FlowTurn));
+            match why {
                 Some(why) if self.self_check => self.redo.push((i, why)),
                 _ => out[i] = r.with_shaft_speeds(&self.lanes64[i], lanes.row(i).radii()),
             }

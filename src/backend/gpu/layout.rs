@@ -123,6 +123,9 @@ pub mod flags {
     pub const SPEEDING: u32 = 64;
     /// On the friction law's upper branch.
     pub const UPPER: u32 = 128;
+    /// A step's mesh power turned and turned back inside it
+    /// ([`Recheck::FlowTurn`](crate::integrator::path::Recheck::FlowTurn)).
+    pub const FLOW_TURN: u32 = 256;
 }
 
 /// A lane's integration state between dispatches. Keep in sync with
