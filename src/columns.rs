@@ -73,8 +73,9 @@ pub enum Summary {
     /// Moments, quantiles and rank correlations of its numbers (empty
     /// cells left out).
     Numbers,
-    /// The share of each of its words, with a Wilson interval.
-    Shares(fn() -> Vec<&'static str>, Of),
+    /// The share of each of its words (its vocabulary), with a Wilson
+    /// interval.
+    Shares(Vocabulary, Of),
 }
 
 /// How `tswm check` compares the CPU's and the GPU's cell.
@@ -136,8 +137,32 @@ pub enum Value {
     F(fn(&LaneResult) -> f64, fn(&[LaneResult], &mut Vec<f64>)),
     /// A count, as [`Value::F`] (`count!`).
     I(fn(&LaneResult) -> u64, fn(&[LaneResult], &mut Vec<i64>)),
-    /// A word; "" for an empty cell.
-    W(fn(&LaneResult) -> Cow<'static, str>),
+    /// A word: the code of the lane's word in the vocabulary (None for
+    /// an empty cell), and the vocabulary. The Arrow column is a
+    /// dictionary whose values are the vocabulary and whose keys are the
+    /// codes.
+    W(fn(&LaneResult) -> Option<usize>, Vocabulary),
+}
+
+/// A word column's words in code order: the values of its Arrow
+/// dictionary (keyed by each word's code) and the words `summary.csv`
+/// counts.
+pub type Vocabulary = fn() -> &'static [&'static str];
+
+/// The [`Vocabulary`] of an enum whose `ALL` lists its variants in
+/// declaration order (so that `variant as usize` is its code; a test
+/// holds each to it).
+macro_rules! vocabulary {
+    ($f:ident, $t:ty) => {
+        /// The words of
+        #[doc = concat!("[`", stringify!($t), "`]")]
+        /// in code order.
+        pub fn $f() -> &'static [&'static str] {
+            static WORDS: std::sync::LazyLock<Vec<&'static str>> =
+                std::sync::LazyLock::new(|| <$t>::ALL.iter().map(|w| w.name()).collect());
+            &WORDS
+        }
+    };
 }
 
 /// A float column's [`Value`] from its reading of one lane.
@@ -243,24 +268,12 @@ const INTEGRATED: Column = Column {
     ..ROW
 };
 
-fn status_words() -> Vec<&'static str> {
-    Status::ALL.map(Status::name).to_vec()
-}
-fn contact_words() -> Vec<&'static str> {
-    Contact::ALL.map(Contact::name).to_vec()
-}
-fn hold_words() -> Vec<&'static str> {
-    Hold::ALL.map(Hold::name).to_vec()
-}
-fn drive_words() -> Vec<&'static str> {
-    Drive::ALL.map(Drive::name).to_vec()
-}
-fn side_words() -> Vec<&'static str> {
-    Side::ALL.map(Side::name).to_vec()
-}
-fn search_status_words() -> Vec<&'static str> {
-    SearchStatus::ALL.map(SearchStatus::name).to_vec()
-}
+vocabulary!(status_words, Status);
+vocabulary!(contact_words, Contact);
+vocabulary!(hold_words, Hold);
+vocabulary!(drive_words, Drive);
+vocabulary!(side_words, Side);
+vocabulary!(search_status_words, SearchStatus);
 
 /// An indicator output of a sensitivity analysis: 1 where a lane's
 /// `column` reads `word`, else 0; named `column=word`.
@@ -314,7 +327,7 @@ pub const RESULTS: &[Column] = &[
                   above the lead angle), nonfinite, max_steps, max_events, step_underflow",
         summary: Summary::Shares(status_words, Of::All),
         compare: Compare::Exact,
-        value: Value::W(|r| Cow::Borrowed(r.status.name())),
+        value: Value::W(|r| Some(r.status as usize), status_words),
         ..ROW
     },
     Column {
@@ -358,7 +371,7 @@ pub const RESULTS: &[Column] = &[
                   stuck by static friction: held if the motor is cut, stalled if it runs)",
         summary: Summary::Shares(contact_words, Of::Ok),
         compare: Compare::Exact,
-        value: Value::W(|r| Cow::Borrowed(r.contact_end.name())),
+        value: Value::W(|r| Some(r.contact_end as usize), contact_words),
         ..ROW
     },
     Column {
@@ -541,7 +554,7 @@ pub const RESULTS: &[Column] = &[
         empty: "the motor is not cut before t_end, or the status is not ok",
         summary: Summary::Shares(hold_words, Of::Given),
         compare: Compare::Exact,
-        value: Value::W(|r| Cow::Borrowed(r.hold.map_or("", Hold::name))),
+        value: Value::W(|r| r.hold.map(|h| h as usize), hold_words),
         ..ROW
     },
     Column {
@@ -556,7 +569,7 @@ pub const RESULTS: &[Column] = &[
                 status is not ok",
         summary: Summary::Shares(drive_words, Of::Given),
         compare: Compare::Exact,
-        value: Value::W(|r| Cow::Borrowed(r.drive.map_or("", Drive::name))),
+        value: Value::W(|r| r.drive.map(|d| d as usize), drive_words),
         ..ROW
     },
     Column {
@@ -598,11 +611,7 @@ pub const RESULTS: &[Column] = &[
         meaning: "where the row came from: cpu (f64 path), cpu:refined (run again at a tenth of the \
                   tolerance), gpu (f32, checked and trusted), cpu:REASON (a GPU row recomputed in f64)",
         summary: Summary::None,
-        value: Value::W(|r| match r.path {
-            RowPath::Cpu => Cow::Borrowed("cpu"),
-            RowPath::Gpu => Cow::Borrowed("gpu"),
-            p => Cow::Owned(p.name()),
-        }),
+        value: Value::W(|r| Some(r.path.code()), RowPath::words),
         ..ROW
     },
 ];
@@ -649,7 +658,10 @@ pub const SEARCH: &[Column] = &[
         empty: "the requirement is met at both ends, at neither, or its answer changes more \
                 than once",
         summary: Summary::Shares(side_words, Of::Given),
-        value: Value::W(|r| Cow::Borrowed(r.search.and_then(|s| s.side).map_or("", Side::name))),
+        value: Value::W(
+            |r| r.search.and_then(|s| s.side).map(|s| s as usize),
+            side_words,
+        ),
         ..ROW
     },
     Column {
@@ -662,7 +674,7 @@ pub const SEARCH: &[Column] = &[
                   boundary's)",
         summary: Summary::Shares(search_status_words, Of::All),
         compare: Compare::Exact,
-        value: Value::W(|r| Cow::Borrowed(r.search.map_or("", |s| s.status.name()))),
+        value: Value::W(|r| r.search.map(|s| s.status as usize), search_status_words),
         ..ROW
     },
     Column {
@@ -760,7 +772,7 @@ impl Column {
         match self.value {
             Value::F(..) => Kind::Float,
             Value::Lane | Value::I(..) => Kind::Int,
-            Value::W(_) => Kind::Text,
+            Value::W(..) => Kind::Text,
         }
     }
 
@@ -770,7 +782,7 @@ impl Column {
             Value::Lane => Cell::I(lane),
             Value::F(f, _) => Cell::F(f(r)),
             Value::I(f, _) => Cell::I(f(r)),
-            Value::W(f) => Cell::S(f(r)),
+            Value::W(code, words) => Cell::S(Cow::Borrowed(code(r).map_or("", |c| words()[c]))),
         }
     }
 

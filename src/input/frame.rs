@@ -124,7 +124,12 @@ impl Frame {
 }
 
 fn is_text(t: &DataType) -> bool {
-    matches!(t, DataType::Utf8 | DataType::LargeUtf8 | DataType::Utf8View)
+    match t {
+        DataType::Utf8 | DataType::LargeUtf8 | DataType::Utf8View => true,
+        // A categorical column of words (what `tswm run` writes).
+        DataType::Dictionary(_, v) => is_text(v),
+        _ => false,
+    }
 }
 
 fn is_number(t: &DataType) -> bool {
@@ -138,6 +143,22 @@ fn append(cells: &mut Cells, a: &dyn Array) {
             DataType::Utf8 => v.extend(a.as_string::<i32>().iter().map(|w| w.map(String::from))),
             DataType::LargeUtf8 => {
                 v.extend(a.as_string::<i64>().iter().map(|w| w.map(String::from)))
+            }
+            DataType::Dictionary(..) => {
+                let d = a.as_any_dictionary();
+                let mut words = Cells::Words(Vec::new());
+                append(&mut words, d.values().as_ref());
+                let Cells::Words(words) = words else {
+                    unreachable!("built as words")
+                };
+                let keys = d.normalized_keys();
+                v.extend((0..a.len()).map(|i| {
+                    if a.is_valid(i) {
+                        words[keys[i]].clone()
+                    } else {
+                        None
+                    }
+                }))
             }
             _ => v.extend(a.as_string_view().iter().map(|w| w.map(String::from))),
         },

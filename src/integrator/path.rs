@@ -74,8 +74,43 @@ pub enum RowPath {
 }
 
 impl RowPath {
-    /// The cell: `cpu`, `gpu` or `cpu:REASON`.
-    pub fn name(self) -> String {
+    /// Every path, in code order: `cpu`, `gpu`, `cpu:refined`, then
+    /// `cpu:REASON` for each [`Recheck`] in its order.
+    pub fn every() -> impl Iterator<Item = RowPath> {
+        [RowPath::Cpu, RowPath::Gpu, RowPath::Refined]
+            .into_iter()
+            .chain(Recheck::ALL.map(RowPath::Recomputed))
+    }
+
+    /// The path's code: its place in [`RowPath::every`] (the key of the
+    /// `path` column's dictionary).
+    pub fn code(self) -> usize {
+        match self {
+            RowPath::Cpu => 0,
+            RowPath::Gpu => 1,
+            RowPath::Refined => 2,
+            RowPath::Recomputed(r) => 3 + r as usize,
+        }
+    }
+
+    /// The cell: `cpu`, `gpu`, `cpu:refined` or `cpu:REASON`.
+    pub fn name(self) -> &'static str {
+        RowPath::words()[self.code()]
+    }
+
+    /// The words of the `path` column in code order: each path spelt
+    /// out once (a dozen words, kept for the run).
+    pub fn words() -> &'static [&'static str] {
+        static WORDS: std::sync::LazyLock<Vec<&'static str>> = std::sync::LazyLock::new(|| {
+            RowPath::every()
+                .map(|p| &*Box::leak(p.spelt().into_boxed_str()))
+                .collect()
+        });
+        &WORDS
+    }
+
+    /// The cell spelt out.
+    fn spelt(self) -> String {
         match self {
             RowPath::Cpu => "cpu".into(),
             RowPath::Gpu => "gpu".into(),

@@ -92,7 +92,7 @@ pub struct Folder {
 /// The words of a word column of the results table.
 pub(super) fn words_of(c: &Column) -> Vec<&'static str> {
     match c.summary {
-        Summary::Shares(w, _) => w(),
+        Summary::Shares(w, _) => w().to_vec(),
         _ => Vec::new(),
     }
 }

@@ -17,7 +17,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use super::merge_batches::merge_parquet_part;
-use super::verify::{check_shards, refused, Part};
+use super::verify::{all_rows_read, check_shards, refused, Part};
 use crate::columns::LANE;
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
@@ -278,18 +278,7 @@ fn merge_part(
             ));
         }
     }
-    if next != p.m.lane_end {
-        return Err(refused(
-            &p.dir,
-            &p.m,
-            format!(
-                "{name} has {} rows, the manifest says {}",
-                next - p.m.lane_start,
-                p.m.rows
-            ),
-        ));
-    }
-    Ok(next)
+    all_rows_read(p, name, next)
 }
 
 /// Whether `a` and `b` name the same folder (`b` may not exist yet).

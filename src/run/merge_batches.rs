@@ -8,7 +8,7 @@ use std::fs::File;
 use arrow_array::{Array, Int64Array, RecordBatch, RecordBatchReader};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
-use super::verify::{refused, Part};
+use super::verify::{all_rows_read, refused, Part};
 use crate::columns::LANE;
 use crate::error::{Error, Result};
 use crate::output::batch::schema_for;
@@ -83,19 +83,18 @@ pub(super) fn merge_parquet_part(
                 ));
             }
         }
+        // Keyed as a run keys its word columns (a Parquet reader keys
+        // them by the pages' own dictionary).
+        let b = crate::output::batch::canonical_batch(b).map_err(|(col, m)| {
+            Error::input(
+                &path,
+                Some(format!("row {}", next - p.m.lane_start + 1)),
+                Some(&col),
+                m,
+            )
+        })?;
         each(next, &b)?;
         next += b.num_rows() as u64;
     }
-    if next != p.m.lane_end {
-        return Err(refused(
-            &p.dir,
-            &p.m,
-            format!(
-                "{name} has {} rows, the manifest says {}",
-                next - p.m.lane_start,
-                p.m.rows
-            ),
-        ));
-    }
-    Ok(next)
+    all_rows_read(p, name, next)
 }

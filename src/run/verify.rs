@@ -34,6 +34,23 @@ pub(super) fn refused(dir: &Path, m: &Manifest, why: String) -> Error {
     )
 }
 
+/// Shard `p`'s `name` read to its end at lane `next`: `next`, or the
+/// refusal when that is not the manifest's end.
+pub(super) fn all_rows_read(p: &Part, name: &str, next: u64) -> Result<u64> {
+    if next != p.m.lane_end {
+        return Err(refused(
+            &p.dir,
+            &p.m,
+            format!(
+                "{name} has {} rows, the manifest says {}",
+                next - p.m.lane_start,
+                p.m.rows
+            ),
+        ));
+    }
+    Ok(next)
+}
+
 /// The body of a `sweep.resolved.toml`: the text after its header
 /// comments (what the sweep hash covers).
 fn resolved_body(text: &str) -> &str {

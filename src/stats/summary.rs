@@ -94,7 +94,7 @@ impl Layout {
                     Some((
                         first + i,
                         Shares {
-                            words,
+                            words: words.to_vec(),
                             of,
                             counts: vec![0; n],
                             total: 0,

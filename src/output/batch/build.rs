@@ -5,14 +5,13 @@
 
 use std::sync::Arc;
 
-use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
-use arrow_buffer::{BooleanBuffer, NullBuffer, OffsetBuffer, ScalarBuffer};
+use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch};
+use arrow_buffer::{BooleanBuffer, NullBuffer, ScalarBuffer};
 
-use super::schema_for;
+use super::{schema_for, WordKeys};
 use crate::columns::{results_for, Column, Kind, Value};
 use crate::error::{Error, Result};
 use crate::integrator::LaneResult;
-use crate::output::short_bytes;
 use crate::params::{Param, ParamColumns};
 
 /// A float column over `values`, NaN as null.
@@ -37,70 +36,21 @@ fn nan_nulls(values: &[f64]) -> Option<NullBuffer> {
     }
 }
 
-/// A word column being filled, laid out as Arrow lays out UTF-8: the
-/// words' bytes one after another and where each ends; an empty word is
-/// a null.
-#[derive(Default)]
-struct Words {
-    bytes: Vec<u8>,
-    ends: Vec<i32>,
-}
-
-impl Words {
-    fn with_capacity(n: usize) -> Words {
-        let mut ends = Vec::with_capacity(n + 1);
-        ends.push(0);
-        Words {
-            bytes: Vec::with_capacity(n * 8),
-            ends,
-        }
-    }
-
-    /// Appends a word, "" as null.
-    #[inline]
-    fn push(&mut self, w: &str) {
-        short_bytes::push(&mut self.bytes, w.as_bytes());
-        self.ends.push(self.bytes.len() as i32);
-    }
-
-    fn finish(self) -> ArrayRef {
-        let n = self.ends.len() - 1;
-        let empty: usize = self
-            .ends
-            .windows(2)
-            .map(|e| usize::from(e[0] == e[1]))
-            .sum();
-        let nulls = match empty {
-            0 => None,
-            e if e == n => Some(NullBuffer::new_null(n)),
-            _ => Some(NullBuffer::new(BooleanBuffer::collect_bool(n, |i| {
-                self.ends[i] != self.ends[i + 1]
-            }))),
-        };
-        // The ends rise and the bytes are whole words: checked here
-        // all the same, once a column.
-        Arc::new(StringArray::new(
-            OffsetBuffer::new(self.ends.into()),
-            self.bytes.into(),
-            nulls,
-        ))
-    }
-}
-
-/// The word column of `values` (a parameter's law or table, one a
-/// lane), each spelled by `word`: a column of one value (a sweep's fixed
-/// law) laid out at once as that word over and over.
-fn words_of<T: PartialEq>(values: &[T], word: impl Fn(&T) -> &str) -> ArrayRef {
-    let mut w = Words::with_capacity(values.len());
-    match values.first() {
-        Some(v) if values.iter().all(|x| x == v) => {
-            let text = word(v);
-            w.bytes = text.as_bytes().repeat(values.len());
-            w.ends = (0..=values.len())
-                .map(|i| (i * text.len()) as i32)
-                .collect();
-        }
-        _ => values.iter().for_each(|v| w.push(word(v))),
+/// The word column `name` of `values` (a parameter's law or table, one
+/// a lane), each keyed by `code` (None: by its word, `word`).
+fn words_of<T>(
+    name: &'static str,
+    values: &[T],
+    code: Option<fn(&T) -> usize>,
+    word: impl Fn(&T) -> &str,
+) -> ArrayRef {
+    let mut w = WordKeys::new(name, values.len());
+    match code {
+        Some(code) => values.iter().for_each(|v| w.push_code(Some(code(v)))),
+        // A table's name is one of the sweep's: it has no other error.
+        None => values.iter().for_each(|v| {
+            let _ = w.push(Some(word(v)));
+        }),
     }
     w.finish()
 }
@@ -109,7 +59,7 @@ fn words_of<T: PartialEq>(values: &[T], word: impl Fn(&T) -> &str) -> ArrayRef {
 enum Fill {
     F(Vec<f64>),
     I(Vec<i64>),
-    S(Words),
+    S(WordKeys),
 }
 
 impl Fill {
@@ -117,14 +67,7 @@ impl Fill {
         match self {
             Fill::F(v) => float_array(v.into()),
             Fill::I(v) => Arc::new(Int64Array::from(v)),
-            Fill::S(w) => w.finish(),
-        }
-    }
-
-    /// Appends a word, "" as null.
-    fn word(&mut self, w: &str) {
-        if let Fill::S(b) = self {
-            b.push(w);
+            Fill::S(mut w) => w.finish(),
         }
     }
 
@@ -142,7 +85,7 @@ impl Fill {
             (Value::F(_, block), Fill::F(v)) => block(rs, v),
             (Value::I(_, block), Fill::I(v)) => block(rs, v),
             (Value::Lane, Fill::I(v)) => v.extend(rows.map(|i| (first + i as u64) as i64)),
-            (Value::W(f), fill) => rs.iter().for_each(|r| fill.word(&f(r))),
+            (Value::W(code, _), Fill::S(w)) => rs.iter().for_each(|r| w.push_code(code(r))),
             // A column's fill has its value's type (`Column::kind`).
             (_, _) => {}
         }
@@ -176,8 +119,8 @@ impl Builder {
         }
     }
 
-    /// An empty column of `kind` with room for `n` rows.
-    fn fill(&mut self, kind: Kind, n: usize) -> Fill {
+    /// An empty column `name` of `kind` with room for `n` rows.
+    fn fill(&mut self, name: &'static str, kind: Kind, n: usize) -> Fill {
         fn room<T>(mut v: Vec<T>, n: usize) -> Vec<T> {
             v.clear();
             v.reserve(n);
@@ -186,7 +129,7 @@ impl Builder {
         match kind {
             Kind::Float => Fill::F(room(self.floats.pop().unwrap_or_default(), n)),
             Kind::Int => Fill::I(room(self.ints.pop().unwrap_or_default(), n)),
-            Kind::Text => Fill::S(Words::with_capacity(n)),
+            Kind::Text => Fill::S(WordKeys::new(name, n)),
         }
     }
 
@@ -210,11 +153,21 @@ impl Builder {
             .map(|p| {
                 Some(match p {
                     Param::Num(k) => float_array(params.take_num(*k).into()),
-                    Param::Motor => words_of(params.motors(), |m| m.name()),
-                    Param::Friction => words_of(params.frictions(), |f| f.name()),
-                    Param::FrictionTable => words_of(params.friction_tables(), |t| {
-                        t.as_ref().map_or("", |t| t.as_str())
-                    }),
+                    Param::Motor => {
+                        words_of(p.name(), params.motors(), Some(|m| *m as usize), |m| {
+                            m.name()
+                        })
+                    }
+                    Param::Friction => {
+                        words_of(p.name(), params.frictions(), Some(|f| *f as usize), |f| {
+                            f.name()
+                        })
+                    }
+                    Param::FrictionTable => {
+                        words_of(p.name(), params.friction_tables(), None, |t| {
+                            t.as_ref().map_or("", |t| t.as_str())
+                        })
+                    }
                 })
             })
             .collect();
@@ -225,7 +178,7 @@ impl Builder {
             .map(|g| {
                 (g..results.len())
                     .step_by(groups)
-                    .map(|c| (c, self.fill(results[c].kind(), n)))
+                    .map(|c| (c, self.fill(results[c].name, results[c].kind(), n)))
                     .collect()
             })
             .collect();

@@ -10,12 +10,16 @@
 //! hold only the columns its reader asked for).
 
 mod build;
+mod words;
 
 use std::sync::{Arc, OnceLock};
 
 pub use build::{from_lanes, Builder};
+pub use words::{canonical, canonical_batch, vocabulary, word_type, Key, WordKeys};
 
-use arrow_array::{Array, ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
+use arrow_array::{
+    Array, ArrayRef, DictionaryArray, Float64Array, Int64Array, RecordBatch, StringArray,
+};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 
 use crate::columns::{results_for, Cell, Kind};
@@ -48,7 +52,7 @@ pub fn data_type(kind: Kind) -> DataType {
     match kind {
         Kind::Float => DataType::Float64,
         Kind::Int => DataType::Int64,
-        Kind::Text => DataType::Utf8,
+        Kind::Text => word_type(),
     }
 }
 
@@ -94,22 +98,24 @@ pub fn from_cells(cells: &[Cell], search: bool) -> Result<RecordBatch> {
         .iter()
         .enumerate()
         .map(|(c, f)| match f.data_type() {
-            DataType::Float64 => floats(at(c).map(Cell::number).collect()),
-            DataType::Int64 => Arc::new(
+            DataType::Float64 => Ok(floats(at(c).map(Cell::number).collect())),
+            DataType::Int64 => Ok(Arc::new(
                 at(c)
                     .map(|x| match x {
                         Cell::I(v) => *v as i64,
                         x => x.number() as i64,
                     })
                     .collect::<Int64Array>(),
-            ) as ArrayRef,
-            _ => Arc::new(
+            ) as ArrayRef),
+            _ => {
+                let mut w = WordKeys::new(columns_for(search)[c].0, n);
                 at(c)
-                    .map(|x| Some(x.word()).filter(|w| !w.is_empty()))
-                    .collect::<StringArray>(),
-            ),
+                    .try_for_each(|x| w.push(Some(x.word())))
+                    .map_err(|m| Error::Internal(format!("column {}: {m}", f.name())))?;
+                Ok(w.finish())
+            }
         })
-        .collect();
+        .collect::<Result<_>>()?;
     RecordBatch::try_new(schema, cols).map_err(|e| Error::Internal(format!("results batch: {e}")))
 }
 
@@ -120,8 +126,9 @@ pub enum Col<'a> {
     F(&'a Float64Array),
     /// Counts.
     I(&'a Int64Array),
-    /// Words; a null is an empty cell.
-    S(&'a StringArray),
+    /// Words: a dictionary (its keys the words' codes) and its words; a
+    /// null is an empty cell.
+    S(&'a DictionaryArray<Key>, &'a StringArray),
 }
 
 impl<'a> Col<'a> {
@@ -131,7 +138,13 @@ impl<'a> Col<'a> {
         any.downcast_ref::<Float64Array>()
             .map(Col::F)
             .or_else(|| any.downcast_ref::<Int64Array>().map(Col::I))
-            .or_else(|| any.downcast_ref::<StringArray>().map(Col::S))
+            .or_else(|| {
+                let d = any.downcast_ref::<DictionaryArray<Key>>()?;
+                Some(Col::S(
+                    d,
+                    d.values().as_any().downcast_ref::<StringArray>()?,
+                ))
+            })
     }
 
     /// Rows.
@@ -139,7 +152,7 @@ impl<'a> Col<'a> {
         match self {
             Col::F(a) => a.len(),
             Col::I(a) => a.len(),
-            Col::S(a) => a.len(),
+            Col::S(a, _) => a.len(),
         }
     }
 
@@ -173,7 +186,7 @@ impl<'a> Col<'a> {
     #[inline]
     pub fn word(&self, i: usize) -> &'a str {
         match self {
-            Col::S(a) if a.is_valid(i) => a.value(i),
+            Col::S(a, words) if a.is_valid(i) => words.value(a.keys().value(i) as usize),
             _ => "",
         }
     }
@@ -197,7 +210,7 @@ impl<'a> Col<'a> {
                 }
             }
             Col::I(a) => b.extend_from_slice(a.value(i).to_string().as_bytes()),
-            Col::S(_) => return self.word(i).to_string(),
+            Col::S(..) => return self.word(i).to_string(),
         }
         String::from_utf8(b).unwrap_or_default()
     }
@@ -210,7 +223,7 @@ impl<'a> Col<'a> {
 pub fn word_runs(cols: &[Col<'_>], rows: std::ops::Range<usize>) -> Vec<usize> {
     let mut ends: Vec<usize> = Vec::new();
     for c in cols {
-        if let Col::S(a) = c {
+        if let Col::S(a, _) = c {
             ends.extend(word_run_ends(a, rows.clone()));
         }
     }
@@ -222,38 +235,15 @@ pub fn word_runs(cols: &[Col<'_>], rows: std::ops::Range<usize>) -> Vec<usize> {
 }
 
 /// The ends of the runs of one word in `a` over `rows` (the last one,
-/// `rows.end`, left out): rows of one length and validity taken
-/// together, and their bytes compared at once (one word over and over is
-/// its bytes equal to themselves shifted by one word), row by row only
-/// where that fails.
-fn word_run_ends(a: &StringArray, rows: std::ops::Range<usize>) -> Vec<usize> {
-    let ends = a.value_offsets();
-    let bytes = a.value_data();
-    let len = |i: usize| ends[i + 1] - ends[i];
-    let word = |i: usize| &bytes[ends[i] as usize..ends[i + 1] as usize];
-    let mut out = Vec::new();
-    let mut i = rows.start;
-    while i < rows.end {
-        let (valid, n) = (a.is_valid(i), len(i));
-        let mut j = i + 1;
-        while j < rows.end && a.is_valid(j) == valid && len(j) == n {
-            j += 1;
-        }
-        let all = &bytes[ends[i] as usize..ends[j] as usize];
-        let n = n as usize;
-        if valid && n > 0 && all[n..] != all[..all.len() - n] {
-            for k in i + 1..j {
-                if word(k) != word(k - 1) {
-                    out.push(k);
-                }
-            }
-        }
-        if j < rows.end {
-            out.push(j);
-        }
-        i = j;
-    }
-    out
+/// `rows.end`, left out): where the key or the validity changes (one key
+/// is one word: the keys of a results batch are its words' codes).
+fn word_run_ends(a: &DictionaryArray<Key>, rows: std::ops::Range<usize>) -> Vec<usize> {
+    let keys = a.keys().values();
+    (rows.start + 1..rows.end)
+        .filter(|&i| {
+            a.is_valid(i) != a.is_valid(i - 1) || (a.is_valid(i) && keys[i] != keys[i - 1])
+        })
+        .collect()
 }
 
 /// The columns of a batch, found by name.
@@ -316,24 +306,28 @@ mod tests {
         ];
         for case in 0..2000 {
             let n = 1 + (rng.next_u64() % 200) as usize;
-            let columns: Vec<StringArray> = (0..1 + rng.next_u64() % 3)
+            let columns: Vec<DictionaryArray<Key>> = (0..1 + rng.next_u64() % 3)
                 .map(|_| {
                     let mut w = words[(rng.next_u64() % 6) as usize];
-                    StringArray::from_iter((0..n).map(|_| {
-                        if rng.next_u64() % 16 == 0 {
-                            w = words[(rng.next_u64() % 6) as usize];
-                        }
-                        w
-                    }))
+                    (0..n)
+                        .map(|_| {
+                            if rng.next_u64() % 16 == 0 {
+                                w = words[(rng.next_u64() % 6) as usize];
+                            }
+                            w
+                        })
+                        .collect()
                 })
                 .collect();
-            let mut cols: Vec<Col<'_>> = columns.iter().map(Col::S).collect();
+            let mut cols: Vec<Col<'_>> = columns.iter().map(|c| Col::of(c).unwrap()).collect();
             let numbers = Float64Array::from(vec![1.0; n]);
             cols.push(Col::F(&numbers));
             let a = (rng.next_u64() as usize) % n;
             let b = a + 1 + (rng.next_u64() as usize) % (n - a);
-            fn cell(c: &StringArray, i: usize) -> Option<&str> {
-                c.is_valid(i).then(|| c.value(i))
+            fn cell(c: &DictionaryArray<Key>, i: usize) -> Option<&str> {
+                let words = c.values().as_any().downcast_ref::<StringArray>().unwrap();
+                c.is_valid(i)
+                    .then(|| words.value(c.keys().value(i) as usize))
             }
             let mut want: Vec<usize> = (a + 1..b)
                 .filter(|&i| columns.iter().any(|c| cell(c, i) != cell(c, i - 1)))

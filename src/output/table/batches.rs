@@ -113,6 +113,9 @@ fn read_parquet(
                 ));
             }
         }
+        let batch = crate::output::batch::canonical_batch(batch).map_err(|(col, m)| {
+            Error::input(path, Some(format!("rows {}..", rows + 1)), Some(&col), m)
+        })?;
         rows += batch.num_rows() as u64;
         each(&batch)?;
     }

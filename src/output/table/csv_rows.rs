@@ -30,11 +30,7 @@ fn push_cell(out: &mut Vec<u8>, col: &Col<'_>, i: usize) {
             }
         }
         Col::I(a) => short_bytes::push(out, itoa::Buffer::new().format(a.value(i)).as_bytes()),
-        Col::S(a) => {
-            if a.is_valid(i) {
-                short_bytes::push(out, a.value(i).as_bytes());
-            }
-        }
+        Col::S(..) => short_bytes::push(out, col.word(i).as_bytes()),
     }
 }
 
@@ -47,7 +43,7 @@ fn fixed(col: &Col<'_>, rows: std::ops::Range<usize>) -> bool {
     let a: &dyn Array = match col {
         Col::F(a) => *a,
         Col::I(a) => *a,
-        Col::S(a) => *a,
+        Col::S(a, _) => *a,
     };
     let empty = a
         .nulls()
@@ -61,18 +57,9 @@ fn fixed(col: &Col<'_>, rows: std::ops::Range<usize>) -> bool {
     match col {
         Col::F(a) => same(&a.values()[rows], |x| x.to_bits()),
         Col::I(a) => same(&a.values()[rows], |x| x),
-        Col::S(a) => {
-            // Every word as long as the first, and the words' bytes the
-            // first word over and over: equal to themselves shifted by
-            // one word.
-            let ends = &a.value_offsets()[first..=rows.end];
-            let len = ends[1] - ends[0];
-            let bytes = &a.value_data()[ends[0] as usize..ends[n] as usize];
-            ends.windows(2).all(|e| e[1] - e[0] == len) && {
-                let len = len as usize;
-                bytes[len..] == bytes[..bytes.len() - len]
-            }
-        }
+        // One key is one word (a results batch's keys are its words'
+        // codes).
+        Col::S(a, _) => same(&a.keys().values()[rows], |x| x),
     }
 }
 
@@ -181,7 +168,8 @@ impl CsvBlocks {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use arrow_array::{Float64Array, Int64Array, StringArray};
+    use crate::output::batch::Key;
+    use arrow_array::{DictionaryArray, Float64Array, Int64Array};
     use rand_core::{Rng, SeedableRng};
 
     /// `fixed` against its definition (every row's cell the same text),
@@ -209,13 +197,17 @@ mod tests {
                     .map(|&k| (k != 2).then_some(if k == 1 { -0.0 } else { 0.0 })),
             );
             let ints = Int64Array::from_iter_values(pick.iter().map(|&k| k as i64));
-            let strs = StringArray::from_iter(pick.iter().map(|&k| {
-                let w = words[(k as usize + case) % words.len()];
-                (!w.is_empty()).then_some(w)
-            }));
+            let strs: DictionaryArray<Key> = pick
+                .iter()
+                .map(|&k| {
+                    let w = words[(k as usize + case) % words.len()];
+                    (!w.is_empty()).then_some(w)
+                })
+                .collect();
             let a = (rng.next_u64() as usize) % n;
             let b = a + 1 + (rng.next_u64() as usize) % (n - a);
-            for col in [Col::F(&floats), Col::I(&ints), Col::S(&strs)] {
+            let strs = Col::of(&strs).unwrap();
+            for col in [Col::F(&floats), Col::I(&ints), strs] {
                 let mut texts = (a..b).map(|i| {
                     let mut t = Vec::new();
                     push_cell(&mut t, &col, i);

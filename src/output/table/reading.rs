@@ -6,11 +6,12 @@ use std::fs::File;
 use std::path::Path;
 use std::sync::Arc;
 
-use arrow_array::builder::{Float64Builder, Int64Builder, StringBuilder};
+use arrow_array::builder::{Float64Builder, Int64Builder};
 use arrow_array::ArrayRef;
 
 use super::Kind;
 use crate::error::{Error, Result};
+use crate::output::batch::WordKeys;
 
 /// Rows a batch read back.
 pub(super) const BATCH_ROWS: usize = 1 << 16;
@@ -37,16 +38,16 @@ pub(super) type Wanted = [(usize, &'static str, Kind)];
 pub(super) enum Builder {
     F(Float64Builder),
     I(Int64Builder),
-    S(StringBuilder),
+    S(WordKeys),
 }
 
 impl Builder {
-    /// An empty column of `kind`.
-    pub(super) fn of(kind: Kind) -> Builder {
+    /// An empty column `name` of `kind`.
+    pub(super) fn of(name: &'static str, kind: Kind) -> Builder {
         match kind {
             Kind::Float => Builder::F(Float64Builder::with_capacity(BATCH_ROWS)),
             Kind::Int => Builder::I(Int64Builder::with_capacity(BATCH_ROWS)),
-            Kind::Text => Builder::S(StringBuilder::with_capacity(BATCH_ROWS, BATCH_ROWS * 4)),
+            Kind::Text => Builder::S(WordKeys::new(name, BATCH_ROWS)),
         }
     }
 
@@ -64,8 +65,7 @@ impl Builder {
                 Ok(v) => b.append_value(v as i64),
                 _ => return Err(format!("`{}` is not a whole number", shown())),
             },
-            Builder::S(b) if s.is_empty() => b.append_null(),
-            Builder::S(b) => b.append_value(s),
+            Builder::S(b) => b.push(Some(s))?,
         }
         Ok(())
     }
@@ -75,7 +75,7 @@ impl Builder {
         match self {
             Builder::F(b) => Arc::new(b.finish()),
             Builder::I(b) => Arc::new(b.finish()),
-            Builder::S(b) => Arc::new(b.finish()),
+            Builder::S(b) => b.finish(),
         }
     }
 }

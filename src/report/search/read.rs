@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::super::cells::{bad_row, column, num, open_csv, text};
 use super::{val, MAX_POINTS};
-use arrow_array::{Array, Float64Array, Int64Array, StringArray};
+use arrow_array::{Array, Float64Array, Int64Array};
 
 use crate::columns::{CRITICAL, LANE, SEARCH_HI, SEARCH_LO, SEARCH_MEETS, SEARCH_STATUS};
 use crate::error::Result;
@@ -141,10 +141,7 @@ fn text_at(a: &dyn Array, r: usize) -> String {
         let x = num_at(a, r);
         return if x.is_nan() { String::new() } else { val(x) };
     }
-    a.as_any()
-        .downcast_ref::<StringArray>()
-        .filter(|x| x.is_valid(r))
-        .map_or(String::new(), |x| x.value(r).to_string())
+    crate::output::batch::Col::of(a).map_or(String::new(), |c| c.word(r).to_string())
 }
 
 /// The drives of the results table (the first [`MAX_POINTS`]) and their
