@@ -7,8 +7,10 @@
 #
 # TSWM defaults to target/release/tswm (built elsewhere: `cargo build
 # --release`), OUTDIR to ./device-bench. Writes OUTDIR/results.md (a
-# table for docs/performance.md) and OUTDIR/log.txt. MAX_LANES (default 10000000)
-# stops below 10^7; BACKENDS (default "gpu cpu") picks the backends.
+# table for docs/performance.md) and OUTDIR/log.txt. SIZES (default
+# "100000 1000000 10000000") picks the lane counts, MAX_LANES (default
+# 10000000) stops below 10^7; BACKENDS (default "gpu cpu") picks the
+# backends.
 #
 # "integration" is `tswm bench`: lanes generated, integrated, the GPU rows
 # checked (and untrusted ones recomputed), nothing written. "end to end"
@@ -58,7 +60,7 @@ rate() { # the lanes/s of a tswm summary line: its first figure, the whole
   echo "|---|---|---|---|---|"
 } >"$out/results.md"
 
-for n in 100000 1000000 10000000; do
+for n in ${SIZES:-100000 1000000 10000000}; do
   [ "$n" -le "$max" ] || continue
   for kind in uniform heterogeneous; do
     f=$(sweep "$kind" "$n")

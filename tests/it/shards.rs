@@ -481,6 +481,62 @@ fn parquet_shards_merge_to_the_unsharded_csv() {
     assert!(bytes(&dir.join("mp/summary.csv")) == bytes(&dir.join("fp/summary.csv")));
 }
 
+/// `lanes.parquet`'s bytes do not depend on how the rows reached the
+/// writer: a run on one thread or two (other chunks), and merges of 3 and
+/// 7 shards (shard ends that cut its row groups and pages anywhere, read
+/// back in batches of their own), write the same file, over several row
+/// groups.
+#[test]
+fn parquet_bytes_do_not_depend_on_how_batches_are_cut() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    // 300,007 short lanes: three row groups of 131,072 rows and a rest.
+    let s = dir.join("many.toml");
+    fs::write(
+        &s,
+        "[base]\nt_end = 0.1\n[[grid]]\nparam = \"f2\"\nfrom = -6000.0\nto = 6000.0\nn = 300007\n",
+    )
+    .unwrap();
+    let s = s.display().to_string();
+    let pq = ["--no-report", "--format", "parquet"];
+    ok(
+        &[
+            &cpu(&["run", &s, "--threads", "1", "--out", "one"])[..],
+            &pq,
+        ]
+        .concat(),
+        dir,
+    );
+    ok(
+        &[
+            &cpu(&["run", &s, "--threads", "2", "--out", "two"])[..],
+            &pq,
+        ]
+        .concat(),
+        dir,
+    );
+    let want = bytes(&dir.join("one/lanes.parquet"));
+    assert!(bytes(&dir.join("two/lanes.parquet")) == want, "threads");
+    for n in [3, 7] {
+        let sub = dir.join(format!("by{n}"));
+        fs::create_dir(&sub).unwrap();
+        let parts = shards(&s, n, &sub, &["--format", "parquet"]);
+        let out = format!("m{n}");
+        ok(
+            &[
+                &merge_args(&names(&parts), &out)[..],
+                &["--format", "parquet"],
+            ]
+            .concat(),
+            dir,
+        );
+        assert!(
+            bytes(&dir.join(&out).join("lanes.parquet")) == want,
+            "{n} shards"
+        );
+    }
+}
+
 /// The word columns of `lanes.parquet` (dictionary-encoded pages, and
 /// dictionary columns in its Arrow schema) read as the same strings in
 /// pyarrow, polars and DuckDB, and as `lanes.csv` has them.

@@ -5,7 +5,10 @@
 //! and page, and the Arrow schema in the footer for Arrow readers. Row
 //! groups of [`ROW_GROUP`] rows; each group's columns encoded in
 //! parallel, then spliced into the file in schema order (the same bytes
-//! either way).
+//! either way). The column writers take the rows [`STRIDE`] at a time
+//! whatever the batches' sizes: they cut pages where a call's rows end,
+//! so a run, a merge of its shards and a run on more threads write the
+//! same bytes.
 
 use std::path::{Path, PathBuf};
 
@@ -27,6 +30,13 @@ use crate::output::atomic::{AtomicFile, FileWriter};
 /// that a reader holds one in a few tens of MB.
 pub const ROW_GROUP: usize = 1 << 17;
 
+/// Rows the column writers are handed at a time (a divisor of
+/// [`ROW_GROUP`]): rows of batches cut elsewhere are joined or split to
+/// it, so that pages end at the same rows however the table's batches
+/// were cut.
+const STRIDE: usize = 1 << 13;
+const _: () = assert!(ROW_GROUP.is_multiple_of(STRIDE));
+
 /// `lanes.parquet`, written a row group at a time (bounded memory).
 pub struct ParquetLanes {
     file: AtomicFile,
@@ -39,6 +49,9 @@ pub struct ParquetLanes {
     cols: Vec<ArrowColumnWriter>,
     rows: usize,
     groups: usize,
+    /// Rows waiting for a whole [`STRIDE`] (pieces of batches).
+    pending: Vec<RecordBatch>,
+    pending_rows: usize,
 }
 
 /// The writer's settings of `lanes.parquet` (also what the estimate of a
@@ -93,11 +106,14 @@ impl ParquetLanes {
             cols,
             rows: 0,
             groups: 0,
+            pending: Vec::new(),
+            pending_rows: 0,
         })
     }
 
-    /// Appends a batch's rows, its columns encoded in parallel on `pool`;
-    /// a row group is written whenever [`ROW_GROUP`] rows are in.
+    /// Appends a batch's rows, its columns encoded in parallel on `pool`
+    /// [`STRIDE`] rows at a time; a row group is written whenever
+    /// [`ROW_GROUP`] rows are in.
     pub(super) fn write(
         &mut self,
         batch: &RecordBatch,
@@ -105,13 +121,44 @@ impl ParquetLanes {
     ) -> Result<()> {
         let mut at = 0;
         while at < batch.num_rows() {
-            let n = (ROW_GROUP - self.rows).min(batch.num_rows() - at);
-            self.encode(&batch.slice(at, n), pool)?;
+            let n = (STRIDE - self.pending_rows).min(batch.num_rows() - at);
+            let piece = batch.slice(at, n);
             at += n;
-            self.rows += n;
-            if self.rows == ROW_GROUP {
-                self.flush_group(pool)?;
+            if n == STRIDE {
+                self.put(&piece, pool)?;
+            } else {
+                self.pending.push(piece);
+                self.pending_rows += n;
+                if self.pending_rows == STRIDE {
+                    self.put_pending(pool)?;
+                }
             }
+        }
+        Ok(())
+    }
+
+    /// Encodes the waiting rows as one piece.
+    fn put_pending(&mut self, pool: Option<&rayon::ThreadPool>) -> Result<()> {
+        if self.pending_rows == 0 {
+            return Ok(());
+        }
+        let joined =
+            arrow_select::concat::concat_batches(&self.schema, &self.pending).map_err(|e| {
+                Error::Internal(format!("joining rows for {}: {e}", self.path.display()))
+            })?;
+        self.pending.clear();
+        self.pending_rows = 0;
+        self.put(&joined, pool)
+    }
+
+    /// Encodes `piece` (at most the rest of the row group).
+    fn put(&mut self, piece: &RecordBatch, pool: Option<&rayon::ThreadPool>) -> Result<()> {
+        let piece = without_empty_null_masks(piece)
+            .map_err(|e| Error::Internal(format!("rows for {}: {e}", self.path.display())))?;
+        self.encode(&piece, pool)?;
+        self.rows += piece.num_rows();
+        if self.rows == ROW_GROUP {
+            self.flush_group(pool)?;
         }
         Ok(())
     }
@@ -170,10 +217,38 @@ impl ParquetLanes {
     }
 
     pub(super) fn finish(mut self) -> Result<AtomicFile> {
+        self.put_pending(None)?;
         self.flush_group(None)?;
         let w = self.writer.take().expect("open");
         let inner = w.into_inner().map_err(|e| parquet_error(&self.path, e))?;
         self.file.restore_writer(inner);
         Ok(self.file)
     }
+}
+
+/// `batch` with no null mask on a column that has no null: a column
+/// writer takes another path for a column with a mask than without (its
+/// pages end elsewhere), and whether a piece of rows has one depends on
+/// the batch it was cut from.
+fn without_empty_null_masks(
+    batch: &RecordBatch,
+) -> std::result::Result<RecordBatch, arrow_schema::ArrowError> {
+    let empty_mask = |a: &ArrayRef| a.nulls().is_some_and(|n| n.null_count() == 0);
+    if !batch.columns().iter().any(empty_mask) {
+        return Ok(batch.clone());
+    }
+    let cols = batch
+        .columns()
+        .iter()
+        .map(|a| {
+            if empty_mask(a) {
+                Ok(arrow_array::make_array(
+                    a.to_data().into_builder().nulls(None).build()?,
+                ))
+            } else {
+                Ok(a.clone())
+            }
+        })
+        .collect::<std::result::Result<Vec<_>, arrow_schema::ArrowError>>()?;
+    RecordBatch::try_new(batch.schema(), cols)
 }

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Prepares the one-call GPU check for a lent GPU machine, from the
+# project's root:
+#
+#   bash benches/device/prepare.sh
+#
+# Builds the release binary, strips it into .device/ (the full binary is
+# over the 64 MiB a device call carries), copies benches/device/on-device.sh
+# and benches/device/run.sh beside it, fetches the Vulkan and EGL loader
+# packages into .gl/ (a GPU image may have the NVIDIA driver but no
+# loader), keeps both folders out of git, and prints the call to make.
+set -euo pipefail
+[ -f Cargo.toml ] || { echo "run from the project's root"; exit 2; }
+cargo build --release --quiet
+mkdir -p .device .gl
+for d in /.device/ /.gl/; do
+  grep -qxF "$d" .git/info/exclude 2>/dev/null || echo "$d" >> .git/info/exclude
+done
+strip -o .device/tswm target/release/tswm
+cp benches/device/on-device.sh benches/device/run.sh .device/
+o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+mkdir -p /tmp/amd64/partial
+# shellcheck disable=SC2086
+apt-get $o update -qq >/dev/null 2>&1 || true
+# shellcheck disable=SC2086
+(cd .gl && rm -f ./*.deb && apt-get $o download libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2 >/dev/null 2>&1) || true
+ls .gl/*.deb >/dev/null 2>&1 || { echo "could not fetch the loader packages into .gl/"; exit 1; }
+echo "prepared: .device/tswm ($(du -h .device/tswm | cut -f1)), $(ls .gl/*.deb | wc -l) loader packages in .gl/"
+echo "on the GPU machine, from the project's root: bash .device/on-device.sh (carry .device and .gl; about 4 minutes on an H100)"
+echo "then put its figures (devices.txt, check.txt, bench/results.md, diffrax.txt under \$OUT) in docs/performance.md"
