@@ -706,12 +706,6 @@ pub fn result(name: &str) -> Option<&'static Column> {
     results().iter().chain(SEARCH).find(|c| c.name == name)
 }
 
-/// Whether a lane whose final contact is `contact` (the word) is at
-/// rest: a running column ([`Column::running`]) has no running point there.
-pub fn at_rest(contact: &str) -> bool {
-    contact == Contact::Stick.name()
-}
-
 /// The result columns the report plots unless told otherwise.
 pub fn plotted() -> impl Iterator<Item = &'static Column> {
     results().iter().filter(|c| c.plotted)

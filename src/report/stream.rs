@@ -12,6 +12,7 @@ use crate::columns::{results, Summary};
 use crate::columns::{CONTACT_END, DRIVE, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
+use crate::integrator::{Contact, Status};
 use crate::output::batch::{word_runs, Col, Columns};
 use crate::output::table::{read_batches, Format};
 use crate::params::Num;
@@ -338,14 +339,14 @@ impl<'a> RowWords<'a> {
         let at = |list: &[(&str, u64)], w: &str| list.iter().position(|e| e.0 == w);
         RowWords {
             status,
-            ok: status == "ok",
+            ok: c.status.code(row) == Some(Status::Ok as usize),
             status_at: at(&f.by_status, status),
             hold,
             hold_at: at(&f.by_hold, hold),
             drive,
             drive_at: at(&f.by_drive, drive),
             contact: CONTACT_NAMES.iter().position(|x| x.0 == contact),
-            at_rest: crate::columns::at_rest(contact),
+            at_rest: c.contact.code(row) == Some(Contact::Stick as usize),
             outcome: super::outcome::of(contact, hold, drive),
         }
     }

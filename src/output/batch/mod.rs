@@ -191,6 +191,18 @@ impl<'a> Col<'a> {
         }
     }
 
+    /// Row `i`'s word code (None for an empty cell or a number): its
+    /// place in the column's vocabulary
+    /// ([`crate::columns::Vocabulary`]), the key of every batch `tswm`
+    /// builds or reads back ([`canonical`]).
+    #[inline]
+    pub fn code(&self, i: usize) -> Option<usize> {
+        match self {
+            Col::S(a, _) if a.is_valid(i) => Some(a.keys().value(i) as usize),
+            _ => None,
+        }
+    }
+
     /// Row `i` as a count (None for a float or word column).
     #[inline]
     pub fn count(&self, i: usize) -> Option<i64> {

@@ -7,6 +7,7 @@ use std::ops::Range;
 use super::{Column, Group, Layout, Stats, EXACT_MAX};
 use crate::columns::Of;
 use crate::error::Result;
+use crate::integrator::{Contact, Status};
 use crate::output::batch::{word_runs, Col};
 use crate::params::Num;
 use crate::stats::grouping::grid_values;
@@ -87,12 +88,10 @@ impl Stats {
                 g.drives.push(super::search::Drive {
                     lo: cols[lo].number(r),
                     hi: cols[hi].number(r),
-                    side: Side::ALL
-                        .into_iter()
-                        .find(|x| x.name() == cols[meets].word(r)),
-                    status: SearchStatus::ALL
-                        .into_iter()
-                        .find(|x| x.name() == cols[status].word(r)),
+                    side: cols[meets].code(r).and_then(|c| Side::ALL.get(c).copied()),
+                    status: cols[status]
+                        .code(r)
+                        .and_then(|c| SearchStatus::ALL.get(c).copied()),
                 });
             }
         }
@@ -126,17 +125,19 @@ fn add_shares(g: &mut Group, layout: &Layout, cols: &[Col<'_>], rows: Range<usiz
     let mut start = rows.start;
     for end in word_runs(&words, rows) {
         let n = (end - start) as u64;
-        let ok = status.word(start) == "ok";
+        let ok = status.code(start) == Some(Status::Ok as usize);
         for ((i, _), sh) in layout.words.iter().zip(g.shares.iter_mut()) {
-            let word = cols[*i].word(start);
+            // The shares' words are the column's vocabulary: a code is
+            // the place of its count.
+            let code = cols[*i].code(start);
             let counted = match sh.of {
                 Of::All => true,
                 Of::Ok => ok,
-                Of::Given => !word.is_empty(),
+                Of::Given => code.is_some(),
             };
             if counted {
                 sh.total += n;
-                if let Some(k) = sh.words.iter().position(|w| *w == word) {
+                if let Some(k) = code.filter(|&k| k < sh.counts.len()) {
                     sh.counts[k] += n;
                 }
             }
@@ -201,7 +202,7 @@ fn add_numbers(
     let contact = &cols[layout.contact];
     let at_rest: Vec<bool> = rows
         .clone()
-        .map(|r| crate::columns::at_rest(contact.word(r)))
+        .map(|r| contact.code(r) == Some(Contact::Stick as usize))
         .collect();
     let jobs: Vec<_> = g
         .cols
