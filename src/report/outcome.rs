@@ -6,6 +6,8 @@
 
 use plotters::style::RGBColor;
 
+use crate::integrator::{Contact, Drive, Hold};
+
 /// The outcomes, in the order of the legends: (word shown, colour).
 pub const OUTCOMES: [(&str, RGBColor); 9] = [
     ("runs", RGBColor(44, 160, 44)),
@@ -33,17 +35,17 @@ pub const AT_REST: [usize; 3] = [STALLED, 4, 7];
 pub const NONE_COLOUR: RGBColor = RGBColor(200, 200, 200);
 
 /// The outcome of a finished lane from its `contact_end`, `hold` and
-/// `drive` cells (words as the results table spells them).
-pub fn of(contact: &str, hold: &str, drive: &str) -> usize {
+/// `drive` cells (None: empty).
+pub fn of(contact: Option<Contact>, hold: Option<Hold>, drive: Option<Drive>) -> usize {
     match (hold, drive) {
-        ("held", _) => 4,
-        ("runs_away", _) => 5,
-        ("coasting", _) => 6,
-        (_, "runs") => 0,
-        (_, "overhauled") => 1,
-        (_, "stalled") => STALLED,
-        (_, "back_driven") => 3,
-        _ if contact == "stick" => 7,
+        (Some(Hold::Held), _) => 4,
+        (Some(Hold::RunsAway), _) => 5,
+        (Some(Hold::Coasting), _) => 6,
+        (_, Some(Drive::Runs)) => 0,
+        (_, Some(Drive::Overhauled)) => 1,
+        (_, Some(Drive::Stalled)) => STALLED,
+        (_, Some(Drive::BackDriven)) => 3,
+        _ if contact == Some(Contact::Stick) => 7,
         _ => 8,
     }
 }
@@ -64,12 +66,19 @@ mod tests {
 
     #[test]
     fn a_motor_on_lane_at_rest_is_stalled_never_held() {
-        assert_eq!(OUTCOMES[of("stick", "", "stalled")].0, "stalled");
-        assert_eq!(OUTCOMES[of("stick", "held", "")].0, "held");
-        assert_eq!(OUTCOMES[of("aa", "", "back_driven")].0, "back-driven");
-        assert_eq!(OUTCOMES[of("bb", "", "overhauled")].0, "overhauled");
+        let stick = Some(Contact::Stick);
+        assert_eq!(OUTCOMES[of(stick, None, Some(Drive::Stalled))].0, "stalled");
+        assert_eq!(OUTCOMES[of(stick, Some(Hold::Held), None)].0, "held");
+        assert_eq!(
+            OUTCOMES[of(Some(Contact::Aa), None, Some(Drive::BackDriven))].0,
+            "back-driven"
+        );
+        assert_eq!(
+            OUTCOMES[of(Some(Contact::Bb), None, Some(Drive::Overhauled))].0,
+            "overhauled"
+        );
         let rest: Vec<&str> = AT_REST.iter().map(|&k| OUTCOMES[k].0).collect();
         assert_eq!(rest, ["stalled", "held", "at rest, no motor"]);
-        assert_eq!(OUTCOMES[of("stick", "", "")].0, "at rest, no motor");
+        assert_eq!(OUTCOMES[of(stick, None, None)].0, "at rest, no motor");
     }
 }

@@ -12,7 +12,7 @@ use crate::columns::{results, Summary};
 use crate::columns::{CONTACT_END, DRIVE, HOLD, LANE, LOCK_MARGIN_DEG, STATUS};
 use crate::error::{Error, Result};
 use crate::input::sweep::Sweep;
-use crate::integrator::{Contact, Status};
+use crate::integrator::{Contact, Drive, Hold, Status};
 use crate::output::batch::{word_runs, Col, Columns};
 use crate::output::table::{read_batches, Format};
 use crate::params::Num;
@@ -165,7 +165,7 @@ impl Scan {
         for end in word_runs(&cols.words, 0..b.num_rows()) {
             self.check_lane(path, &cols, start)?;
             self.check_words(path, &cols, start)?;
-            let words = RowWords::of(&self.folder, &cols, start);
+            let words = RowWords::of(&cols, start);
             for row in start..end {
                 if row > start {
                     self.check_lane(path, &cols, row)?;
@@ -321,11 +321,12 @@ impl Scan {
 struct RowWords<'a> {
     status: &'a str,
     ok: bool,
+    /// The status's, hold's and drive's codes: their places in
+    /// `by_status`, `by_hold` and `by_drive` (the columns' vocabularies).
     status_at: Option<usize>,
-    hold: &'a str,
     hold_at: Option<usize>,
-    drive: &'a str,
     drive_at: Option<usize>,
+    coasting: bool,
     contact: Option<usize>,
     /// At rest at its end (final contact `stick`).
     at_rest: bool,
@@ -333,21 +334,25 @@ struct RowWords<'a> {
 }
 
 impl<'a> RowWords<'a> {
-    fn of(f: &Folder, c: &Cols<'a>, row: usize) -> RowWords<'a> {
-        let (status, hold, drive) = (c.status.word(row), c.hold.word(row), c.drive.word(row));
-        let contact = c.contact.word(row);
-        let at = |list: &[(&str, u64)], w: &str| list.iter().position(|e| e.0 == w);
+    fn of(c: &Cols<'a>, row: usize) -> RowWords<'a> {
+        let (hold, drive) = (c.hold.code(row), c.drive.code(row));
+        let contact = c.contact.code(row);
         RowWords {
-            status,
+            status: c.status.word(row),
             ok: c.status.code(row) == Some(Status::Ok as usize),
-            status_at: at(&f.by_status, status),
-            hold,
-            hold_at: at(&f.by_hold, hold),
-            drive,
-            drive_at: at(&f.by_drive, drive),
-            contact: CONTACT_NAMES.iter().position(|x| x.0 == contact),
-            at_rest: c.contact.code(row) == Some(Contact::Stick as usize),
-            outcome: super::outcome::of(contact, hold, drive),
+            status_at: c.status.code(row),
+            hold_at: hold,
+            drive_at: drive,
+            coasting: hold == Some(Hold::Coasting as usize),
+            contact: CONTACT_NAMES
+                .iter()
+                .position(|x| x.0 == c.contact.word(row)),
+            at_rest: contact == Some(Contact::Stick as usize),
+            outcome: super::outcome::of(
+                contact.map(|k| Contact::ALL[k]),
+                hold.map(|k| Hold::ALL[k]),
+                drive.map(|k| Drive::ALL[k]),
+            ),
         }
     }
 }
@@ -358,12 +363,10 @@ fn count_outcomes(f: &mut Folder, lane: u64, c: &Cols<'_>, row: usize, w: &RowWo
     if let Some(k) = w.status_at {
         f.by_status[k].1 += 1;
     }
-    if !w.hold.is_empty() {
+    if let Some(k) = w.hold_at {
         f.hold_lanes += 1;
-        if let Some(k) = w.hold_at {
-            f.by_hold[k].1 += 1;
-        }
-        if w.hold == "coasting" {
+        f.by_hold[k].1 += 1;
+        if w.coasting {
             let (te, tm) = (c.t_end.number(row), c.t_max.number(row));
             f.coasting_t_end = f.coasting_t_end.max(te);
             if tm.is_finite() {
@@ -371,11 +374,9 @@ fn count_outcomes(f: &mut Folder, lane: u64, c: &Cols<'_>, row: usize, w: &RowWo
             }
         }
     }
-    if !w.drive.is_empty() {
+    if let Some(k) = w.drive_at {
         f.drive_lanes += 1;
-        if let Some(k) = w.drive_at {
-            f.by_drive[k].1 += 1;
-        }
+        f.by_drive[k].1 += 1;
     }
     if !w.ok {
         f.unfinished_total += 1;
