@@ -73,9 +73,9 @@ pub enum Summary {
     /// Moments, quantiles and rank correlations of its numbers (empty
     /// cells left out).
     Numbers,
-    /// The share of each of its words (its vocabulary), with a Wilson
-    /// interval.
-    Shares(Vocabulary, Of),
+    /// The share of each of its words (the vocabulary of its
+    /// [`Value::W`]), with a Wilson interval.
+    Shares(Of),
 }
 
 /// How `tswm check` compares the CPU's and the GPU's cell.
@@ -325,7 +325,7 @@ pub const RESULTS: &[Column] = &[
         quantity: "lane status",
         meaning: "ok, or why the lane could not be finished: inconsistent (D <= 0: friction far \
                   above the lead angle), nonfinite, max_steps, max_events, step_underflow",
-        summary: Summary::Shares(status_words, Of::All),
+        summary: Summary::Shares(Of::All),
         compare: Compare::Exact,
         value: Value::W(|r| Some(r.status as usize), status_words),
         ..ROW
@@ -369,7 +369,7 @@ pub const RESULTS: &[Column] = &[
         quantity: "final contact",
         meaning: "contact at the end: aa (worm pushes wheel), bb (wheel pushes worm), stick (at rest, \
                   stuck by static friction: held if the motor is cut, stalled if it runs)",
-        summary: Summary::Shares(contact_words, Of::Ok),
+        summary: Summary::Shares(Of::Ok),
         compare: Compare::Exact,
         value: Value::W(|r| Some(r.contact_end as usize), contact_words),
         ..ROW
@@ -552,7 +552,7 @@ pub const RESULTS: &[Column] = &[
                   (sliding and not slowing down) or coasting (sliding and slowing down: not decided; \
                   set t_max)",
         empty: "the motor is not cut before t_end, or the status is not ok",
-        summary: Summary::Shares(hold_words, Of::Given),
+        summary: Summary::Shares(Of::Given),
         compare: Compare::Exact,
         value: Value::W(|r| r.hold.map(|h| h as usize), hold_words),
         ..ROW
@@ -567,7 +567,7 @@ pub const RESULTS: &[Column] = &[
                   back_driven (sliding against the motor: the load drives the worm backwards)",
         empty: "the motor is cut before t_end (see hold), a constant motor has f1 = 0, or the \
                 status is not ok",
-        summary: Summary::Shares(drive_words, Of::Given),
+        summary: Summary::Shares(Of::Given),
         compare: Compare::Exact,
         value: Value::W(|r| r.drive.map(|d| d as usize), drive_words),
         ..ROW
@@ -657,7 +657,7 @@ pub const SEARCH: &[Column] = &[
         meaning: "below: the requirement is met below the critical value; above: above it",
         empty: "the requirement is met at both ends, at neither, or its answer changes more \
                 than once",
-        summary: Summary::Shares(side_words, Of::Given),
+        summary: Summary::Shares(Of::Given),
         value: Value::W(
             |r| r.search.and_then(|s| s.side).map(|s| s as usize),
             side_words,
@@ -672,7 +672,7 @@ pub const SEARCH: &[Column] = &[
                   more than one change: the search assumes one), stopped_clear (a share \
                   boundary's search stopped refining the drive: its bracket lies clear of the \
                   boundary's)",
-        summary: Summary::Shares(search_status_words, Of::All),
+        summary: Summary::Shares(Of::All),
         compare: Compare::Exact,
         value: Value::W(|r| r.search.map(|s| s.status as usize), search_status_words),
         ..ROW
@@ -777,6 +777,14 @@ impl Column {
             Value::F(f, _) => Cell::F(f(r)),
             Value::I(f, _) => Cell::I(f(r)),
             Value::W(code, words) => Cell::S(Cow::Borrowed(code(r).map_or("", |c| words()[c]))),
+        }
+    }
+
+    /// A word column's vocabulary (None for a number column).
+    pub fn vocabulary(&self) -> Option<&'static [&'static str]> {
+        match self.value {
+            Value::W(_, words) => Some(words()),
+            _ => None,
         }
     }
 

@@ -92,7 +92,7 @@ pub struct Folder {
 /// The words of a word column of the results table.
 pub(super) fn words_of(c: &Column) -> Vec<&'static str> {
     match c.summary {
-        Summary::Shares(w, _) => w().to_vec(),
+        Summary::Shares(_) => c.vocabulary().unwrap_or_default().to_vec(),
         _ => Vec::new(),
     }
 }

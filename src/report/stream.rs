@@ -83,7 +83,7 @@ impl Scan {
             .iter()
             .filter(|r| matches!(r.summary, Summary::Shares(..)))
             .map(|r| {
-                let maybe = matches!(r.summary, Summary::Shares(_, crate::columns::Of::Given));
+                let maybe = matches!(r.summary, Summary::Shares(crate::columns::Of::Given));
                 (r.name, words_of(r), maybe)
             })
             .collect();

@@ -88,8 +88,8 @@ impl Layout {
             .iter()
             .enumerate()
             .filter_map(|(i, c)| match c.summary {
-                Summary::Shares(words, of) => {
-                    let words = words();
+                Summary::Shares(of) => {
+                    let words = c.vocabulary().unwrap_or_default();
                     let n = words.len();
                     Some((
                         first + i,

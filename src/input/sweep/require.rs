@@ -78,8 +78,8 @@ impl Requirement {
         let col = result(name)
             .ok_or_else(|| format!("`{}` is not a result column; {allowed}", shown(name)))?;
         let test = match (col.kind(), col.summary, op) {
-            (Kind::Text, Summary::Shares(words, _), None) => {
-                let words = words();
+            (Kind::Text, Summary::Shares(_), None) => {
+                let words = col.vocabulary().unwrap_or_default();
                 if !words.contains(&value) {
                     return Err(format!(
                         "`{}` is not a value of {}; allowed: {}",
