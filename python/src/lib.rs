@@ -394,6 +394,7 @@ fn devices(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         x.set_item("api", a.api)?;
         x.set_item("driver", a.driver)?;
         x.set_item("hardware", a.hardware)?;
+        x.set_item("shader_f64", a.shader_f64)?;
         let [binding, buffer, groups, invocations] = a.limits;
         x.set_item("max_storage_buffer_binding_size", binding)?;
         x.set_item("max_buffer_size", buffer)?;

@@ -153,5 +153,8 @@ def test_bench_check_and_devices(root):
     assert d["cpu"]["threads"] >= 1 and d["cpu"]["lanes"] >= 1
     if not d["adapters"]:
         pytest.skip("no GPU adapter for tswm.check (install mesa-vulkan-drivers)")
+    # Whether an adapter's shaders have 64-bit floats: lavapipe's do.
+    assert all(isinstance(a["shader_f64"], bool) for a in d["adapters"])
+    assert all(a["shader_f64"] for a in d["adapters"] if a["name"].startswith("llvmpipe"))
     c = tswm.check(root / "sweeps/paper.toml", progress=False)
     assert c.lanes == 2 and c.passed, str(c)

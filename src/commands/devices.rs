@@ -30,6 +30,9 @@ pub struct Adapter {
     pub driver: String,
     /// Whether it is a hardware GPU (not a software rasteriser).
     pub hardware: bool,
+    /// Whether its shaders have 64-bit floats (wgpu's `SHADER_F64`;
+    /// Vulkan only). `tswm`'s GPU path runs in f32 on every adapter.
+    pub shader_f64: bool,
     /// The limits a run's work is sized by: largest storage buffer
     /// binding and buffer (bytes), workgroups a dimension, invocations a
     /// workgroup.
@@ -54,6 +57,7 @@ pub fn list() -> Result<Devices> {
                 api: format!("{:?}", a.info.backend),
                 driver: format!("{} {}", a.info.driver, a.info.driver_info),
                 hardware: crate::backend::gpu::is_hardware(&a.info),
+                shader_f64: a.features.contains(wgpu::Features::SHADER_F64),
                 limits: [
                     l.max_storage_buffer_binding_size,
                     l.max_buffer_size,
@@ -98,7 +102,8 @@ pub fn run() -> Result<()> {
             "{} ({}, {}, driver {})\n  max_storage_buffer_binding_size {binding} B, max_buffer_size {buffer} B, \
              max_compute_workgroups_per_dimension {groups}, max_compute_invocations_per_workgroup {invocations}\n  \
              chunks: {chunk} lanes, cut into parts of {part} lanes, {in_flight} in flight at once, each on {slots} slots \
-             ({}; at most {} lanes a part by the limits)",
+             ({}; at most {} lanes a part by the limits)\n  \
+             64-bit floats in shaders (SHADER_F64): {} (the GPU path runs in f32)",
             a.name,
             a.device_type,
             a.api,
@@ -116,6 +121,7 @@ pub fn run() -> Result<()> {
                 )
             },
             a.max_part_lanes,
+            if a.shader_f64 { "yes" } else { "no" },
         );
     }
     Ok(())

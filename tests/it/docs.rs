@@ -104,6 +104,7 @@ fn the_docs_name_no_parameter_or_column_that_does_not_exist() {
         "device_type",
         "part_lanes",
         "parts_in_flight",
+        "shader_f64",
         // crates
         "rand_chacha",
         "rand_core",

@@ -45,6 +45,8 @@ pub struct AdapterSummary {
     pub info: wgpu::AdapterInfo,
     /// Its limits.
     pub limits: wgpu::Limits,
+    /// Its features (`SHADER_F64`: 64-bit floats in shaders).
+    pub features: wgpu::Features,
 }
 
 fn instance() -> wgpu::Instance {
@@ -78,6 +80,7 @@ pub fn adapters() -> Vec<AdapterSummary> {
             .map(|a| AdapterSummary {
                 info: a.get_info(),
                 limits: a.limits(),
+                features: a.features(),
             })
             .collect();
     v.sort_by_key(|a| rank(a.info.device_type));
