@@ -84,6 +84,16 @@ fn validity(keys: &[i16]) -> Option<NullBuffer> {
 /// finished; its key is then 0).
 const NO_WORD: i16 = -1;
 
+/// The error's words for `word`, which column `name`'s vocabulary `v`
+/// lacks.
+fn not_a_value(word: &str, name: &str, v: &[&str]) -> String {
+    format!(
+        "`{}` is not a value of {name}; allowed: {}",
+        crate::error::shown(word, 40),
+        v.join(", ")
+    )
+}
+
 /// A word column being filled: keys of its vocabulary's codes, or of its
 /// words in the order they first appear (`friction_table`).
 pub struct WordKeys {
@@ -121,14 +131,7 @@ impl WordKeys {
             Some(w) => match self.vocab {
                 Some(v) => match v.iter().position(|x| *x == w) {
                     Some(c) => c as i16,
-                    None => {
-                        return Err(format!(
-                            "`{}` is not a value of {}; allowed: {}",
-                            crate::error::shown(w, 40),
-                            self.name,
-                            v.join(", ")
-                        ))
-                    }
+                    None => return Err(not_a_value(w, self.name, v)),
                 },
                 None => match self.seen.iter().position(|x| x == w) {
                     Some(c) => c as i16,
@@ -180,6 +183,30 @@ pub fn canonical(name: &'static str, a: &ArrayRef) -> std::result::Result<ArrayR
             {
                 return Ok(a.clone());
             }
+            // Keyed otherwise (a Parquet reader's keys): each dictionary
+            // word's code found once, then the keys mapped.
+            let mut code = Vec::with_capacity(values.len());
+            for x in values.iter() {
+                code.push(match x.filter(|x| !x.is_empty()) {
+                    None => NO_WORD,
+                    Some(x) => match v.iter().position(|w| *w == x) {
+                        Some(c) => c as i16,
+                        None => return Err(not_a_value(x, name, v)),
+                    },
+                });
+            }
+            let keys: Vec<i16> = (0..d.len())
+                .map(|i| {
+                    if d.is_valid(i) {
+                        code[d.keys().value(i) as usize]
+                    } else {
+                        NO_WORD
+                    }
+                })
+                .collect();
+            let mut w = WordKeys::new(name, 0);
+            w.keys = keys;
+            return Ok(w.finish());
         }
     }
     let mut w = WordKeys::new(name, a.len());
@@ -240,6 +267,7 @@ fn word_column_name(name: &str) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::output::batch::Col;
 
     #[test]
     fn words_are_keyed_by_their_codes_and_read_back_the_same() {
@@ -276,6 +304,15 @@ mod tests {
             [Some("max_steps"), None, Some("ok"), Some("max_steps")]
         );
         assert!(Arc::ptr_eq(&canonical("status", &a).unwrap(), &a));
+        let odd: ArrayRef = Arc::new(
+            vec![Some("ok"), Some("fine")]
+                .into_iter()
+                .collect::<DictionaryArray<Key>>(),
+        );
+        assert!(canonical("status", &odd).unwrap_err().contains("`fine`"));
+        let plain: ArrayRef = Arc::new(StringArray::from(vec![Some("max_steps"), None]));
+        let c = canonical("status", &plain).unwrap();
+        assert_eq!(Col::of(&c).unwrap().word(0), "max_steps");
     }
 
     /// A code is a variant's place in its enum's `ALL` (what `as usize`
