@@ -12,6 +12,7 @@
 use crate::columns::{Column, Summary};
 use crate::columns::{DRIVE, HOLD, STATUS};
 use crate::input::sweep::Sweep;
+use crate::integrator::Contact;
 use crate::params::Param;
 
 pub(super) use super::aggregates::LINE_POINTS;
@@ -22,10 +23,14 @@ pub use super::line::LineData;
 pub use super::require::RequireData;
 pub use super::trace::TraceData;
 
-/// Final contacts as `lanes.csv` spells them, with the words the report
-/// uses. `stick` is "at rest": held if the motor is cut, stalled if it
-/// runs (the outcome says which).
-pub const CONTACT_NAMES: [(&str, &str); 3] = [("stick", "at rest"), ("aa", "a-a"), ("bb", "b-b")];
+/// Final contacts in the report's order, with the words the report uses
+/// beside their own. `stick` is "at rest": held if the motor is cut,
+/// stalled if it runs (the outcome says which).
+pub const CONTACT_NAMES: [(Contact, &str); 3] = [
+    (Contact::Stick, "at rest"),
+    (Contact::Aa, "a-a"),
+    (Contact::Bb, "b-b"),
+];
 
 /// Most cells along one axis of a map, and points along a line; longer
 /// axes are binned.

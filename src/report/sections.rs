@@ -60,7 +60,7 @@ pub(super) fn outcomes(page: &mut Page, f: &Folder) {
     let contact: Vec<(String, u64)> = CONTACT_NAMES
         .iter()
         .enumerate()
-        .map(|(i, (name, meaning))| (format!("{name} ({meaning})"), f.by_contact[i]))
+        .map(|(i, (c, meaning))| (format!("{} ({meaning})", c.name()), f.by_contact[i]))
         .collect();
     share_table(page, f, "final contact (finished lanes)", &contact, ok);
     let words = |v: &[(&str, u64)]| -> Vec<(String, u64)> {

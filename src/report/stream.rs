@@ -344,9 +344,7 @@ impl<'a> RowWords<'a> {
             hold_at: hold,
             drive_at: drive,
             coasting: hold == Some(Hold::Coasting as usize),
-            contact: CONTACT_NAMES
-                .iter()
-                .position(|x| x.0 == c.contact.word(row)),
+            contact: contact.and_then(|k| CONTACT_NAMES.iter().position(|x| x.0 as usize == k)),
             at_rest: contact == Some(Contact::Stick as usize),
             outcome: super::outcome::of(
                 contact.map(|k| Contact::ALL[k]),

@@ -113,8 +113,8 @@ impl Folder {
     ) -> Result<()> {
         let word = CONTACT_NAMES
             .iter()
-            .find(|c| c.0 == nm)
-            .map_or(nm.clone(), |c| format!("{} ({})", c.0, c.1));
+            .find(|c| c.0.name() == nm)
+            .map_or(nm.clone(), |c| format!("{} ({})", c.0.name(), c.1));
         let kind = text(rec, cols.kind);
         let pct = super::words::percent;
         let (s, l, h) = (
