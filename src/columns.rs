@@ -164,6 +164,7 @@ macro_rules! vocabulary {
         }
     };
 }
+pub(crate) use vocabulary;
 
 /// A float column's [`Value`] from its reading of one lane.
 macro_rules! float {

@@ -22,16 +22,22 @@ pub(super) fn float_array(values: ScalarBuffer<f64>) -> ArrayRef {
 
 /// Where `values` hold NaN, as nulls: none for a column without NaN, all
 /// for a column of NaN (a parameter that no lane's law uses, a result no
-/// lane has), counted first (as a vector) so that only a mixed column
-/// is walked value by value.
+/// lane has).
 fn nan_nulls(values: &[f64]) -> Option<NullBuffer> {
-    let nan: usize = values.iter().map(|v| usize::from(v.is_nan())).sum();
-    match nan {
+    nulls_where(values, |v| v.is_nan())
+}
+
+/// The rows of `values` where `empty` holds, as nulls: none, all, or a
+/// mask; counted first (as a vector) so that only a mixed column is
+/// walked value by value.
+pub(super) fn nulls_where<T: Copy>(values: &[T], empty: impl Fn(T) -> bool) -> Option<NullBuffer> {
+    let n: usize = values.iter().map(|&v| usize::from(empty(v))).sum();
+    match n {
         0 => None,
         n if n == values.len() => Some(NullBuffer::new_null(n)),
         _ => Some(NullBuffer::new(BooleanBuffer::collect_bool(
             values.len(),
-            |i| !values[i].is_nan(),
+            |i| !empty(values[i]),
         ))),
     }
 }

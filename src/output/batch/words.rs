@@ -14,7 +14,7 @@ use std::sync::Arc;
 use arrow_array::cast::AsArray;
 use arrow_array::types::Int16Type;
 use arrow_array::{Array, ArrayRef, DictionaryArray, Int16Array, RecordBatch, StringArray};
-use arrow_buffer::{BooleanBuffer, NullBuffer};
+use arrow_buffer::NullBuffer;
 use arrow_schema::DataType;
 
 use crate::columns::{result, Value, Vocabulary};
@@ -29,17 +29,8 @@ pub fn word_type() -> DataType {
     DataType::Dictionary(Box::new(DataType::Int16), Box::new(DataType::Utf8))
 }
 
-fn motor_words() -> &'static [&'static str] {
-    static WORDS: std::sync::LazyLock<Vec<&'static str>> =
-        std::sync::LazyLock::new(|| MotorKind::ALL.map(MotorKind::name).to_vec());
-    &WORDS
-}
-
-fn friction_words() -> &'static [&'static str] {
-    static WORDS: std::sync::LazyLock<Vec<&'static str>> =
-        std::sync::LazyLock::new(|| FrictionKind::ALL.map(FrictionKind::name).to_vec());
-    &WORDS
-}
+crate::columns::vocabulary!(motor_words, MotorKind);
+crate::columns::vocabulary!(friction_words, FrictionKind);
 
 /// The vocabulary of word column `name`: the motor and friction laws,
 /// a result column's own; None for `friction_table` (the sweep's names)
@@ -64,20 +55,6 @@ pub fn dictionary(keys: Vec<i16>, valid: Option<NullBuffer>, words: &[&str]) -> 
         Int16Array::new(keys.into(), valid),
         values,
     ))
-}
-
-/// Which rows of `keys` hold a word (`NO_WORD` marks the others): none
-/// missing, all, or some.
-fn validity(keys: &[i16]) -> Option<NullBuffer> {
-    let empty = keys.iter().filter(|&&k| k == NO_WORD).count();
-    match empty {
-        0 => None,
-        e if e == keys.len() => Some(NullBuffer::new_null(e)),
-        _ => Some(NullBuffer::new(BooleanBuffer::collect_bool(
-            keys.len(),
-            |i| keys[i] != NO_WORD,
-        ))),
-    }
 }
 
 /// The key of a row with no word while a column is filled (a null once
@@ -151,7 +128,7 @@ impl WordKeys {
     /// vocabulary).
     pub fn finish(&mut self) -> ArrayRef {
         let mut keys = std::mem::take(&mut self.keys);
-        let valid = validity(&keys);
+        let valid = super::build::nulls_where(&keys, |k| k == NO_WORD);
         if valid.is_some() {
             keys.iter_mut()
                 .filter(|k| **k == NO_WORD)
