@@ -13,9 +13,15 @@ set -euo pipefail
 [ -f Cargo.toml ] || { echo "run from the project's root"; exit 2; }
 cargo build --release --quiet
 mkdir -p .device .gl
-for d in /.device/ /.gl/; do
-  grep -qxF "$d" .git/info/exclude 2>/dev/null || echo "$d" >> .git/info/exclude
-done
+# Keep both folders out of git where this is a git checkout (a worktree's
+# or a submodule's exclude file is not at .git/info/exclude; an exported
+# tree has none).
+if exclude="$(git rev-parse --git-path info/exclude 2>/dev/null)"; then
+  mkdir -p "$(dirname "$exclude")"
+  for d in /.device/ /.gl/; do
+    grep -qxF "$d" "$exclude" 2>/dev/null || echo "$d" >> "$exclude"
+  done
+fi
 strip -o .device/tswm target/release/tswm
 cp benches/device/on-device.sh benches/device/run.sh .device/
 o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
