@@ -1,94 +1,27 @@
 //! `tswm merge`: the shard folders of one sweep joined into what one run
-//! would have written: the table (`lanes.csv` byte-identical to an
-//! unsharded run's on the same backend; `lanes.parquet` the same values,
-//! and for 10^6 lanes not the same bytes: its pages come out longer), `traces.csv`,
-//! `summary.csv`,
+//! would have written: the table (byte-identical to an unsharded run's on
+//! the same backend, in either format), `traces.csv`, `summary.csv`,
 //! `sweep.resolved.toml` and the report.
 //!
-//! Shards are verified, not trusted ([`super::verify`]). The rows are
-//! then streamed, one shard after the other, parsed cell by cell and
-//! checked lane by lane, and each table's SHA-256 is compared (a CSV
-//! table is hashed as it is read, a Parquet one before); Parquet shards go
-//! batch by batch instead, never through
-//! text (`merge_batches.rs`). Any failure drops the partial files,
-//! so nothing is written.
+//! Shards are verified, not trusted ([`super::verify`]). Each shard's
+//! table, its SHA-256 compared with its manifest's, is then read as Arrow
+//! batches, one shard after the other, checked lane by lane, and each
+//! batch goes to the table's writer and the statistics as a run's batch
+//! does (`merge_batches.rs`): no Parquet value goes through text. Any
+//! failure drops the partial files, so nothing is written.
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 
-use super::merge_batches::merge_parquet_part;
-use super::verify::{all_rows_read, check_shards, refused, Part};
-use crate::columns::LANE;
+use super::merge_batches::merge_part;
+use super::verify::{check_shards, Part};
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
-use crate::output::batch::columns_for;
+use crate::output::batch::typed;
 use crate::output::csv_lines::CsvLines;
 use crate::output::names::{RESOLVED, SUMMARY, TRACES};
 use crate::output::provenance::{time_line, SHARD_LINE, TIME_LINE};
-use crate::output::table::{Cell, Format, LanesWriter, RowReader};
-
-/// Rows the statistics of a merge take at a time.
-const MERGE_ROWS: usize = 8192;
-
-/// The statistics of a merge, fed rows a batch at a time as a run's are.
-struct Batched {
-    stats: Stats,
-    pool: rayon::ThreadPool,
-    rows: Vec<Cell>,
-    first: u64,
-    /// A search's rows (its columns after the results).
-    search: bool,
-}
-
-impl Batched {
-    fn new(stats: Stats, search: bool) -> Result<Batched> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .map_err(|e| Error::Internal(format!("merge threads: {e}")))?;
-        Ok(Batched {
-            stats,
-            pool,
-            rows: Vec::new(),
-            first: 0,
-            search,
-        })
-    }
-
-    /// Adds lane `lane`'s row.
-    fn add(&mut self, lane: u64, cells: &[Cell]) -> Result<()> {
-        if self.rows.is_empty() {
-            self.first = lane;
-        }
-        self.rows.extend_from_slice(cells);
-        if self.rows.len() >= MERGE_ROWS * cells.len() {
-            self.flush()?;
-        }
-        Ok(())
-    }
-
-    /// Adds a batch of rows whose first lane is `first`.
-    fn add_batch(&mut self, first: u64, b: &arrow_array::RecordBatch) -> Result<()> {
-        self.flush()?;
-        let cols = crate::output::batch::typed(b)?;
-        self.stats.add_batch(first, &cols, &self.pool)
-    }
-
-    fn flush(&mut self) -> Result<()> {
-        if !self.rows.is_empty() {
-            let b = crate::output::batch::from_cells(&self.rows, self.search)?;
-            let cols = crate::output::batch::typed(&b)?;
-            self.stats.add_batch(self.first, &cols, &self.pool)?;
-            self.rows.clear();
-        }
-        Ok(())
-    }
-
-    fn finish(mut self) -> Result<Stats> {
-        self.flush()?;
-        Ok(self.stats)
-    }
-}
+use crate::output::table::{Format, LanesWriter};
 use crate::output::traces::TRACE_COLUMNS;
 use crate::output::{AtomicFile, OutDir};
 use crate::stats::{Grouping, Stats};
@@ -163,10 +96,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     let total = first.m.lanes_total;
 
     let mut table = LanesWriter::create(out_dir.path(), format, false, search)?;
-    let stats = Stats::create(&out_dir.join(SUMMARY), Grouping::of(&source))?;
-    let mut batched = Batched::new(stats, search)?;
-    let next = stream_parts(&parts, search, &mut table, &mut batched)?;
-    let stats = batched.finish()?;
+    let mut stats = Stats::create(&out_dir.join(SUMMARY), Grouping::of(&source))?;
+    let next = stream_parts(&parts, search, &mut table, &mut stats)?;
 
     let mut files = vec![merged_resolved(
         out_dir.path(),
@@ -196,89 +127,28 @@ pub fn merge(dirs: &[PathBuf], out: &Path, format: Format, with_report: bool) ->
     })
 }
 
-/// Streams the shards' rows, in order, into `table` and the statistics.
-/// Returns the number of lanes.
+/// Streams the shards' batches, in order, into `table` and the
+/// statistics. Returns the number of lanes.
 fn stream_parts(
     parts: &[Part],
     search: bool,
     table: &mut LanesWriter,
-    batched: &mut Batched,
+    stats: &mut Stats,
 ) -> Result<u64> {
-    let kinds = columns_for(search);
-    let mut rec = csv::ByteRecord::new();
-    let mut cells: Vec<Cell> = Vec::with_capacity(kinds.len());
-    let mut next = 0u64;
-    let table_pool = rayon::ThreadPoolBuilder::new()
+    let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .map_err(|e| Error::Internal(format!("merge threads: {e}")))?;
+    let mut next = 0u64;
     for p in parts {
-        if p.m.format == Format::Parquet {
-            // Batch by batch: no value goes through text (a CSV table is
-            // formatted from the batches as a run formats it).
-            next = merge_parquet_part(p, search, next, |first, b| {
-                table.write_batch(&table_pool, b)?;
-                batched.add_batch(first, b)
-            })?;
-            continue;
-        }
-        next = merge_part(p, &kinds, next, &mut rec, &mut cells, |row, rec, cells| {
-            table.write_row(rec, cells)?;
-            batched.add(row, cells)
+        // Batch by batch: a CSV table is formatted from the batches as a
+        // run formats it, a Parquet one encoded as a run encodes it.
+        next = merge_part(p, search, next, |first, b| {
+            table.write_batch(&pool, b)?;
+            stats.add_batch(first, &typed(b)?, &pool)
         })?;
     }
     Ok(next)
-}
-
-/// Streams shard `p`'s rows (lanes from `next`) into `row`, checking
-/// each; the table's SHA-256 against the manifest. Returns the next lane.
-fn merge_part(
-    p: &Part,
-    kinds: &[(&'static str, crate::output::table::Kind)],
-    mut next: u64,
-    rec: &mut csv::ByteRecord,
-    cells: &mut Vec<Cell>,
-    mut row: impl FnMut(u64, &csv::ByteRecord, &[Cell]) -> Result<()>,
-) -> Result<u64> {
-    let name = p.m.format.file_name();
-    let path = p.dir.join(name);
-    let want = &p.m.files[name];
-    let mut rd = RowReader::open(&path, p.m.format)?;
-    let header: Vec<&[u8]> = rd.header().iter().collect();
-    if header.len() != kinds.len() || header.iter().zip(kinds).any(|(a, b)| *a != b.0.as_bytes()) {
-        return Err(Error::input(
-            rd.path(),
-            Some("line 1".into()),
-            None,
-            "its columns are not those of this tswm version's table; run the shard again",
-        ));
-    }
-    let lane_col = kinds.iter().position(|k| k.0 == LANE).unwrap_or(0);
-    while rd.read_cells(rec, kinds, cells)? {
-        if cells[lane_col] != Cell::I(next) || next >= p.m.lane_end {
-            return Err(Error::input(
-                &path,
-                Some(format!("row {}", next - p.m.lane_start + 1)),
-                Some(LANE),
-                format!(
-                    "expected lane {next} (shard {}/{} holds lanes {}..{}); run the shard again",
-                    p.m.shard, p.m.shards, p.m.lane_start, p.m.lane_end
-                ),
-            ));
-        }
-        row(next, rec, cells)?;
-        next += 1;
-    }
-    if let Some(d) = rd.digest() {
-        if d != *want {
-            return Err(refused(
-                &p.dir,
-                &p.m,
-                format!("{name} is changed: its SHA-256 is not the one the manifest records"),
-            ));
-        }
-    }
-    all_rows_read(p, name, next)
 }
 
 /// Whether `a` and `b` name the same folder (`b` may not exist yet).

@@ -6,6 +6,7 @@
 //! trial before it ([`estimate`]).
 
 pub mod compare;
+mod consumers;
 pub mod estimate;
 pub mod merge;
 mod merge_batches;

@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+pub use super::consumers::Written;
+use super::consumers::{feed, Consumer, ReportScan};
 use super::pipeline::{pipeline_timed, Sink};
 use super::summary::Summary;
 use crate::backend::Backend;
@@ -16,11 +18,10 @@ use crate::integrator::batch::settings_for;
 use crate::integrator::trace::simulate_traced;
 use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
-use crate::output::batch::{typed, Builder};
+use crate::output::batch::Builder;
 use crate::output::names::{SUMMARY, TRACES};
 use crate::output::table::{Format, LanesWriter};
 use crate::output::traces::TracesCsv;
-use crate::output::AtomicFile;
 use crate::params::{LaneParams, ParamColumns};
 use crate::progress::Show;
 use crate::report::Scan;
@@ -32,17 +33,16 @@ use arrow_array::RecordBatch;
 /// (not for a shard: a shard's statistics would be of part of a group);
 /// traced lanes streamed to `traces.csv`.
 struct TableSink {
-    /// The table's writer (none when the batches are only kept).
-    table: Option<LanesWriter>,
-    /// Formats the table's rows in parallel.
+    /// What each batch is fed to: the table's writer, the statistics,
+    /// the report's aggregates (none of them when the batches are only
+    /// kept).
+    consumers: Vec<Box<dyn Consumer>>,
+    /// The writer threads: each consumer a task, which it splits further.
     pool: rayon::ThreadPool,
     summary: Summary,
     /// Builds each chunk's batch, its buffers kept from chunk to chunk.
     builder: Builder,
-    stats: Option<Stats>,
     traces: Option<Tracer>,
-    /// The report's aggregates, and the table's path for its errors.
-    scan: Option<(Scan, PathBuf)>,
     /// The batches, kept in lane order (Python's `tswm.run`); None:
     /// their buffers go back to the builder.
     kept: Option<Vec<RecordBatch>>,
@@ -132,74 +132,29 @@ impl Sink for TableSink {
         // The parameter columns move into the batch (no copy) and come
         // back when it is written.
         let batch = self.builder.build(first, params, results, &self.pool)?;
-        // The table written while the counts are taken: each is a task
-        // of the pool (which splits them further), so neither leaves a
-        // core idle while the other's serial part runs.
-        let TableSink {
-            table,
-            pool,
-            stats,
-            scan,
-            ..
-        } = self;
-        let (written, counted) = pool.install(|| {
-            rayon::join(
-                || match table.as_mut() {
-                    Some(t) => t.write_batch(pool, &batch),
-                    None => Ok(()),
-                },
-                || -> Result<()> {
-                    if let Some((s, path)) = scan.as_mut() {
-                        s.batch_of(path, &batch)?;
-                    }
-                    if let Some(s) = stats.as_mut() {
-                        s.add_batch(first, &typed(&batch)?, pool)?;
-                    }
-                    Ok(())
-                },
-            )
-        });
+        // Each consumer a task of the pool, so none leaves a core idle
+        // while another's serial part runs.
+        let fed = feed(&mut self.consumers, first, &batch, &self.pool);
         match self.kept.as_mut() {
             Some(kept) => kept.push(batch),
             None => self.builder.recycle(batch, params),
         }
-        written.and(counted)
+        fed
     }
     fn finish(self) -> Result<Self::Output> {
-        let (stats, sensitivity_seconds, boundaries) = match self.stats {
-            Some(s) => s.finish_all()?,
-            None => (Vec::new(), None, Vec::new()),
-        };
-        Ok(Written {
-            lanes: self.table.map(LanesWriter::into_file).transpose()?,
-            stats,
+        let mut out = Written {
+            lanes: None,
+            stats: Vec::new(),
             traces: self.traces.and_then(|t| t.out),
-            scan: self.scan.map(|s| s.0),
-            summary: Summary {
-                sensitivity_seconds,
-                boundaries,
-                ..self.summary
-            },
+            scan: None,
+            summary: self.summary,
             batches: self.kept.unwrap_or_default(),
-        })
+        };
+        for c in self.consumers {
+            c.finish(&mut out)?;
+        }
+        Ok(out)
     }
-}
-
-/// What a run wrote, not yet committed.
-pub struct Written {
-    /// `lanes.csv` or `lanes.parquet` (none without a folder).
-    pub lanes: Option<AtomicFile>,
-    /// `summary.csv` and, for a sensitivity design, `sensitivity.csv`
-    /// (not for a shard).
-    pub stats: Vec<AtomicFile>,
-    /// `traces.csv`, when lanes were traced.
-    pub traces: Option<TracesCsv>,
-    /// Counts for the summary line.
-    pub summary: Summary,
-    /// The report's aggregates, when they were gathered on the way.
-    pub scan: Option<Scan>,
-    /// The table's batches, in lane order, when kept.
-    pub batches: Vec<RecordBatch>,
 }
 
 /// Where a run's table goes and which lanes it runs.
@@ -262,30 +217,21 @@ pub fn run(
         }
         None => None,
     };
-    let stats = match (target.range, dir) {
-        (None, Some(d)) => Some(Stats::create(&d.join(SUMMARY), Grouping::of(source))?),
-        _ => None,
-    };
+    let consumers = consumers(dir, &target, source, scan)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(target.threads)
         .thread_name(|i| format!("tswm-writer-{i}"))
         .build()
         .map_err(|e| Error::Internal(format!("writer threads: {e}")))?;
     let sink = TableSink {
-        // A shard's files are hashed as they are written: its manifest
-        // records their SHA-256.
-        table: dir
-            .map(|d| LanesWriter::create(d, target.format, target.range.is_some(), search))
-            .transpose()?,
+        consumers,
         pool,
-        stats,
         summary: Summary {
             search_param: source.search().map(|s| s.param.name()),
             ..Summary::default()
         },
         builder: Builder::for_run(search),
         traces,
-        scan: dir.and_then(|d| scan.map(|s| (s, d.join(target.format.file_name())))),
         kept: target.keep.then(Vec::new),
     };
     let table = dir.map_or_else(PathBuf::new, |d| d.join(target.format.file_name()));
@@ -298,4 +244,38 @@ pub fn run(
     written.summary.seconds = start.elapsed().as_secs_f64();
     written.summary.busy = busy;
     Ok(written)
+}
+
+/// The consumers of a run's batches in `dir`: the results table, the
+/// statistics (not for a shard: they would be of part of a group) and the
+/// report's aggregates when `scan`; none without a folder.
+fn consumers(
+    dir: Option<&Path>,
+    target: &Target<'_>,
+    source: &Source,
+    scan: Option<Scan>,
+) -> Result<Vec<Box<dyn Consumer>>> {
+    let mut consumers: Vec<Box<dyn Consumer>> = Vec::new();
+    let Some(d) = dir else {
+        return Ok(consumers);
+    };
+    // A shard's files are hashed as they are written: its manifest
+    // records their SHA-256.
+    let (hashed, search) = (target.range.is_some(), source.search().is_some());
+    consumers.push(Box::new(LanesWriter::create(
+        d,
+        target.format,
+        hashed,
+        search,
+    )?));
+    if target.range.is_none() {
+        consumers.push(Box::new(Stats::create(
+            &d.join(SUMMARY),
+            Grouping::of(source),
+        )?));
+    }
+    if let Some(s) = scan {
+        consumers.push(Box::new(ReportScan(s, d.join(target.format.file_name()))));
+    }
+    Ok(consumers)
 }

@@ -11,6 +11,7 @@ mod drive;
 mod engineering;
 mod first_use;
 mod fixtures;
+mod formats;
 mod friction_laws;
 mod fuzz;
 mod gear;

@@ -22,7 +22,7 @@ use arrow_array::{
 };
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 
-use crate::columns::{results_for, Cell, Kind};
+use crate::columns::{results_for, Kind};
 use crate::error::{Error, Result};
 use crate::params::Param;
 
@@ -84,39 +84,6 @@ pub fn is_search(names: &[&str]) -> bool {
 /// A float column from its values, NaN as null.
 pub fn floats(values: Vec<f64>) -> ArrayRef {
     build::float_array(values.into())
-}
-
-/// The batch of rows given as cells, row after row, in
-/// [`columns`] order (a merge's rows read back).
-pub fn from_cells(cells: &[Cell], search: bool) -> Result<RecordBatch> {
-    let schema = schema_for(search);
-    let w = schema.fields().len();
-    let n = cells.len() / w;
-    let at = |c: usize| (0..n).map(move |r| &cells[r * w + c]);
-    let cols: Vec<ArrayRef> = schema
-        .fields()
-        .iter()
-        .enumerate()
-        .map(|(c, f)| match f.data_type() {
-            DataType::Float64 => Ok(floats(at(c).map(Cell::number).collect())),
-            DataType::Int64 => Ok(Arc::new(
-                at(c)
-                    .map(|x| match x {
-                        Cell::I(v) => *v as i64,
-                        x => x.number() as i64,
-                    })
-                    .collect::<Int64Array>(),
-            ) as ArrayRef),
-            _ => {
-                let mut w = WordKeys::new(columns_for(search)[c].0, n);
-                at(c)
-                    .try_for_each(|x| w.push(Some(x.word())))
-                    .map_err(|m| Error::Internal(format!("column {}: {m}", f.name())))?;
-                Ok(w.finish())
-            }
-        })
-        .collect::<Result<_>>()?;
-    RecordBatch::try_new(schema, cols).map_err(|e| Error::Internal(format!("results batch: {e}")))
 }
 
 /// One column of a batch, typed.

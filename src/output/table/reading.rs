@@ -32,7 +32,7 @@ pub(super) fn open(path: &Path) -> Result<File> {
 }
 
 /// The columns asked for: their place in the table, name and kind.
-pub(super) type Wanted = [(usize, &'static str, Kind)];
+pub type Wanted = [(usize, &'static str, Kind)];
 
 /// One asked-for column of a CSV table, filling.
 pub(super) enum Builder {

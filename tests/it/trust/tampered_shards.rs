@@ -58,6 +58,26 @@ fn a_shard_with_text_in_a_number_cell_is_refused() {
     assert!(b[at].is_ascii_digit());
     b[at] = b'x';
     std::fs::write(&p, b).unwrap();
+    // As written, the table's SHA-256 no longer matches the manifest's.
+    merge_refused(
+        dir.path(),
+        &["s1", "shard 1/2 refused", "lanes.csv is changed"],
+    );
+    // With the manifest forged to match, the reader's own check refuses
+    // the cell, naming the file, the row and the column.
+    let m = dir.path().join("s1/shard.toml");
+    let manifest = std::fs::read_to_string(&m).unwrap();
+    let old = manifest
+        .lines()
+        .skip_while(|l| *l != "[files.\"lanes.csv\"]")
+        .find_map(|l| l.strip_prefix("sha256 = "))
+        .unwrap()
+        .to_string();
+    let new = format!(
+        "\"{}\"",
+        tswm::output::digest::file_digest(&p).unwrap().sha256
+    );
+    std::fs::write(&m, manifest.replace(&old, &new)).unwrap();
     merge_refused(
         dir.path(),
         &["s1/lanes.csv", "row 1", "not a finite number"],
