@@ -1,0 +1,207 @@
+// Mirrors src/model/vmath.rs: ln, exp and pow of the f64 path, from
+// arithmetic only, plus tan. WGSL's own exp, log, pow and tan become
+// GLSL.std.450 instructions that SPIR-V defines for 16- and 32-bit floats
+// only: for f64 a driver may return anything (gfx-rs/wgpu#6087; Mesa's
+// RADV returns NaN for f64 exp). The bit tricks of vmath.rs (exponent
+// fields read and written) are frexp and ldexp here, which SPIR-V does
+// define for f64, and vmath.rs's rounding by adding and subtracting
+// 1.5 * 2^52 is WGSL's round (ties to even, the same integer): a driver
+// may simplify (a + b) - b to a (Mesa does: SPIR-V arithmetic is not
+// exact unless marked so, and naga does not mark it). The rest is the
+// same arithmetic, line for line; a driver may still fuse or reorder it,
+// so the bits may differ from the CPU's by an ulp or two.
+// Needs wgpu's SHADER_F64; tests/it/math64.rs holds each function within
+// 4 ulp of the Rust one over 10^6 arguments of its used range.
+
+// ln 2 split for Cody and Waite's reduction (vmath.rs LN2_HI, LN2_LO).
+const LN2_HI_64: f64 = 6.93147180369123816490e-01lf;
+const LN2_LO_64: f64 = 1.90821492927058770002e-10lf;
+const LOG2_E_64: f64 = 1.4426950408889634lf;
+const SQRT_2_64: f64 = 1.4142135623730951lf;
+
+// (k, m) with x = 2^k m and m in [sqrt(1/2), sqrt(2)), for x > 0 normal
+// or subnormal (vmath.rs split_exponent). WGSL cannot read an f64's
+// exponent field (a bitcast keeps an f64 one value, and frexp's f64
+// result holds an i64, which needs SHADER_INT64), so the exponent is
+// found by scaling with powers of two, which is exact: down by 2^p while
+// m >= 2^p, then up while m < 2^(1-p), p = 512, 256, ..., 1 (the binary
+// digits of the exponent), leaving m in [1, 2) with the same bits as the
+// field read directly.
+struct Split64 {
+    k: i32,
+    m: f64,
+}
+
+fn split_exponent_64(x: f64) -> Split64 {
+    var m = x;
+    var k = 0i;
+    // Subnormals: scaled into the normal range first (by 2^54).
+    if (m < 2.2250738585072014e-308lf) {
+        m = m * 18014398509481984.0lf;
+        k = -54i;
+    }
+    for (var p = 512i; p >= 1i; p = p / 2i) {
+        if (m >= ldexp(1.0lf, p)) {
+            m = m * ldexp(1.0lf, -p);
+            k = k + p;
+        }
+    }
+    for (var p = 512i; p >= 1i; p = p / 2i) {
+        if (m < ldexp(1.0lf, 1i - p)) {
+            m = m * ldexp(1.0lf, p);
+            k = k - p;
+        }
+    }
+    if (m > SQRT_2_64) {
+        m = m * 0.5lf;
+        k = k + 1i;
+    }
+    return Split64(k, m);
+}
+
+// ln x for x > 0; NaN below 0, -inf at 0 (vmath.rs ln: fdlibm's
+// __ieee754_log, within 1 ulp).
+fn ln_64(x: f64) -> f64 {
+    let LG1 = 6.666666666666735130e-01lf;
+    let LG2 = 3.999999999940941908e-01lf;
+    let LG3 = 2.857142874366239149e-01lf;
+    let LG4 = 2.222219843214978396e-01lf;
+    let LG5 = 1.818357216161805012e-01lf;
+    let LG6 = 1.531383769920937332e-01lf;
+    let LG7 = 1.479819860511658591e-01lf;
+    let sp = split_exponent_64(x);
+    let f = sp.m - 1.0lf;
+    let s = f / (2.0lf + f);
+    let z = s * s;
+    let w = z * z;
+    let t1 = w * (LG2 + w * (LG4 + w * LG6));
+    let t2 = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7)));
+    let r = t2 + t1;
+    let hfsq = 0.5lf * f * f;
+    let kf = f64(sp.k);
+    let v = kf * LN2_HI_64 - ((hfsq - (s * (hfsq + r) + kf * LN2_LO_64)) - f);
+    if (x > 0.0lf) {
+        return v;
+    }
+    if (x == 0.0lf) {
+        return -bitcast_inf_64();
+    }
+    return nan_64();
+}
+
+// +inf and NaN, made at run time (a WGSL constant may not overflow).
+fn bitcast_inf_64() -> f64 {
+    return ldexp(1.0lf, 1023i) * 2.0lf;
+}
+fn nan_64() -> f64 {
+    let inf = bitcast_inf_64();
+    return inf - inf;
+}
+
+// e^x; 0 below -745, +inf above 709.78 (vmath.rs exp: fdlibm's
+// __ieee754_exp, within 1 ulp).
+fn exp_64(x: f64) -> f64 {
+    let P1 = 1.66666666666666019037e-01lf;
+    let P2 = -2.77777777770155933842e-03lf;
+    let P3 = 6.61375632143793436117e-05lf;
+    let P4 = -1.65339022054652515390e-06lf;
+    let P5 = 4.13813679705723846039e-08lf;
+    let xc = clamp(x, -746.0lf, 710.0lf);
+    // x = k ln 2 + r, |r| <= ln 2 / 2, r = hi - lo.
+    let kf = round(xc * LOG2_E_64);
+    let k = i32(kf);
+    let hi = xc - kf * LN2_HI_64;
+    let lo = kf * LN2_LO_64;
+    let r = hi - lo;
+    let t = r * r;
+    let c = r - t * (P1 + t * (P2 + t * (P3 + t * (P4 + t * P5))));
+    let e = 1.0lf - ((lo - (r * c) / (2.0lf - c)) - hi);
+    // 2^k in two factors: k down to -1075 and up to 1024.
+    let k1 = k / 2;
+    let k2 = k - k1;
+    let v = ldexp(ldexp(e, k1), k2);
+    if (x != x) {
+        return x;
+    }
+    return v;
+}
+
+// x^y for x >= 0: exp(y ln x), 0^y = 0 for y > 0, 1 for y = 0, +inf for
+// y < 0 (vmath.rs pow).
+fn pow_64(x: f64, y: f64) -> f64 {
+    if (x == 0.0lf) {
+        if (y > 0.0lf) {
+            return 0.0lf;
+        }
+        if (y == 0.0lf) {
+            return 1.0lf;
+        }
+        return bitcast_inf_64();
+    }
+    return exp_64(y * ln_64(x));
+}
+
+// tan x for the friction angles of the laws (|x| < pi/2, and a few
+// periods past it): x = k pi/2 + r with pi/2 as fdlibm's 33-bit head
+// (k pi/2's head exact for |k| < 2^20) and its tail, then fdlibm's
+// __kernel_tan on |r| <= pi/4 (within 1 ulp there), -1/tan r for odd k.
+fn tan_64(x: f64) -> f64 {
+    let PIO2_1 = 1.57079632673412561417e+00lf;
+    let PIO2_1T = 6.07710050650619224932e-11lf;
+    let INV_PIO2 = 6.36619772367581382433e-01lf;
+    let kf = round(x * INV_PIO2);
+    let k = i32(kf);
+    let r = (x - kf * PIO2_1) - kf * PIO2_1T;
+    let t = kernel_tan_64(r);
+    if ((k & 1) != 0) {
+        return -1.0lf / t;
+    }
+    return t;
+}
+
+// fdlibm's __kernel_tan for |x| <= pi/4 (its tail y = 0): a degree-27
+// odd polynomial, past |x| >= 0.6744 on pi/4 - |x| instead.
+fn kernel_tan_64(x0: f64) -> f64 {
+    let T0 = 3.33333333333334091986e-01lf;
+    let T1 = 1.33333333333201242699e-01lf;
+    let T2 = 5.39682539762260521377e-02lf;
+    let T3 = 2.18694882948595424599e-02lf;
+    let T4 = 8.86323982359930005737e-03lf;
+    let T5 = 3.59207910759131235356e-03lf;
+    let T6 = 1.45620945432529025516e-03lf;
+    let T7 = 5.88041240820264096874e-04lf;
+    let T8 = 2.46463134818469906812e-04lf;
+    let T9 = 7.81794442939557092300e-05lf;
+    let T10 = 7.14072491382608190305e-05lf;
+    let T11 = -1.85586374855275456654e-05lf;
+    let T12 = 2.59073051863633712884e-05lf;
+    let PIO4 = 7.85398163397448278999e-01lf;
+    let PIO4_LO = 3.06161699786838301793e-17lf;
+    var x = x0;
+    var y = 0.0lf;
+    let big = abs(x) >= 0.6744lf;
+    var sgn = 1.0lf;
+    if (big) {
+        if (x < 0.0lf) {
+            x = -x;
+            sgn = -1.0lf;
+        }
+        x = (PIO4 - x) + (PIO4_LO - y);
+        y = 0.0lf;
+    }
+    let z = x * x;
+    let w = z * z;
+    // Odd and even terms, each a polynomial in w = x^4.
+    let r = T1 + w * (T3 + w * (T5 + w * (T7 + w * (T9 + w * T11))));
+    let v = z * (T2 + w * (T4 + w * (T6 + w * (T8 + w * (T10 + w * T12)))));
+    let s = z * x;
+    let rr = y + z * (s * (r + v) + y);
+    let rs = rr + T0 * s;
+    let w2 = x + rs;
+    if (big) {
+        // tan(pi/4 - x) = (1 - tan x) / (1 + tan x), written as fdlibm does.
+        let v2 = 1.0lf;
+        return sgn * (v2 - 2.0lf * (x - (w2 * w2 / (w2 + v2) - rs)));
+    }
+    return w2;
+}
