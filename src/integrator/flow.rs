@@ -67,7 +67,7 @@ pub fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
 /// [`split`] where p changes sign inside the step (about 1 % of steps,
 /// kept out of the hot path).
 #[cold]
-fn split_crossing(r: &[f64; 5], p0: f64) -> ([f64; 2], f64) {
+pub(crate) fn split_crossing(r: &[f64; 5], p0: f64) -> ([f64; 2], f64) {
     let total = r[1];
     let sign = if p0 > 0.0 { 1.0 } else { -1.0 };
     // The zero of the slope by the Illinois method, as events are located:

@@ -67,41 +67,41 @@ tableau! {
 // ẋ1 at which stages 2 to 6 evaluate the right-hand side (only ẋ1 is
 // needed: the right-hand side depends on nothing else).
 #[inline]
-fn stage2_v(v0: f64, h: f64, k1: f64) -> f64 {
+pub(crate) fn stage2_v(v0: f64, h: f64, k1: f64) -> f64 {
     v0 + h * (A21 * k1)
 }
 #[inline]
-fn stage3_v(v0: f64, h: f64, k1: f64, k2: f64) -> f64 {
+pub(crate) fn stage3_v(v0: f64, h: f64, k1: f64, k2: f64) -> f64 {
     v0 + h * (A31 * k1 + A32 * k2)
 }
 #[inline]
-fn stage4_v(v0: f64, h: f64, k1: f64, k2: f64, k3: f64) -> f64 {
+pub(crate) fn stage4_v(v0: f64, h: f64, k1: f64, k2: f64, k3: f64) -> f64 {
     v0 + h * (A41 * k1 + A42 * k2 + A43 * k3)
 }
 #[inline]
-fn stage5_v(v0: f64, h: f64, k1: f64, k2: f64, k3: f64, k4: f64) -> f64 {
+pub(crate) fn stage5_v(v0: f64, h: f64, k1: f64, k2: f64, k3: f64, k4: f64) -> f64 {
     v0 + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4)
 }
 #[inline]
-fn stage6_v(v0: f64, h: f64, k1: f64, k2: f64, k3: f64, k4: f64, k5: f64) -> f64 {
+pub(crate) fn stage6_v(v0: f64, h: f64, k1: f64, k2: f64, k3: f64, k4: f64, k5: f64) -> f64 {
     v0 + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5)
 }
 
 /// Fifth-order increment of one component over the step.
 #[inline]
-fn increment(h: f64, k1: f64, k3: f64, k4: f64, k5: f64, k6: f64) -> f64 {
+pub(crate) fn increment(h: f64, k1: f64, k3: f64, k4: f64, k5: f64, k6: f64) -> f64 {
     h * (A71 * k1 + A73 * k3 + A74 * k4 + A75 * k5 + A76 * k6)
 }
 
 /// Embedded error estimate of one component.
 #[inline]
-fn error_term(h: f64, k1: f64, k3: f64, k4: f64, k5: f64, k6: f64, k7: f64) -> f64 {
+pub(crate) fn error_term(h: f64, k1: f64, k3: f64, k4: f64, k5: f64, k6: f64, k7: f64) -> f64 {
     h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
 }
 
 /// Error scale of one component: tol relative to max(1, |y|) over the step.
 #[inline]
-fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
+pub(crate) fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
     tol * (1.0 + y0.abs().max(y1.abs()))
 }
 
@@ -109,7 +109,7 @@ fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
 /// `v0` to `v1` (see `events::dense_v`).
 #[inline]
 #[allow(clippy::too_many_arguments)]
-fn dense_coeffs(
+pub(crate) fn dense_coeffs(
     v0: f64,
     v1: f64,
     h: f64,

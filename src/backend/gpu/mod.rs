@@ -11,6 +11,8 @@ mod backend;
 pub mod cost;
 mod dispatch;
 pub mod layout;
+#[cfg(test)]
+mod mirrored;
 pub mod shader;
 pub mod verify;
 mod work;
