@@ -145,13 +145,17 @@ pub struct Plan {
 /// Most rows the sampling interval of a run's traces may give (about
 /// 1 GB of `traces.csv`); each event adds two rows beyond them, at most
 /// 2 × `max_events` a lane.
-pub const MAX_TRACE_ROWS: u64 = 10_000_000;
+pub(crate) const MAX_TRACE_ROWS: u64 = 10_000_000;
 
 /// The traces a run writes: `--trace` and `--trace-dt` over the sweep
 /// file's `[trace]` table; None when no lane is traced. A request for
 /// more than [`MAX_TRACE_ROWS`] rows is refused with the smallest
 /// interval that fits.
-pub fn trace_plan(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<TraceSpec>> {
+pub(crate) fn trace_plan(
+    lanes: &[u64],
+    dt: Option<f64>,
+    source: &Source,
+) -> Result<Option<TraceSpec>> {
     let spec = trace_spec(lanes, dt, source)?;
     if let Some(s) = &spec {
         check_trace_rows(s, source)?;
@@ -162,11 +166,11 @@ pub fn trace_plan(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Opt
 /// Rows a traced lane gets by default (`--trace` without `--trace-dt`):
 /// its interval is the longest traced lane's time over this, rounded down
 /// to 1, 2 or 5 times a power of ten.
-pub const DEFAULT_TRACE_ROWS: f64 = 1000.0;
+pub(crate) const DEFAULT_TRACE_ROWS: f64 = 1000.0;
 
 /// The default interval of a trace whose longest lane runs `horizon` s:
 /// horizon / [`DEFAULT_TRACE_ROWS`] rounded down to 1, 2 or 5 × 10^k.
-pub fn default_trace_dt(horizon: f64) -> f64 {
+pub(crate) fn default_trace_dt(horizon: f64) -> f64 {
     let raw = horizon / DEFAULT_TRACE_ROWS;
     let p = 10f64.powf(raw.log10().floor());
     let m = [5.0, 2.0, 1.0]
@@ -251,10 +255,10 @@ fn trace_spec(lanes: &[u64], dt: Option<f64>, source: &Source) -> Result<Option<
 
 /// The tightest `--tol`: a step's error estimate a few hundred times f64's
 /// resolution, which the step control still reads.
-pub const MIN_TOL: f64 = 1e-13;
+pub(crate) const MIN_TOL: f64 = 1e-13;
 /// The loosest `--tol`: past it the error estimate of a result (bound
 /// 1e-6) would send most lanes to a second run.
-pub const MAX_TOL: f64 = 1e-4;
+pub(crate) const MAX_TOL: f64 = 1e-4;
 
 /// Most CPU threads a run may ask for. Lanes are independent and
 /// CPU-bound, so threads beyond the hardware's add no speed, only a stack

@@ -185,49 +185,49 @@ macro_rules! count {
 
 /// The names of the columns that code reads by name (each used as its
 /// row's name below, so spelled once).
-pub const LANE: &str = "lane";
+pub(crate) const LANE: &str = "lane";
 /// See [`LANE`].
-pub const STATUS: &str = "status";
+pub(crate) const STATUS: &str = "status";
 /// See [`LANE`].
-pub const CONTACT_END: &str = "contact_end";
+pub(crate) const CONTACT_END: &str = "contact_end";
 /// See [`LANE`].
-pub const HOLD: &str = "hold";
+pub(crate) const HOLD: &str = "hold";
 /// See [`LANE`].
-pub const DRIVE: &str = "drive";
+pub(crate) const DRIVE: &str = "drive";
 /// See [`LANE`].
-pub const ETA_DIRECT: &str = "eta_direct";
+pub(crate) const ETA_DIRECT: &str = "eta_direct";
 /// See [`LANE`].
-pub const ETA_INVERSE: &str = "eta_inverse";
+pub(crate) const ETA_INVERSE: &str = "eta_inverse";
 /// See [`LANE`].
-pub const ETA_DIRECT_SS: &str = "eta_direct_ss";
+pub(crate) const ETA_DIRECT_SS: &str = "eta_direct_ss";
 /// See [`LANE`].
-pub const ETA_INVERSE_SS: &str = "eta_inverse_ss";
+pub(crate) const ETA_INVERSE_SS: &str = "eta_inverse_ss";
 /// See [`LANE`].
-pub const LOCK_MARGIN_DEG: &str = "lock_margin_deg";
+pub(crate) const LOCK_MARGIN_DEG: &str = "lock_margin_deg";
 
 /// See [`LANE`].
-pub const V1_END: &str = "v1_end";
+pub(crate) const V1_END: &str = "v1_end";
 /// See [`LANE`].
-pub const ETA_DIRECT_START: &str = "eta_direct_start";
+pub(crate) const ETA_DIRECT_START: &str = "eta_direct_start";
 /// See [`LANE`].
-pub const ETA_INVERSE_START: &str = "eta_inverse_start";
+pub(crate) const ETA_INVERSE_START: &str = "eta_inverse_start";
 /// See [`LANE`].
-pub const T_STOP: &str = "t_stop";
+pub(crate) const T_STOP: &str = "t_stop";
 /// See [`LANE`].
-pub const N1_END: &str = "n1_end";
+pub(crate) const N1_END: &str = "n1_end";
 /// See [`LANE`].
-pub const N2_END: &str = "n2_end";
+pub(crate) const N2_END: &str = "n2_end";
 
 /// See [`LANE`]: the search's columns (a search run's table only).
-pub const SEARCH_LO: &str = "search_lo";
+pub(crate) const SEARCH_LO: &str = "search_lo";
 /// See [`SEARCH_LO`].
-pub const SEARCH_HI: &str = "search_hi";
+pub(crate) const SEARCH_HI: &str = "search_hi";
 /// See [`SEARCH_LO`].
-pub const CRITICAL: &str = "critical";
+pub(crate) const CRITICAL: &str = "critical";
 /// See [`SEARCH_LO`].
-pub const SEARCH_MEETS: &str = "search_meets";
+pub(crate) const SEARCH_MEETS: &str = "search_meets";
 /// See [`SEARCH_LO`].
-pub const SEARCH_STATUS: &str = "search_status";
+pub(crate) const SEARCH_STATUS: &str = "search_status";
 
 /// Bound of `tswm check` on first-switch times, s.
 pub const SWITCH_BOUND: f64 = 2e-5;
@@ -694,7 +694,7 @@ pub fn results() -> &'static [Column] {
 
 /// The result columns of a run's table: [`RESULTS`], and for a search
 /// [`SEARCH`] after them.
-pub fn results_for(search: bool) -> Vec<&'static Column> {
+pub(crate) fn results_for(search: bool) -> Vec<&'static Column> {
     let mut v: Vec<&'static Column> = RESULTS.iter().collect();
     if search {
         v.extend(SEARCH);
@@ -713,7 +713,7 @@ pub fn plotted() -> impl Iterator<Item = &'static Column> {
 }
 
 /// The result columns `summary.csv` gives numbers for, in table order.
-pub fn number_columns() -> impl Iterator<Item = &'static Column> {
+pub(crate) fn number_columns() -> impl Iterator<Item = &'static Column> {
     results()
         .iter()
         .filter(|c| matches!(c.summary, Summary::Numbers))
@@ -722,7 +722,7 @@ pub fn number_columns() -> impl Iterator<Item = &'static Column> {
 /// Whether a result column is an inverse efficiency (`eta_inverse`,
 /// `_ss`, `_start`), whose values <= 0 mean the wheel cannot drive the
 /// worm: the drive is self-locking there.
-pub fn is_inverse_efficiency(name: &str) -> bool {
+pub(crate) fn is_inverse_efficiency(name: &str) -> bool {
     name.starts_with(ETA_INVERSE)
 }
 
@@ -738,15 +738,18 @@ pub fn label(name: &str, quantity: &str, unit: &str) -> String {
 
 /// The result column table of `docs/outputs.md`, rendered from the rows
 /// (a test keeps the page equal to it).
-pub fn docs_table() -> String {
+#[cfg(test)]
+pub(crate) fn docs_table() -> String {
     table_of(results())
 }
 
 /// The search columns' table of `docs/outputs.md` ([`SEARCH`]).
-pub fn search_docs_table() -> String {
+#[cfg(test)]
+pub(crate) fn search_docs_table() -> String {
     table_of(SEARCH)
 }
 
+#[cfg(test)]
 fn table_of(columns: &[Column]) -> String {
     let mut s = String::from("| column | unit | meaning | empty when |\n|---|---|---|---|\n");
     for c in columns {

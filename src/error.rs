@@ -107,7 +107,10 @@ pub fn shown(s: &str, max: usize) -> String {
 
 /// " (did you mean `m1`?)" when `name` is a near miss of one of
 /// `candidates` (an edit or two away, or the same but for case), else "".
-pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+pub(crate) fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> String {
     let lower = name.to_ascii_lowercase();
     let best = candidates
         .into_iter()

@@ -148,7 +148,7 @@ macro_rules! lanewise_struct {
             /// Sets lane j's values.
             #[inline(always)]
             #[allow(dead_code)]
-            pub fn set_lane(&mut self, j: usize, v: $one) {
+            pub(crate) fn set_lane(&mut self, j: usize, v: $one) {
                 <$one as $crate::lanewise::Lanewise>::set(self, j, v)
             }
         }
@@ -159,7 +159,7 @@ macro_rules! lanewise_struct {
 /// inlined: `std::array::from_fn` may be left out of line, and then runs
 /// without the caller's vector instructions.
 #[inline(always)]
-pub fn by_lane<T: Copy + Default, const W: usize>(f: impl Fn(usize) -> T) -> [T; W] {
+pub(crate) fn by_lane<T: Copy + Default, const W: usize>(f: impl Fn(usize) -> T) -> [T; W] {
     let mut a = [T::default(); W];
     for (j, v) in a.iter_mut().enumerate() {
         *v = f(j);

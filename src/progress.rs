@@ -42,7 +42,7 @@ impl Watch {
     }
 
     /// Whether a stop was asked for.
-    pub fn stopping(&self) -> bool {
+    pub(crate) fn stopping(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
     }
 
@@ -116,7 +116,7 @@ pub struct Bar {
 
 impl Bar {
     /// Lanes done so far.
-    pub fn set_position(&self, done: u64) {
+    pub(crate) fn set_position(&self, done: u64) {
         self.bar.set_position(done);
         if let Some(w) = &self.watch {
             w.done.store(done, Ordering::Relaxed);
@@ -124,7 +124,7 @@ impl Bar {
     }
 
     /// `n` more lanes done.
-    pub fn inc(&self, n: u64) {
+    pub(crate) fn inc(&self, n: u64) {
         self.bar.inc(n);
         if let Some(w) = &self.watch {
             w.done.fetch_add(n, Ordering::Relaxed);
@@ -133,7 +133,7 @@ impl Bar {
 
     /// Counts drives, not lanes, with `msg` saying how far the rounds have
     /// got (a search: its rounds and the lanes they integrated).
-    pub fn count_drives(&self, msg: String) {
+    pub(crate) fn count_drives(&self, msg: String) {
         self.bar.set_style(
             indicatif::ProgressStyle::with_template(
                 "{bar:40} {pos}/{len} drives searched, {msg}, eta {eta}",
@@ -144,12 +144,12 @@ impl Bar {
     }
 
     /// Says how far a search's rounds have got (see [`Bar::count_drives`]).
-    pub fn set_message(&self, msg: String) {
+    pub(crate) fn set_message(&self, msg: String) {
         self.bar.set_message(msg);
     }
 
     /// Takes the bar off the terminal.
-    pub fn finish_and_clear(&self) {
+    pub(crate) fn finish_and_clear(&self) {
         self.bar.finish_and_clear();
         if let Some(w) = &self.watch {
             w.phase.store(Phase::Idle as u8, Ordering::Relaxed);

@@ -98,7 +98,7 @@ impl Frame {
 
     /// Sets the cells of row `row` in `spec` (over its base); the error
     /// says which lane, parameter and what is allowed.
-    pub fn set_row(&self, row: u64, spec: &mut Spec) -> Result<()> {
+    pub(crate) fn set_row(&self, row: u64, spec: &mut Spec) -> Result<()> {
         let r = row as usize;
         for (p, cells) in &self.columns {
             let set = match cells {

@@ -202,7 +202,7 @@ impl Source {
     /// traces the run writes (`trace`): the sweep file resolved, or for a
     /// lane table the `[base]`, `[friction_table]` and `[report]` under
     /// its cells.
-    pub fn resolved_text(&self, trace: Option<&crate::input::sweep::TraceSpec>) -> String {
+    pub(crate) fn resolved_text(&self, trace: Option<&crate::input::sweep::TraceSpec>) -> String {
         let mut sweep = match self {
             Source::Sweep { sweep, .. } => sweep.clone(),
             Source::Table {
@@ -236,7 +236,7 @@ impl Source {
 
     /// The parameters of the lanes `idx` (ascending), read from the
     /// source (a lane table is read up to the last of them).
-    pub fn lanes_at(&self, idx: &[u64]) -> Result<Vec<Params>> {
+    pub(crate) fn lanes_at(&self, idx: &[u64]) -> Result<Vec<Params>> {
         let mut out = Vec::with_capacity(idx.len());
         match self {
             Source::Sweep { sweep, file } => {
@@ -277,7 +277,7 @@ impl Source {
 
     /// The lanes a shard's range is a whole number of: a share search's
     /// groups (a grid point's drives are searched together), else 1.
-    pub fn shard_unit(&self) -> u64 {
+    pub(crate) fn shard_unit(&self) -> u64 {
         match (self, self.search()) {
             (Source::Sweep { sweep, .. }, Some(s)) if s.at_least.is_some() => {
                 sweep.study.as_ref().map_or(1, |st| st.n.max(1))
@@ -295,7 +295,7 @@ impl Source {
     }
 
     /// The friction tables lanes may refer to.
-    pub fn friction_tables(&self) -> &FrictionTables {
+    pub(crate) fn friction_tables(&self) -> &FrictionTables {
         match self {
             Source::Sweep { sweep, .. } => &sweep.tables,
             Source::Table { tables, .. } => tables,

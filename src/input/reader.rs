@@ -235,7 +235,7 @@ impl LaneReader<'_> {
     /// the end): what a row or a sweep's lane sets, defaults not yet
     /// applied, for a search that sets one parameter of each before it is
     /// resolved. Each is checked as [`LaneReader::fill`] checks it.
-    pub fn fill_specs(&mut self, max: usize, out: &mut Vec<Spec>) -> Result<()> {
+    pub(crate) fn fill_specs(&mut self, max: usize, out: &mut Vec<Spec>) -> Result<()> {
         let mut one = ParamColumns::with_capacity(1);
         let start = out.len();
         while out.len() - start < max {

@@ -30,7 +30,7 @@ impl Uniforms {
     /// A stream of its own for `seed`, `tag` and `index` (the bootstrap's
     /// resamples of one grid point): its key differs from the design's in
     /// the tag, so the two never share a block.
-    pub fn keyed(seed: u64, tag: [u8; 8], index: u64) -> Self {
+    pub(crate) fn keyed(seed: u64, tag: [u8; 8], index: u64) -> Self {
         let mut key = [0u8; 32];
         key[..8].copy_from_slice(&seed.to_le_bytes());
         key[8..16].copy_from_slice(&tag);
@@ -42,7 +42,7 @@ impl Uniforms {
 
     /// Positions the stream at the block of sample `k`, `per_sample`
     /// uniforms a block.
-    pub fn seek(&mut self, k: u64, per_sample: u64) {
+    pub(crate) fn seek(&mut self, k: u64, per_sample: u64) {
         self.rng
             .set_word_pos(u128::from(k) * u128::from(per_sample) * 2);
     }
@@ -90,7 +90,7 @@ impl Dist {
 }
 
 /// Standard normal CDF.
-pub fn norm_cdf(x: f64) -> f64 {
+pub(crate) fn norm_cdf(x: f64) -> f64 {
     0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
 }
 
@@ -98,7 +98,7 @@ pub fn norm_cdf(x: f64) -> f64 {
 /// one Halley step on the exact CDF (full double precision). The
 /// coefficients are kept as published.
 #[allow(clippy::excessive_precision)]
-pub fn norm_ppf(p: f64) -> f64 {
+pub(crate) fn norm_ppf(p: f64) -> f64 {
     const A: [f64; 6] = [
         -3.969683028665376e+01,
         2.209460984245205e+02,
@@ -152,7 +152,7 @@ pub fn norm_ppf(p: f64) -> f64 {
 /// in one dimension, computed per sample in O(1) memory (a Feistel network
 /// on the next even power of two, cycle-walked into range).
 #[derive(Clone, Copy, Debug)]
-pub struct Permutation {
+pub(crate) struct Permutation {
     n: u64,
     half_bits: u32,
     key: u64,

@@ -16,10 +16,10 @@
 use super::sampling::Uniforms;
 
 /// Dimensions the table holds: a design over D inputs uses 2·D.
-pub const MAX_DIMS: usize = 64;
+pub(crate) const MAX_DIMS: usize = 64;
 
 /// Most base points (the sequence's 32 bits).
-pub const MAX_POINTS: u64 = 1 << 32;
+pub(crate) const MAX_POINTS: u64 = 1 << 32;
 
 /// Joe and Kuo's direction numbers for dimensions 2 to 64: the primitive
 /// polynomial (with its leading and constant terms, as bits) and the
@@ -93,7 +93,7 @@ const JOE_KUO: [(u32, &[u32]); MAX_DIMS - 1] = [
 
 /// The direction numbers of the first `dims` dimensions and their shifts.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SobolSeq {
+pub(crate) struct SobolSeq {
     v: Vec<[u32; 32]>,
     shift: Vec<u32>,
 }

@@ -88,7 +88,7 @@ impl ErrorBudget {
     /// (w1_in, w1_out, w2_in, w2_out), which says which parts it fed.
     /// [`Budgets::add_steps`] of one lane.
     #[inline]
-    pub fn add_step(&mut self, k0: &[f64; NY], trial: &Trial, flow: &[f64; 4]) {
+    pub(crate) fn add_step(&mut self, k0: &[f64; NY], trial: &Trial, flow: &[f64; 4]) {
         let mut b = self.one();
         b.add_steps(
             &[true],
@@ -102,7 +102,7 @@ impl ErrorBudget {
 
     /// Adds a step's [`split_error`](super::flow::split_error) of ∫p1 and
     /// ∫p2 to the local terms of their in and out parts.
-    pub fn add_split(&mut self, err: [f64; 2]) {
+    pub(crate) fn add_split(&mut self, err: [f64; 2]) {
         for (q, e) in [err[0], err[0], err[1], err[1]].into_iter().enumerate() {
             self.local[5 + q] += e;
         }
@@ -176,6 +176,6 @@ impl<const N: usize> Budgets<N> {
 
 /// Whether a lane that ended with `r` and `budget` under `set` is to be
 /// run again at [`Settings::tighter`].
-pub fn needs_refining(set: &Settings, r: &LaneResult, budget: &ErrorBudget) -> bool {
+pub(crate) fn needs_refining(set: &Settings, r: &LaneResult, budget: &ErrorBudget) -> bool {
     set.refine && r.status == Status::Ok && !budget.within(r)
 }

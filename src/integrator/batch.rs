@@ -213,7 +213,7 @@ fn refined(lane: &Lane, tables: &[FrictionTable], set: &Settings) -> LaneResult 
 /// The settings a lane's row comes from: `set`, or the tighter ones when
 /// its run under `set` needs refining (for traces, which must come from
 /// the same integration as the row).
-pub fn settings_for(lane: &Lane, tables: &[FrictionTable], set: &Settings) -> Settings {
+pub(crate) fn settings_for(lane: &Lane, tables: &[FrictionTable], set: &Settings) -> Settings {
     let (r, budget) = run_lane(lane, tables, set);
     if needs_refining(set, &r, &budget) {
         set.tighter()

@@ -10,6 +10,6 @@ pub const NY: usize = 6;
 /// (w_friction's rate p1 + p2, and ∫p1's rate p1): the one place that
 /// says which components they are.
 #[inline(always)]
-pub fn powers(k4: f64, k5: f64) -> (f64, f64) {
+pub(crate) fn powers(k4: f64, k5: f64) -> (f64, f64) {
     (k5, k4 - k5)
 }

@@ -18,7 +18,14 @@ pub const STEP_UNDERFLOW: f64 = 1e-15;
 /// time event; and whether the step lands on that event. `steep`: the
 /// lane's friction law is steep at rest (`Lane::steep`).
 #[inline(always)]
-pub fn step_size(h: f64, steep: bool, dir: f64, v: f64, a: f64, remaining: f64) -> (f64, bool) {
+pub(crate) fn step_size(
+    h: f64,
+    steep: bool,
+    dir: f64,
+    v: f64,
+    a: f64,
+    remaining: f64,
+) -> (f64, bool) {
     let mut h = h;
     // Approaching rest under the paper and agma laws, ρ(Vs) has an
     // unbounded derivative at the stop, as it has at a start, and the
@@ -35,7 +42,7 @@ pub fn step_size(h: f64, steep: bool, dir: f64, v: f64, a: f64, remaining: f64) 
 /// asks for the factor `fac`, and whether it is too small to go on at
 /// time `t` (step underflow).
 #[inline(always)]
-pub fn retry_size(h: f64, fac: f64, t: f64) -> (f64, bool) {
+pub(crate) fn retry_size(h: f64, fac: f64, t: f64) -> (f64, bool) {
     let h = h * fac.min(1.0);
     (h, h < STEP_UNDERFLOW * t.max(1.0))
 }
@@ -46,7 +53,7 @@ pub fn retry_size(h: f64, fac: f64, t: f64) -> (f64, bool) {
 /// arithmetic makes the factor the same bits on every platform and at
 /// every vector width.
 #[inline(always)]
-pub fn step_factor(err: f64) -> f64 {
+pub(crate) fn step_factor(err: f64) -> f64 {
     // Selects, not branches, so a loop over lanes stays vector code.
     // Below 1.9e-4, 0.9 err^(−1/5) is over 5: the clamp's value; an
     // infinite (or NaN) norm shrinks the step all it may.
@@ -68,7 +75,7 @@ pub fn step_factor(err: f64) -> f64 {
 /// x^(−1/5) for x in [1e-4, f64::MAX], within 1e-8 relative (a test
 /// compares it with `powf`): 2^(−log2(x)/5) with a series for each part.
 #[inline(always)]
-pub fn inv_fifth_root(x: f64) -> f64 {
+pub(crate) fn inv_fifth_root(x: f64) -> f64 {
     let (e, m) = split_exponent(x);
     // log2 m = (2 / ln 2) atanh(s), s = (m − 1)/(m + 1), |s| < 0.1716:
     // the series to s^7 leaves s^9/9 < 2e-8.

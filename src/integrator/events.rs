@@ -14,7 +14,7 @@ pub const T_ROOT_TOL: f64 = 1e-13;
 
 /// ẋ1 at fraction θ of the step, from the dense output.
 #[inline]
-pub fn dense_v(r: &[f64; 5], th: f64) -> f64 {
+pub(crate) fn dense_v(r: &[f64; 5], th: f64) -> f64 {
     let th1 = 1.0 - th;
     r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])))
 }
@@ -40,7 +40,7 @@ pub enum EventFn {
 /// The event function's value at speed `v`; an event is where it turns
 /// from >= 0 to < 0.
 #[inline]
-pub fn event_value(
+pub(crate) fn event_value(
     lane: &Lane,
     tables: &[FrictionTable],
     mode: Mode,
@@ -206,7 +206,7 @@ pub(crate) fn illinois(g: impl Fn(f64) -> f64, g0: f64, g1: f64, tol: f64) -> (f
 /// and a switch at the same θ count as a rest. `running_on`: the lane
 /// runs on past t_end, so speeding up is an event too.
 #[inline]
-pub fn earliest_event(
+pub(crate) fn earliest_event(
     lane: &Lane,
     tables: &[FrictionTable],
     mode: Mode,

@@ -27,7 +27,7 @@ pub const P_ZERO_TOL: f64 = f64::EPSILON;
 /// Slope dW/dθ of a dense output W(θ) = r0 + θ(r1 + (1−θ)(r2 + θ(r3 +
 /// (1−θ) r4))) (see `events::dense_v`): h times the integrand there.
 #[inline]
-pub fn dense_slope(r: &[f64; 5], th: f64) -> f64 {
+pub(crate) fn dense_slope(r: &[f64; 5], th: f64) -> f64 {
     let th1 = 1.0 - th;
     r[1] + (th1 - th) * r[2] + th * (2.0 - 3.0 * th) * r[3] + 2.0 * th * th1 * (th1 - th) * r[4]
 }
@@ -48,14 +48,14 @@ pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> ([f64; 2], f64) {
 /// Whether p changes sign inside a step from `p0` to `p_end` (a zero at
 /// an end is no crossing).
 #[inline(always)]
-pub fn crosses(p0: f64, p_end: f64) -> bool {
+pub(crate) fn crosses(p0: f64, p_end: f64) -> bool {
     p0 * p_end < 0.0
 }
 
 /// [`split`] of an increment `total` where p keeps its sign: all of it
 /// goes to one part.
 #[inline(always)]
-pub fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
+pub(crate) fn split_whole(total: f64, p0: f64, p_end: f64) -> [f64; 2] {
     let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
     if positive {
         [total, 0.0]
@@ -102,7 +102,7 @@ pub fn split_error(r: &[f64; 5], th: f64) -> f64 {
 /// step of size h with derivatives `q0` and `q_end` at its ends and last
 /// coefficient `r4`: the same coefficients as `stepper::dense_coeffs`.
 #[inline]
-pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
+pub(crate) fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
     let r2 = h * q0 - dw;
     [0.0, dw, r2, dw - h * q_end - r2, r4]
 }
@@ -111,7 +111,7 @@ pub fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5] {
 /// of size `h`, from the derivative `k1` at its start to `trial`, and
 /// how far the split of ∫p1 and of ∫p2 may be off ([`split_error`]).
 #[inline]
-pub fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> ([f64; 4], [f64; 2]) {
+pub(crate) fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> ([f64; 4], [f64; 2]) {
     let k7 = &trial.k7;
     let (p1_0, p2_0) = powers(k1[4], k1[5]);
     let (p1_end, p2_end) = powers(k7[4], k7[5]);

@@ -62,7 +62,7 @@ impl Status {
 
     /// Status from a shader code; an unknown code is `NonFinite` (a state
     /// that cannot be trusted), never `Ok`.
-    pub fn from_code(c: u32) -> Status {
+    pub(crate) fn from_code(c: u32) -> Status {
         Status::ALL
             .into_iter()
             .find(|s| s.code() == c)
@@ -168,7 +168,7 @@ impl LaneResult {
     /// integrator reads, so the lane's row gets them here, from its
     /// parameters, not from its [`Lane`].
     #[inline]
-    pub fn with_shaft_speeds(mut self, lane: &Lane, (r1, r2): (f64, f64)) -> LaneResult {
+    pub(crate) fn with_shaft_speeds(mut self, lane: &Lane, (r1, r2): (f64, f64)) -> LaneResult {
         self.n1_end = rpm(self.v1_end, r1);
         self.n2_end = rpm(self.v1_end * lane.tan_g, r2);
         self
@@ -386,6 +386,6 @@ impl EndState {
 /// `acc` is not slowing down (ẋ1 ẍ1 >= 0; at zero the load keeps its
 /// speed and friction does not stop it). Its negation is "coasting".
 #[inline]
-pub fn speeding_up(dir: i32, acc: f64) -> bool {
+pub(crate) fn speeding_up(dir: i32, acc: f64) -> bool {
     !(dir as f64 * acc < 0.0)
 }

@@ -75,7 +75,11 @@ pub(crate) fn time_stop(lane: &Lane, st: &LaneState) -> f64 {
 /// event, the derivative at the step's start is made valid, and the step
 /// size is chosen. None when the attempt ends here (stuck, or finished).
 #[inline]
-pub fn prepare(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) -> Option<StepPlan> {
+pub(crate) fn prepare(
+    lane: &Lane,
+    tables: &[FrictionTable],
+    st: &mut LaneState,
+) -> Option<StepPlan> {
     let t_stop = time_stop(lane, st);
     if st.stuck {
         // While stuck every force is constant in time (F1 at ẋ1 = 0, F2),

@@ -47,7 +47,7 @@ impl Width {
 
     /// The instruction set's word: avx512, avx2, or what the base is
     /// (sse2 on x86-64, neon on aarch64).
-    pub fn isa_name(&self) -> &'static str {
+    pub(crate) fn isa_name(&self) -> &'static str {
         match self.isa {
             Isa::Avx512 => "avx512",
             Isa::Avx2 => "avx2",
@@ -88,7 +88,7 @@ pub fn isas() -> Vec<Isa> {
 }
 
 /// The widest instruction set this core has.
-pub fn best_isa() -> Isa {
+pub(crate) fn best_isa() -> Isa {
     #[cfg(target_arch = "x86_64")]
     {
         // AVX-512 is used with AVX2 and FMA (the AVX-512 path enables

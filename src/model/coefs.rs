@@ -106,7 +106,7 @@ impl<const W: usize> Coefs<W> {
 
     /// Lane j's motor force at speed `v`.
     #[inline(always)]
-    pub fn motor_force(&self, j: usize, v: f64) -> f64 {
+    pub(crate) fn motor_force(&self, j: usize, v: f64) -> f64 {
         motor_force_of(
             self.motor[j],
             self.motor_on[j],
@@ -121,7 +121,7 @@ impl<const W: usize> Coefs<W> {
     /// The switch event's function c·φ of each lane whose motor force is
     /// `f1` (at the speed φ is wanted at).
     #[inline(always)]
-    pub fn switch_values(&self, f1: &[f64; W]) -> [f64; W] {
+    pub(crate) fn switch_values(&self, f1: &[f64; W]) -> [f64; W] {
         by_lane(|j| self.side[j] * switching(f1[j], self.m1[j], self.load[j]))
     }
 }

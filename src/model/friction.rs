@@ -123,11 +123,11 @@ pub fn tan_small(x: f64) -> f64 {
 }
 
 /// Where [`tan_series`] is tan to the last bit.
-pub const TAN_SERIES_MAX: f64 = 0.15;
+pub(crate) const TAN_SERIES_MAX: f64 = 0.15;
 
 /// The Taylor series of tan x to x^15 (exact for |x| <= [`TAN_SERIES_MAX`]).
 #[inline(always)]
-pub fn tan_series(x: f64) -> f64 {
+pub(crate) fn tan_series(x: f64) -> f64 {
     let x2 = x * x;
     let p = 929569.0 / 638512875.0;
     let p = p * x2 + 21844.0 / 6081075.0;

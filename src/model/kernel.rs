@@ -40,7 +40,7 @@ pub fn kloss(v_sync: f64, sigma_k: f64, f_crit: f64, v: f64) -> f64 {
 /// motor, the [`kloss`] force otherwise); 0 once the motor is off.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub fn motor_force_of(
+pub(crate) fn motor_force_of(
     motor: MotorKind,
     on: bool,
     f1: f64,
@@ -63,7 +63,7 @@ pub fn motor_force_of(
 /// The paper's friction angle ρ = (π/180) / (a Vs^b + c), radians, at
 /// sliding speed `vs` >= 0 (docs/model.md section 5).
 #[inline(always)]
-pub fn paper_rho(fa: f64, fb: f64, fc: f64, vs: f64) -> f64 {
+pub(crate) fn paper_rho(fa: f64, fb: f64, fc: f64, vs: f64) -> f64 {
     (std::f64::consts::PI / 180.0) / (fa * pow(vs, fb) + fc)
 }
 
@@ -72,20 +72,20 @@ pub fn paper_rho(fa: f64, fb: f64, fc: f64, vs: f64) -> f64 {
 /// Inside a step the direction is frozen: past a rest the speed stays 0,
 /// which keeps the right-hand side finite and continuous for root finding.
 #[inline(always)]
-pub fn sliding_speed(dir: f64, v: f64, inv_cos_g: f64) -> f64 {
+pub(crate) fn sliding_speed(dir: f64, v: f64, inv_cos_g: f64) -> f64 {
     (dir * v).max(0.0) * inv_cos_g
 }
 
 /// F2 / (m2 tan γ): the load's part of the switching function.
 #[inline(always)]
-pub fn load_term(f2: f64, m2: f64, tan_g: f64) -> f64 {
+pub(crate) fn load_term(f2: f64, m2: f64, tan_g: f64) -> f64 {
     f2 / (m2 * tan_g)
 }
 
 /// The switching function φ = F1/m1 − F2/(m2 tan γ) from the motor force
 /// `f1` and [`load_term`]: the a-a side when > 0, b-b when < 0.
 #[inline(always)]
-pub fn switching(f1: f64, m1: f64, load: f64) -> f64 {
+pub(crate) fn switching(f1: f64, m1: f64, load: f64) -> f64 {
     f1 / m1 - load
 }
 

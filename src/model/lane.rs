@@ -69,14 +69,14 @@ impl Lane {
     /// Whether the motor is cut before t_end: only then does the lane
     /// answer "does it hold?" (docs/model.md section 10).
     #[inline]
-    pub fn motor_cut(&self) -> bool {
+    pub(crate) fn motor_cut(&self) -> bool {
         self.motor_off < self.t_end
     }
 
     /// Whether sliding speed `vs` is above the law's branch speed (on
     /// its upper branch); always false for a law with one branch.
     #[inline]
-    pub fn above_branch(&self, vs: f64) -> bool {
+    pub(crate) fn above_branch(&self, vs: f64) -> bool {
         vs > self.branch_speed
     }
 
@@ -84,7 +84,7 @@ impl Lane {
     /// the sign of `f1` for `constant`; None for a constant motor with
     /// f1 = 0 (no motor). docs/model.md section 10, "Does the motor drive it?".
     #[inline]
-    pub fn motor_direction(&self) -> Option<f64> {
+    pub(crate) fn motor_direction(&self) -> Option<f64> {
         match self.motor {
             MotorKind::Kloss => Some(1.0),
             _ if self.f1 > 0.0 => Some(1.0),

@@ -176,7 +176,7 @@ impl FrictionKind {
     }
 
     /// See [`FrictionLaw::gives_coefficient`].
-    pub fn gives_coefficient(self) -> bool {
+    pub(crate) fn gives_coefficient(self) -> bool {
         self.law().gives_coefficient
     }
 }
@@ -184,7 +184,7 @@ impl FrictionKind {
 /// ft/min in one m/s: the `agma` law is stated in ft/min.
 pub const FT_PER_MIN_PER_M_PER_S: f64 = 196.850_393_700_787_4;
 /// The `agma` law's static coefficient μs.
-pub const AGMA_MU_STATIC: f64 = 0.150;
+pub(crate) const AGMA_MU_STATIC: f64 = 0.150;
 /// Sliding speed, ft/min, where the `agma` curve changes branch (and jumps
 /// by 2 %).
 pub const AGMA_JUMP_FT_MIN: f64 = 10.0;
@@ -228,7 +228,7 @@ pub fn agma_upper(vs: f64) -> bool {
 /// The `stribeck` law's μ at sliding speed `vs` (m/s) from its slots
 /// (μc, μs, v_st, δ, kv): μc + (μs − μc) exp(−(Vs/v_st)^δ) + kv Vs.
 #[inline]
-pub fn stribeck_mu(s: &[f64; LAW_SLOTS], vs: f64) -> f64 {
+pub(crate) fn stribeck_mu(s: &[f64; LAW_SLOTS], vs: f64) -> f64 {
     let [mu_c, mu_s, v_st, delta, kv] = *s;
     mu_c + (mu_s - mu_c) * (-(vs / v_st).powf(delta)).exp() + kv * vs
 }

@@ -29,7 +29,7 @@ use kernel::{load_term, motor_force_of, switching};
 
 /// Motor force F1 at speed `v1`; zero once the motor is off.
 #[inline]
-pub fn motor_force(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
+pub(crate) fn motor_force(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
     motor_force_of(
         lane.motor,
         motor_on,
@@ -50,7 +50,7 @@ pub fn phi(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
 
 /// The contact side for φ: +1 (a-a) when φ >= 0, else −1 (b-b).
 #[inline]
-pub fn side_of(phi: f64) -> i32 {
+pub(crate) fn side_of(phi: f64) -> i32 {
     if phi >= 0.0 {
         1
     } else {
@@ -94,7 +94,7 @@ pub fn motion(lane: &Lane, tables: &[FrictionTable], mode: Mode, v1: f64) -> Mot
 /// the tangential force needed at rest; sign(T) is the direction of
 /// departure when the lane does not stick.
 #[inline]
-pub fn stick_test(lane: &Lane, motor_on: bool) -> (bool, f64) {
+pub(crate) fn stick_test(lane: &Lane, motor_on: bool) -> (bool, f64) {
     let f1 = motor_force(lane, 0.0, motor_on);
     let n = (lane.f2 * lane.cos_g - f1 * lane.sin_g).abs();
     let t = f1 * lane.cos_g + lane.f2 * lane.sin_g;

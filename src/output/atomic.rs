@@ -80,7 +80,7 @@ fn committed_text(done: &[PathBuf]) -> String {
 /// Whether a file name is one of our temporary names,
 /// `.NAME.PID-N.partial` for a file `ours` accepts: a user's file that
 /// merely looks like one (`.notes.partial`) is not ours to remove.
-pub fn is_partial_name(name: &str, ours: impl Fn(&str) -> bool) -> bool {
+pub(crate) fn is_partial_name(name: &str, ours: impl Fn(&str) -> bool) -> bool {
     let Some(mid) = name
         .strip_prefix('.')
         .and_then(|n| n.strip_suffix(".partial"))
@@ -99,7 +99,7 @@ pub fn is_partial_name(name: &str, ours: impl Fn(&str) -> bool) -> bool {
 
 /// The writer of an [`AtomicFile`]: its file, hashed on the way when
 /// asked (a shard's files, whose manifest records their SHA-256).
-pub type FileWriter = BufWriter<Hashing<WriteBehind>>;
+pub(crate) type FileWriter = BufWriter<Hashing<WriteBehind>>;
 
 /// Bytes a [`WriteBehind`] lets pile up before it starts them on their
 /// way to the disk.
@@ -235,18 +235,18 @@ impl AtomicFile {
     }
 
     /// The final name.
-    pub fn dest(&self) -> &Path {
+    pub(crate) fn dest(&self) -> &Path {
         &self.dest
     }
 
     /// Takes the writer, for a writer that must own it (Parquet's); give
     /// it back with [`AtomicFile::restore_writer`] before the commit.
-    pub fn take_writer(&mut self) -> FileWriter {
+    pub(crate) fn take_writer(&mut self) -> FileWriter {
         self.w.take().expect("writer taken twice")
     }
 
     /// Gives back the writer taken by [`AtomicFile::take_writer`].
-    pub fn restore_writer(&mut self, w: FileWriter) {
+    pub(crate) fn restore_writer(&mut self, w: FileWriter) {
         self.w = Some(w);
     }
 
@@ -325,7 +325,7 @@ pub fn commit_together(mut files: Vec<AtomicFile>, stale: &[&Path]) -> Result<()
 /// committed, report not yet written, the folder still locked). Tests
 /// use it to act inside that window (a second run, a signal); nothing
 /// else sets it.
-pub fn pause_for_tests(point: &str) {
+pub(crate) fn pause_for_tests(point: &str) {
     let Some(v) = std::env::var_os("TSWM_TEST_PAUSE") else {
         return;
     };

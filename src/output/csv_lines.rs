@@ -44,7 +44,7 @@ impl CsvLines {
     }
 
     /// Ends the line and writes it.
-    pub fn end_line(&mut self) -> Result<()> {
+    pub(crate) fn end_line(&mut self) -> Result<()> {
         self.line.push('\n');
         let r = self.file.writer().write_all(self.line.as_bytes());
         self.line.clear();
@@ -52,7 +52,7 @@ impl CsvLines {
     }
 
     /// Writes whole lines, already formatted.
-    pub fn write_raw(&mut self, lines: &[u8]) -> Result<()> {
+    pub(crate) fn write_raw(&mut self, lines: &[u8]) -> Result<()> {
         self.file
             .writer()
             .write_all(lines)

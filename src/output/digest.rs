@@ -46,7 +46,7 @@ impl<W> Hashing<W> {
     }
 
     /// Passes through `inner` without hashing.
-    pub fn unhashed(inner: W) -> Hashing<W> {
+    pub(crate) fn unhashed(inner: W) -> Hashing<W> {
         Hashing {
             inner,
             hash: None,
@@ -63,7 +63,7 @@ impl<W> Hashing<W> {
     }
 
     /// The inner writer or reader.
-    pub fn get_ref(&self) -> &W {
+    pub(crate) fn get_ref(&self) -> &W {
         &self.inner
     }
 

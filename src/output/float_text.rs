@@ -15,7 +15,7 @@
 /// Appends `v`'s text to `out`: nothing for NaN (an empty cell), else the
 /// bytes `format!("{v:?}")` gives.
 #[inline]
-pub fn push_f64(out: &mut Vec<u8>, v: f64) {
+pub(crate) fn push_f64(out: &mut Vec<u8>, v: f64) {
     let a = v.abs();
     // The common case, `zmij`'s text as it is: a magnitude `zmij` lays out
     // as `{:?}` does, and no tie (NaN fails the comparison).

@@ -25,19 +25,19 @@ use crate::error::{Error, Result};
 /// The names of an output folder's files: each stated here once.
 pub mod names {
     /// The results table as CSV.
-    pub const LANES_CSV: &str = "lanes.csv";
+    pub(crate) const LANES_CSV: &str = "lanes.csv";
     /// The results table as Parquet.
-    pub const LANES_PARQUET: &str = "lanes.parquet";
+    pub(crate) const LANES_PARQUET: &str = "lanes.parquet";
     /// Statistics per group.
-    pub const SUMMARY: &str = "summary.csv";
+    pub(crate) const SUMMARY: &str = "summary.csv";
     /// Sensitivity indices per grid point (a sensitivity design).
-    pub const SENSITIVITY: &str = "sensitivity.csv";
+    pub(crate) const SENSITIVITY: &str = "sensitivity.csv";
     /// Traced lanes through time.
-    pub const TRACES: &str = "traces.csv";
+    pub(crate) const TRACES: &str = "traces.csv";
     /// The sweep with every lane's source spelled out.
-    pub const RESOLVED: &str = "sweep.resolved.toml";
+    pub(crate) const RESOLVED: &str = "sweep.resolved.toml";
     /// The report.
-    pub const REPORT: &str = "report.html";
+    pub(crate) const REPORT: &str = "report.html";
     /// A shard's manifest, written last.
     pub const MANIFEST: &str = "shard.toml";
     /// The lock file.
@@ -64,7 +64,7 @@ pub mod names {
 }
 
 /// Name of the lock file inside an output folder.
-pub const LOCK_NAME: &str = names::LOCK;
+pub(crate) const LOCK_NAME: &str = names::LOCK;
 
 /// An output folder held by this run.
 pub struct OutDir {
@@ -150,7 +150,7 @@ impl OutDir {
     /// Locks the existing output folder `path` of an earlier run, to add
     /// files to it (`tswm report`). Errors (exit code 2) when it is not a
     /// folder or another command holds it.
-    pub fn open_existing(path: &Path) -> Result<OutDir> {
+    pub(crate) fn open_existing(path: &Path) -> Result<OutDir> {
         if !path.is_dir() {
             return Err(Error::input(
                 path,
@@ -186,7 +186,7 @@ impl OutDir {
 
     /// Whether the folder held an earlier run's results table (which this
     /// run's commit replaces).
-    pub fn held_results(&self) -> bool {
+    pub(crate) fn held_results(&self) -> bool {
         [names::LANES_CSV, names::LANES_PARQUET]
             .iter()
             .any(|n| self.earlier.iter().any(|e| e == n) && self.path.join(n).is_file())
@@ -196,7 +196,7 @@ impl OutDir {
     /// command in the folder is removed with the old results (its table
     /// in the other format, its traces, report, summary or manifest), so
     /// the folder holds this run's files alone.
-    pub fn commit_run(&mut self, files: Vec<AtomicFile>) -> Result<()> {
+    pub(crate) fn commit_run(&mut self, files: Vec<AtomicFile>) -> Result<()> {
         let new: Vec<&Path> = files.iter().map(|f| f.dest()).collect();
         let stale: Vec<PathBuf> = names::RESULTS
             .iter()
@@ -207,7 +207,7 @@ impl OutDir {
     }
 
     /// Commits files beside the folder's others (a report of its run).
-    pub fn commit_more(&mut self, files: Vec<AtomicFile>) -> Result<()> {
+    pub(crate) fn commit_more(&mut self, files: Vec<AtomicFile>) -> Result<()> {
         self.commit(files, &[])
     }
 

@@ -12,7 +12,7 @@ use crate::input::sweep::{Sweep, TraceSpec};
 /// character, quote and backslash escaped; the serializer would choose a
 /// multi-line string for text with a line break), so no file name or
 /// device name can break a line of `sweep.resolved.toml`.
-pub fn toml_string(s: &str) -> String {
+pub(crate) fn toml_string(s: &str) -> String {
     let mut out = String::with_capacity(s.len() + 2);
     out.push('"');
     for c in s.chars() {
@@ -86,11 +86,11 @@ pub fn provenance(
 }
 
 /// How the header of a lane table's `sweep.resolved.toml` names the table.
-pub const TABLE_LINE: &str = "# every lane follows from the lane table ";
+pub(crate) const TABLE_LINE: &str = "# every lane follows from the lane table ";
 
 /// Whether a `sweep.resolved.toml` is a lane table's: its body is the
 /// `[base]` the table's rows run over, not the run's lanes.
-pub fn from_lane_table(text: &str) -> bool {
+pub(crate) fn from_lane_table(text: &str) -> bool {
     text.lines()
         .take_while(|l| l.starts_with('#'))
         .any(|l| l.starts_with(TABLE_LINE))
@@ -100,7 +100,7 @@ pub fn from_lane_table(text: &str) -> bool {
 /// sweep and the lane count its header states. A lane table's sweep is
 /// read as what it is, the base of the header's lanes, so its `[trace]`
 /// lanes are checked against the run's lanes.
-pub fn read_resolved(path: &Path, text: &str) -> Result<(Sweep, u64)> {
+pub(crate) fn read_resolved(path: &Path, text: &str) -> Result<(Sweep, u64)> {
     let stated = stated_lanes(text).ok_or_else(|| {
         Error::input(
             path,
@@ -114,12 +114,12 @@ pub fn read_resolved(path: &Path, text: &str) -> Result<(Sweep, u64)> {
 }
 
 /// How `sweep.resolved.toml` names the sweep file it was resolved from.
-pub const SWEEP_LINE: &str = "# sweep: ";
+pub(crate) const SWEEP_LINE: &str = "# sweep: ";
 
 /// What a run's lanes came from, as its `sweep.resolved.toml` names it:
 /// the sweep file's or the lane table's name (without its folders), or
 /// "" where the header names neither.
-pub fn stated_source(text: &str) -> String {
+pub(crate) fn stated_source(text: &str) -> String {
     let name = text
         .lines()
         .take_while(|l| l.starts_with('#'))
@@ -150,7 +150,7 @@ fn quoted(r: &str) -> &str {
 
 /// The paper's drive's values a run took by default, as its
 /// `sweep.resolved.toml` states them (empty when none).
-pub fn stated_paper_defaults(text: &str) -> String {
+pub(crate) fn stated_paper_defaults(text: &str) -> String {
     text.lines()
         .take_while(|l| l.starts_with('#'))
         .find_map(|l| {
@@ -162,10 +162,10 @@ pub fn stated_paper_defaults(text: &str) -> String {
 }
 
 /// How `sweep.resolved.toml` begins its line of the run's lane count.
-pub const LANES_LINE: &str = "# lanes: ";
+pub(crate) const LANES_LINE: &str = "# lanes: ";
 
 /// The lane count the header of a `sweep.resolved.toml` states.
-pub fn stated_lanes(text: &str) -> Option<u64> {
+pub(crate) fn stated_lanes(text: &str) -> Option<u64> {
     text.lines()
         .take_while(|l| l.starts_with('#'))
         .find_map(|l| l.strip_prefix(LANES_LINE))
@@ -174,12 +174,12 @@ pub fn stated_lanes(text: &str) -> Option<u64> {
 
 /// How a shard's `sweep.resolved.toml` names the shard (a merge drops
 /// the line).
-pub const SHARD_LINE: &str = "# shard: ";
+pub(crate) const SHARD_LINE: &str = "# shard: ";
 /// How `sweep.resolved.toml` begins its line of the run time.
-pub const TIME_LINE: &str = "# time: ";
+pub(crate) const TIME_LINE: &str = "# time: ";
 
 /// The line of the run time of `lanes` lanes in `seconds`.
-pub fn time_line(seconds: f64, lanes: u64) -> String {
+pub(crate) fn time_line(seconds: f64, lanes: u64) -> String {
     format!(
         "{TIME_LINE}{seconds:.3} s ({:.0} lanes/s)\n",
         lanes as f64 / seconds.max(1e-9)

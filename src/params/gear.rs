@@ -18,7 +18,7 @@ use super::check::{check, ParamError};
 use super::table::{FrictionKind, MotorKind, Num, N_NUM};
 
 /// The gear terms, in table order.
-pub const GEAR: [Num; 14] = [
+pub(crate) const GEAR: [Num; 14] = [
     Num::D1,
     Num::Z1,
     Num::Z2,
@@ -96,7 +96,7 @@ const PAIRS: [(Num, Num, Radius, Rule, &str); 8] = [
 
 /// Whether a wedge parameter has a gear form (it is then left unset, not
 /// defaulted, where a sweep uses gear terms).
-pub fn has_gear_form(p: Num) -> bool {
+pub(crate) fn has_gear_form(p: Num) -> bool {
     p == Num::GammaDeg || PAIRS.iter().any(|&(_, w, ..)| w == p)
 }
 
@@ -110,7 +110,7 @@ pub fn gives(g: Num) -> Option<Num> {
 }
 
 /// rad/s in one rpm.
-pub const RAD_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
+pub(crate) const RAD_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
 
 /// A lane's values with its gear terms converted: the wedge's values set
 /// beside the gear terms it was given, the pitch radii, and where each
@@ -332,7 +332,7 @@ fn geometry(
 impl Converted {
     /// An error on a converted wedge value, told in the terms the user
     /// gave: "j1: gives m1 = j1 / R1^2, and m1 must be ...".
-    pub fn explain(&self, e: ParamError) -> ParamError {
+    pub(crate) fn explain(&self, e: ParamError) -> ParamError {
         let Some(wedge) = Num::from_name(e.param) else {
             return e;
         };

@@ -79,7 +79,7 @@ pub fn paper_defaults(g: &Given) -> Vec<String> {
 
 /// How the summary line, `sweep.resolved.toml` and the report begin the
 /// list of them.
-pub const PHRASE: &str = "from the paper's drive (not given): ";
+pub(crate) const PHRASE: &str = "from the paper's drive (not given): ";
 
 /// The words the summary line and the report use for them.
 pub fn note(defaults: &[String]) -> String {

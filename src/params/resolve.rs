@@ -46,7 +46,7 @@ impl Spec {
 
     /// Sets a parameter from its text form (a lane-table cell, say).
     /// Empty text leaves it unset. Errors say what is allowed.
-    pub fn set_text(&mut self, p: Param, text: &str) -> Result<(), String> {
+    pub(crate) fn set_text(&mut self, p: Param, text: &str) -> Result<(), String> {
         let text = text.trim();
         if text.is_empty() {
             return Ok(());
@@ -125,7 +125,7 @@ impl Spec {
     /// [`Spec::resolve`], appending the lane to `out` (nothing on an
     /// error): a lane in wedge terms goes from its checked values straight
     /// into the columns, with no parameter set in between.
-    pub fn resolve_into(
+    pub(crate) fn resolve_into(
         &self,
         tables: &[TableName],
         out: &mut ParamColumns,

@@ -27,7 +27,7 @@ pub enum Owner {
 
 impl Owner {
     /// Whether lanes with these laws use the parameter.
-    pub fn applies(self, motor: MotorKind, friction: FrictionKind) -> bool {
+    pub(crate) fn applies(self, motor: MotorKind, friction: FrictionKind) -> bool {
         match self {
             Owner::All => true,
             Owner::Motor(m) => m >> motor.code() & 1 == 1,
@@ -352,12 +352,12 @@ impl Num {
     }
 
     /// Looks a numeric parameter up by name.
-    pub fn from_name(name: &str) -> Option<Num> {
+    pub(crate) fn from_name(name: &str) -> Option<Num> {
         Num::ALL.into_iter().find(|p| p.name() == name)
     }
 
     /// The default value, if it has one of its own.
-    pub fn default_value(self) -> Option<f64> {
+    pub(crate) fn default_value(self) -> Option<f64> {
         match self.def().default {
             Fallback::Value(v) => Some(v),
             _ => None,
@@ -377,12 +377,12 @@ impl Param {
     }
 
     /// Looks a parameter up by name.
-    pub fn from_name(name: &str) -> Option<Param> {
+    pub(crate) fn from_name(name: &str) -> Option<Param> {
         Param::COLUMNS.into_iter().find(|p| p.name() == name)
     }
 
     /// All names, comma separated, for error messages.
-    pub fn all_names() -> String {
+    pub(crate) fn all_names() -> String {
         Param::COLUMNS.map(|p| p.name()).join(", ")
     }
 }
@@ -418,13 +418,13 @@ fn num_text(b: f64) -> String {
 
 impl Def {
     /// Whether `v` lies in the row's own range (and is whole, for a count).
-    pub fn in_range(&self, v: f64) -> bool {
+    pub(crate) fn in_range(&self, v: f64) -> bool {
         self.lo.admits_above(v) && self.hi.admits_below(v) && (!self.integer || v.fract() == 0.0)
     }
 
     /// The range in words: "> 0 kg", "in (0, 90) deg", ">= 0 s", "a whole
     /// number in [1, 20]"; empty when any number is allowed.
-    pub fn range_text(&self) -> String {
+    pub(crate) fn range_text(&self) -> String {
         let range = self.bounds_text();
         if self.integer {
             format!("a whole number {range}")
@@ -470,7 +470,8 @@ impl Def {
 
 /// The parameter table of `docs/guide.md`, rendered from the rows (a test
 /// keeps the guide equal to it).
-pub fn guide_table() -> String {
+#[cfg(test)]
+pub(crate) fn guide_table() -> String {
     let mut s =
         String::from("| name | unit | meaning | default | allowed |\n|---|---|---|---|---|\n");
     for p in Param::COLUMNS {

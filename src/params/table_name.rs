@@ -82,7 +82,7 @@ impl FrictionTables {
     }
 
     /// Whether the run's one table is the unnamed `[friction_table]`.
-    pub fn unnamed(&self) -> bool {
+    pub(crate) fn unnamed(&self) -> bool {
         self.names == [TableName::UNNAMED]
     }
 }

@@ -138,7 +138,7 @@ impl ParamColumns {
     }
 
     /// Removes every lane (the room stays).
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         if self.num.len() != N_NUM {
             self.num = vec![Vec::new(); N_NUM];
         }
@@ -184,7 +184,7 @@ impl ParamColumns {
     }
 
     /// Appends lanes `rows` of `src`, column by column.
-    pub fn extend_from(&mut self, src: &ParamColumns, rows: std::ops::Range<usize>) {
+    pub(crate) fn extend_from(&mut self, src: &ParamColumns, rows: std::ops::Range<usize>) {
         if self.num.len() != N_NUM {
             self.num = vec![Vec::new(); N_NUM];
         }
@@ -201,7 +201,7 @@ impl ParamColumns {
     }
 
     /// The bytes a lane takes in these columns.
-    pub const LANE_BYTES: usize = N_NUM * 8
+    pub(crate) const LANE_BYTES: usize = N_NUM * 8
         + std::mem::size_of::<MotorKind>()
         + std::mem::size_of::<FrictionKind>()
         + std::mem::size_of::<Option<TableName>>()
@@ -211,12 +211,12 @@ impl ParamColumns {
     /// Takes the column of `p` out, leaving it empty until
     /// [`ParamColumns::put_num`] puts it back (a batch of the results
     /// table holds it meanwhile): no lane may be read in between.
-    pub fn take_num(&mut self, p: Num) -> Vec<f64> {
+    pub(crate) fn take_num(&mut self, p: Num) -> Vec<f64> {
         std::mem::take(&mut self.num[p as usize])
     }
 
     /// Puts back a column [`ParamColumns::take_num`] took.
-    pub fn put_num(&mut self, p: Num, values: Vec<f64>) {
+    pub(crate) fn put_num(&mut self, p: Num, values: Vec<f64>) {
         self.num[p as usize] = values;
     }
 
@@ -250,12 +250,12 @@ impl ParamColumns {
     }
 
     /// Each lane's friction law.
-    pub fn frictions(&self) -> &[FrictionKind] {
+    pub(crate) fn frictions(&self) -> &[FrictionKind] {
         &self.friction
     }
 
     /// Each lane's friction table, as named.
-    pub fn friction_tables(&self) -> &[Option<TableName>] {
+    pub(crate) fn friction_tables(&self) -> &[Option<TableName>] {
         &self.friction_table
     }
 
@@ -265,7 +265,7 @@ impl ParamColumns {
     }
 
     /// The lanes `idx` (each < len), in that order.
-    pub fn gather(&self, idx: impl IntoIterator<Item = usize>) -> ParamColumns {
+    pub(crate) fn gather(&self, idx: impl IntoIterator<Item = usize>) -> ParamColumns {
         let mut out = ParamColumns::default();
         for i in idx {
             out.push(&self.params(i));

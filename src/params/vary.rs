@@ -69,7 +69,7 @@ fn reached_from(p: Num) -> u64 {
 impl Spec {
     /// This lane with `p` left to set by [`Varying::resolve_into`]; an
     /// error of a parameter that `p` does not reach is found here.
-    pub fn varying(&self, p: Num, tables: &[TableName]) -> Result<Varying, ParamError> {
+    pub(crate) fn varying(&self, p: Num, tables: &[TableName]) -> Result<Varying, ParamError> {
         let mut alone = [None; N_NUM];
         alone[p as usize] = Some(0.0);
         let how = if gear::any(&self.num) || gear::any(&alone) {
@@ -105,7 +105,7 @@ impl Spec {
 impl Varying {
     /// The lane with its parameter at `x`, resolved and appended to `out`
     /// (nothing on an error), as [`Spec::resolve_into`] would.
-    pub fn resolve_into(
+    pub(crate) fn resolve_into(
         &self,
         x: f64,
         tables: &[TableName],

@@ -46,7 +46,7 @@ impl Panel {
 
     /// The most frequent outcome per cell (`outcome::N`: no finished
     /// lane); ties go to the outcome listed first.
-    pub fn outcome_cells(&self) -> Vec<usize> {
+    pub(crate) fn outcome_cells(&self) -> Vec<usize> {
         let n = super::outcome::N;
         self.outcome
             .iter()
@@ -62,7 +62,7 @@ impl Panel {
 
     /// Per cell, whether any of its finished lanes is at rest at its end
     /// (stalled, held, or at rest without a motor): no running point.
-    pub fn at_rest_cells(&self) -> Vec<bool> {
+    pub(crate) fn at_rest_cells(&self) -> Vec<bool> {
         self.outcome
             .iter()
             .map(|c| super::outcome::AT_REST.iter().any(|&k| c[k] > 0))
@@ -72,7 +72,7 @@ impl Panel {
     /// Where the mean lock margin changes sign along each row of cells,
     /// interpolated linearly between cell centres: the static
     /// self-locking limit, in cell coordinates (cell i centred on i).
-    pub fn lock_line(&self) -> Vec<(f64, f64)> {
+    pub(crate) fn lock_line(&self) -> Vec<(f64, f64)> {
         let m: Vec<f64> = self
             .lock
             .iter()
@@ -286,7 +286,7 @@ impl MapData {
 }
 
 /// A band point: x, low, high.
-pub type Band = (f64, f64, f64);
+pub(crate) type Band = (f64, f64, f64);
 
 /// A shown group of a study.
 pub struct GroupData {
@@ -316,14 +316,14 @@ impl GroupData {
     }
 
     /// Histogram of result `r`.
-    pub fn hist(&self, r: usize) -> Option<(f64, f64, &[u64])> {
+    pub(crate) fn hist(&self, r: usize) -> Option<(f64, f64, &[u64])> {
         self.hists[r]
             .as_ref()
             .map(|(a, b, c)| (*a, *b, c.as_slice()))
     }
 
     /// The inputs' rank correlations with `result`, largest first.
-    pub fn tornado(&self, result: &str) -> Vec<(String, f64)> {
+    pub(crate) fn tornado(&self, result: &str) -> Vec<(String, f64)> {
         let mut v: Vec<(String, f64)> = self
             .spearman
             .iter()

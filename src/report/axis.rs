@@ -103,7 +103,7 @@ impl Range {
 
     /// The label of tick `v` (plotted units), with enough digits to tell
     /// the ticks apart.
-    pub fn tick_label(&self, v: f64) -> String {
+    pub(crate) fn tick_label(&self, v: f64) -> String {
         let step = if self.ticks.len() >= 2 {
             self.ticks[1] - self.ticks[0]
         } else {
@@ -116,7 +116,7 @@ impl Range {
 /// Round tick values (1, 2 or 5 times a power of ten apart) inside
 /// [lo, hi]: at least two, at most `MAX_TICKS`, computed from integer
 /// multiples so that no sum accumulates and no loop can run on.
-pub fn nice_ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn nice_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let width = hi - lo;
     if !(width > 0.0 && width.is_finite()) {
         return vec![lo];
@@ -183,7 +183,7 @@ pub fn number(v: f64, step: f64) -> String {
 /// Labels for the values of a grid axis (cells, categories): each with
 /// the fewest significant digits (at least four) that tell neighbours
 /// apart.
-pub fn value_labels(values: &[f64]) -> Vec<String> {
+pub(crate) fn value_labels(values: &[f64]) -> Vec<String> {
     for digits in 4..=17 {
         let labels: Vec<String> = values.iter().map(|&v| significant(v, digits)).collect();
         if labels.windows(2).all(|w| w[0] != w[1]) {
@@ -238,7 +238,7 @@ fn evenly_spaced(values: &[f64], f: &dyn Fn(f64) -> f64) -> bool {
 /// Whether grid values drawn as equal cells read as a scale: at most two
 /// values, or evenly spaced on a linear or a log scale. Others (`values =
 /// [1, 2, 5, 10, 30]`) are drawn one cell each, and their axis says so.
-pub fn reads_as_scale(values: &[f64]) -> bool {
+pub(crate) fn reads_as_scale(values: &[f64]) -> bool {
     values.len() <= 2
         || values.iter().any(|v| !v.is_finite())
         || evenly_spaced(values, &|v| v)
@@ -249,7 +249,7 @@ pub fn reads_as_scale(values: &[f64]) -> bool {
 /// scale, at their fractional positions (value i at position i): the
 /// values a person reads off an axis, not the grid's 0.1019. Empty for
 /// other values (lists), which are labelled as they are.
-pub fn round_ticks(values: &[f64], max_labels: usize) -> Vec<(f64, String)> {
+pub(crate) fn round_ticks(values: &[f64], max_labels: usize) -> Vec<(f64, String)> {
     let n = values.len();
     if n < 3 || values.iter().any(|v| !v.is_finite()) {
         return Vec::new();

@@ -8,7 +8,7 @@ use super::plots::{chart, err, inline, Axis, Coord, LABEL_PX, SIZE};
 
 /// One curve of a line chart: name, points, and an optional band (x,
 /// low, high) around it.
-pub struct Curve<'a> {
+pub(crate) struct Curve<'a> {
     /// Its name in the legend.
     pub name: &'a str,
     /// (x, y) points, joined in order.
@@ -30,7 +30,7 @@ pub(crate) const PALETTE: [RGBColor; 6] = [
 
 /// The x axis of a line chart: numeric over the curves' x values, on a
 /// log10 scale when `log` (values <= 0 are left out).
-pub fn x_axis(label: &str, curves: &[Curve], marks: &[f64], log: bool) -> Axis {
+pub(crate) fn x_axis(label: &str, curves: &[Curve], marks: &[f64], log: bool) -> Axis {
     let xs = curves
         .iter()
         .flat_map(|c| {
@@ -52,7 +52,7 @@ pub fn x_axis(label: &str, curves: &[Curve], marks: &[f64], log: bool) -> Axis {
 
 /// A line chart of curves against x (`x` from [`x_axis`]), with vertical
 /// marks at `marks` (events), a legend when there is more than one curve.
-pub fn line_chart(
+pub(crate) fn line_chart(
     title: &str,
     x: &Axis,
     log: bool,
@@ -140,7 +140,7 @@ pub struct Series<'a> {
 }
 
 /// Colours that say "yes", "undecided" and "no".
-pub const VERDICT_COLOURS: [RGBColor; 3] = [
+pub(crate) const VERDICT_COLOURS: [RGBColor; 3] = [
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(214, 39, 40),
@@ -231,7 +231,7 @@ pub fn points_chart(
 
 /// A histogram of counts over equal bins from `lo` to `hi`, with the
 /// empirical CDF (right axis in shares) drawn over it.
-pub fn histogram(
+pub(crate) fn histogram(
     title: &str,
     x_name: &str,
     lo: f64,
@@ -308,7 +308,7 @@ pub fn histogram(
 }
 
 /// A tornado chart: one horizontal bar per input, longest first.
-pub fn tornado(title: &str, bars: &[(String, f64)]) -> Result<String, String> {
+pub(crate) fn tornado(title: &str, bars: &[(String, f64)]) -> Result<String, String> {
     let n = bars.len().max(1);
     let h = (80 + 34 * n as u32).max(200);
     let x = Axis::fixed("Spearman rank correlation", -1.0, 1.0);

@@ -59,7 +59,7 @@ impl Page {
     }
 
     /// A warning the reader must not miss (escaped).
-    pub fn warning(&mut self, text: &str) {
+    pub(crate) fn warning(&mut self, text: &str) {
         let _ = writeln!(self.body, "<p class=\"warn\">{}</p>", escape(text));
     }
 
@@ -69,7 +69,7 @@ impl Page {
     }
 
     /// Preformatted text (escaped), e.g. the resolved sweep.
-    pub fn pre(&mut self, text: &str) {
+    pub(crate) fn pre(&mut self, text: &str) {
         let _ = writeln!(self.body, "<pre>{}</pre>", escape(text));
     }
 

@@ -178,7 +178,7 @@ impl LinePanel {
 
     /// Per point (in order): mean, min and max of result `r` (NaN where
     /// none).
-    pub fn per_point(&self, r: usize) -> Vec<(f64, f64, f64)> {
+    pub(crate) fn per_point(&self, r: usize) -> Vec<(f64, f64, f64)> {
         self.acc[r]
             .iter()
             .map(|&(s, n, lo, hi)| {
@@ -197,7 +197,7 @@ impl LinePanel {
     }
 
     /// Finished lanes per outcome over the whole panel.
-    pub fn outcome_totals(&self) -> [u64; super::outcome::N] {
+    pub(crate) fn outcome_totals(&self) -> [u64; super::outcome::N] {
         let mut t = [0u64; super::outcome::N];
         for c in &self.outcome {
             for (a, &k) in t.iter_mut().zip(c) {
@@ -210,7 +210,7 @@ impl LinePanel {
     /// Per point of `x`: axis value, finished lanes, then for each
     /// outcome of `shown` its share with its interval (where the lanes
     /// are independent draws).
-    pub fn outcome_rows(&self, x: &XAxis, shown: &[usize]) -> Vec<Vec<String>> {
+    pub(crate) fn outcome_rows(&self, x: &XAxis, shown: &[usize]) -> Vec<Vec<String>> {
         let pct = super::words::percent;
         self.outcome
             .iter()
@@ -239,7 +239,7 @@ impl LinePanel {
     }
 
     /// Share of finished lanes with outcome `i`, per point.
-    pub fn outcome_share(&self, i: usize) -> Vec<(f64, f64, f64)> {
+    pub(crate) fn outcome_share(&self, i: usize) -> Vec<(f64, f64, f64)> {
         self.outcome
             .iter()
             .map(|c| {

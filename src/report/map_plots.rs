@@ -8,7 +8,7 @@ use super::plots::{chart, err, inline, Axis, Coord, Drawn, SIZE};
 
 /// What a heat map draws besides its colours.
 #[derive(Clone, Copy, Default)]
-pub struct HeatMarks<'a> {
+pub(crate) struct HeatMarks<'a> {
     /// A line in cell coordinates (cell (ix, iy) centred on (ix, iy)).
     pub line: Option<&'a [(f64, f64)]>,
     /// Cells struck through (a diagonal), with the legend's word for them.
@@ -20,11 +20,11 @@ pub struct HeatMarks<'a> {
 }
 
 /// The colour of the cells a heat map shows as <= 0.
-pub const AT_MOST_ZERO: RGBColor = RGBColor(70, 70, 70);
+pub(crate) const AT_MOST_ZERO: RGBColor = RGBColor(70, 70, 70);
 
 /// A heat map over two grid axes: `cells[iy * nx + ix]`, a colour bar
 /// named `value_name`, and what `marks` adds.
-pub fn heat_map(
+pub(crate) fn heat_map(
     title: &str,
     x: &Axis,
     y: &Axis,
@@ -188,7 +188,7 @@ fn colour_bar(
 /// A map of categories over two grid axes (`cells` hold an index into
 /// `names`, or `names.len()` for none, drawn in `none`) with a legend of
 /// the categories in `shown` (those that occur).
-pub fn category_map(
+pub(crate) fn category_map(
     title: &str,
     x: &Axis,
     y: &Axis,

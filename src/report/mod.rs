@@ -53,7 +53,7 @@ pub fn write(dir: &mut OutDir) -> Result<()> {
 /// Writes `DIR/report.html` as [`write()`] does, from the aggregates `scan`
 /// gathered while the run's rows streamed past when given (the same page,
 /// without reading the table back).
-pub fn write_with(dir: &mut OutDir, scan: Option<Scan>) -> Result<()> {
+pub(crate) fn write_with(dir: &mut OutDir, scan: Option<Scan>) -> Result<()> {
     crate::output::atomic::pause_for_tests("before-report");
     let page = build_with(dir.path(), scan)?;
     let path = dir.join(REPORT);
@@ -71,7 +71,7 @@ pub fn build(dir: &Path) -> Result<String> {
 /// for a run of `sweep` writing `format` and stating `stated` lanes; None
 /// where the report needs the finished folder first (a study's
 /// histograms).
-pub fn scan_for(sweep: &Sweep, format: Format, stated: u64) -> Option<Scan> {
+pub(crate) fn scan_for(sweep: &Sweep, format: Format, stated: u64) -> Option<Scan> {
     Folder::streams(sweep)
         .then(|| Scan::new(Folder::start(format.file_name(), sweep), sweep, stated))
 }

@@ -9,7 +9,7 @@ use plotters::style::RGBColor;
 use crate::integrator::{Contact, Drive, Hold};
 
 /// The outcomes, in the order of the legends: (word shown, colour).
-pub const OUTCOMES: [(&str, RGBColor); 9] = [
+pub(crate) const OUTCOMES: [(&str, RGBColor); 9] = [
     ("runs", RGBColor(44, 160, 44)),
     ("overhauled", RGBColor(23, 190, 207)),
     ("stalled", RGBColor(214, 39, 40)),
@@ -25,14 +25,14 @@ pub const OUTCOMES: [(&str, RGBColor); 9] = [
 pub const N: usize = OUTCOMES.len();
 
 /// The index of "stalled" in [`OUTCOMES`].
-pub const STALLED: usize = 2;
+pub(crate) const STALLED: usize = 2;
 
 /// The outcomes of a lane at rest at its end (stalled, held, at rest
 /// with no motor): it has no running point.
-pub const AT_REST: [usize; 3] = [STALLED, 4, 7];
+pub(crate) const AT_REST: [usize; 3] = [STALLED, 4, 7];
 
 /// The colour of a cell with no finished lane.
-pub const NONE_COLOUR: RGBColor = RGBColor(200, 200, 200);
+pub(crate) const NONE_COLOUR: RGBColor = RGBColor(200, 200, 200);
 
 /// The outcome of a finished lane from its `contact_end`, `hold` and
 /// `drive` cells (None: empty).

@@ -25,7 +25,7 @@ use crate::output::table::read_batches;
 use crate::params::Num;
 
 /// Most designs on a front (more: the section says so, and lists none).
-pub const MAX_FRONT: usize = 5_000;
+pub(crate) const MAX_FRONT: usize = 5_000;
 
 /// Most designs drawn in the cloud.
 const CLOUD: usize = 4_096;

@@ -11,7 +11,7 @@ use plotters::prelude::*;
 use super::axis::{value_labels, Range};
 
 /// Width and height of one figure, px.
-pub const SIZE: (u32, u32) = (560, 400);
+pub(crate) const SIZE: (u32, u32) = (560, 400);
 
 /// Plotters' drawing errors carry backend types; the report only needs
 /// to say that a figure could not be drawn.
@@ -36,7 +36,7 @@ pub fn tick(v: f64) -> String {
 /// The font size of tick labels and axis titles, px: a figure is shown
 /// at its own width (two a row), so these are the sizes read, beside the
 /// page's 14 to 16 px text.
-pub const LABEL_PX: u32 = 14;
+pub(crate) const LABEL_PX: u32 = 14;
 
 /// Most labelled categories on an axis (the others are drawn unlabelled).
 const MAX_LABELS: usize = 8;
@@ -66,7 +66,7 @@ pub enum Axis {
 
 impl Axis {
     /// A numeric axis over `values`, padded by 4 % of their span.
-    pub fn numeric(label: &str, values: impl IntoIterator<Item = f64>) -> Axis {
+    pub(crate) fn numeric(label: &str, values: impl IntoIterator<Item = f64>) -> Axis {
         Axis::Num {
             label: label.to_string(),
             range: Range::of(values, 0.04),
@@ -185,7 +185,7 @@ impl Axis {
 /// A linear f64 coordinate whose ticks are given (plotters' own f64
 /// coordinate computes them itself, and loops on an infinite span).
 #[derive(Clone, Debug)]
-pub struct Coord {
+pub(crate) struct Coord {
     lo: f64,
     hi: f64,
     keys: Vec<f64>,

@@ -11,7 +11,7 @@ use crate::stats::{wilson_z, Z95_ONE_SIDED};
 
 /// Whether a share meets a requirement (with 95 % confidence, for samples).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
+pub(crate) enum Verdict {
     /// The share (for samples, its one-sided 95 % lower bound) is at
     /// least the required share.
     Met,
@@ -120,7 +120,7 @@ impl RequireData {
 
     /// The share of (passing, counted), its one-sided 95 % bounds (low,
     /// high; the share itself where it is exact) and the verdict.
-    pub fn judge(&self, (k, n): (u64, u64)) -> (f64, f64, f64, Option<Verdict>) {
+    pub(crate) fn judge(&self, (k, n): (u64, u64)) -> (f64, f64, f64, Option<Verdict>) {
         if n == 0 {
             return (f64::NAN, f64::NAN, f64::NAN, None);
         }
@@ -146,7 +146,7 @@ impl RequireData {
 
     /// The fewest lanes a grid point needs for a requirement of all its
     /// lanes passing to be confirmed: n / (n + z²) >= at_least.
-    pub fn lanes_needed(&self) -> u64 {
+    pub(crate) fn lanes_needed(&self) -> u64 {
         let a = self.req.at_least;
         if a >= 1.0 {
             return u64::MAX;

@@ -26,7 +26,7 @@ pub use super::trace::TraceData;
 /// Final contacts in the report's order, with the words the report uses
 /// beside their own. `stick` is "at rest": held if the motor is cut,
 /// stalled if it runs (the outcome says which).
-pub const CONTACT_NAMES: [(Contact, &str); 3] = [
+pub(crate) const CONTACT_NAMES: [(Contact, &str); 3] = [
     (Contact::Stick, "at rest"),
     (Contact::Aa, "a-a"),
     (Contact::Bb, "b-b"),
@@ -178,7 +178,7 @@ impl Folder {
     /// Whether the report of a run of `sweep` can be gathered while its
     /// rows stream past: not for a study, whose histograms are binned
     /// over the ranges `summary.csv` gives at the run's end.
-    pub fn streams(sweep: &Sweep) -> bool {
+    pub(crate) fn streams(sweep: &Sweep) -> bool {
         sweep.study.is_none()
     }
 }

@@ -27,10 +27,10 @@ use crate::integrator::Side;
 use crate::output::names::SUMMARY;
 
 /// Drives drawn at most (the first ones; the table holds them all).
-pub const MAX_POINTS: usize = 20_000;
+pub(crate) const MAX_POINTS: usize = 20_000;
 
 /// Drives (or grid points) stated one by one at most.
-pub const MAX_SENTENCES: usize = 12;
+pub(crate) const MAX_SENTENCES: usize = 12;
 
 /// A number in a sentence: six significant digits, in plain notation.
 fn val(x: f64) -> String {

@@ -11,7 +11,7 @@ use crate::columns::{self, CONTACT_END, DRIVE, HOLD, LOCK_MARGIN_DEG, STATUS};
 use crate::params::{gear, Num, Param};
 
 /// Runs of at most this many lanes get a data sheet.
-pub const SHEET_LANES: u64 = 12;
+pub(crate) const SHEET_LANES: u64 = 12;
 
 /// Lanes a table of the sheet shows side by side.
 const COLUMNS: usize = 6;
@@ -50,7 +50,7 @@ pub fn names() -> Vec<&'static str> {
 }
 
 /// `v` to four significant digits ("0.8254", "4774", "-0.2956").
-pub fn sig4(v: f64) -> String {
+pub(crate) fn sig4(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }
@@ -249,7 +249,7 @@ impl Sheet {
 
     /// One sentence a lane for what the page says first: its outcome and
     /// whether it is self-locking.
-    pub fn sentences(&self) -> Vec<String> {
+    pub(crate) fn sentences(&self) -> Vec<String> {
         self.lanes
             .iter()
             .enumerate()

@@ -3,7 +3,7 @@
 //! hold an event. Memory is fixed and time linear in the rows.
 
 /// Time buckets of a trace plot: about two a pixel of its width.
-pub const TRACE_BUCKETS: usize = 1000;
+pub(crate) const TRACE_BUCKETS: usize = 1000;
 
 /// One series of a bucket: the first, lowest, highest and last value
 /// with their times, so that the plot of the bucket's points draws what
@@ -111,7 +111,7 @@ impl TraceData {
     }
 
     /// Whether the plot holds fewer points than the lane has rows.
-    pub fn thinned(&self) -> bool {
+    pub(crate) fn thinned(&self) -> bool {
         let kept: usize = self.buckets.iter().flat_map(|b| b.iter().flatten()).count() * 4;
         self.rows as usize > kept / SERIES
     }
@@ -128,7 +128,7 @@ impl TraceData {
     }
 
     /// Times of the events marked: one per bucket that holds one.
-    pub fn marks(&self) -> Vec<f64> {
+    pub(crate) fn marks(&self) -> Vec<f64> {
         self.event_at.iter().flatten().copied().collect()
     }
 }

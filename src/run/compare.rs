@@ -29,7 +29,7 @@ use crate::run::{pipeline, Sink};
 
 pub use crate::columns::{SWITCH_BOUND, VALUE_BOUND};
 /// Least share of lanes that must agree.
-pub const AGREE_SHARE: f64 = 0.98;
+pub(crate) const AGREE_SHARE: f64 = 0.98;
 
 /// The compared continuous columns, in table order.
 pub fn compared() -> Vec<&'static Column> {
@@ -104,7 +104,7 @@ impl Default for Report {
 
 impl Report {
     /// A report that also writes every disagreeing lane to `all`.
-    pub fn writing_to(mut all: Box<dyn std::io::Write + Send>) -> std::io::Result<Report> {
+    pub(crate) fn writing_to(mut all: Box<dyn std::io::Write + Send>) -> std::io::Result<Report> {
         writeln!(all, "lane,reason")?;
         Ok(Report {
             all: Some(all),
@@ -171,7 +171,7 @@ impl Report {
     }
 
     /// Share of lanes that agree.
-    pub fn agree_share(&self) -> f64 {
+    pub(crate) fn agree_share(&self) -> f64 {
         if self.lanes == 0 {
             1.0
         } else {

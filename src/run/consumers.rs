@@ -38,7 +38,7 @@ pub struct Written {
 }
 
 /// A consumer of a run's batches, in lane order.
-pub trait Consumer: Send {
+pub(crate) trait Consumer: Send {
     /// Takes the batch of lanes `first..`; `pool` is the writer threads.
     fn batch(&mut self, first: u64, batch: &RecordBatch, pool: &rayon::ThreadPool) -> Result<()>;
 
@@ -48,7 +48,7 @@ pub trait Consumer: Send {
 
 /// Feeds `batch` to every consumer, each a task on `pool`; the first
 /// failure in the list's order, if any.
-pub fn feed(
+pub(crate) fn feed(
     consumers: &mut [Box<dyn Consumer>],
     first: u64,
     batch: &RecordBatch,
@@ -92,7 +92,7 @@ impl Consumer for Stats {
 }
 
 /// The report's aggregates, and the table's path for their errors.
-pub struct ReportScan(pub Scan, pub PathBuf);
+pub(crate) struct ReportScan(pub Scan, pub PathBuf);
 
 impl Consumer for ReportScan {
     fn batch(&mut self, _first: u64, b: &RecordBatch, _pool: &rayon::ThreadPool) -> Result<()> {

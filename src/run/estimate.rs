@@ -26,7 +26,7 @@ pub const ESTIMATE_FROM: u64 = 10_000_000;
 pub const TRIAL_MAX: u64 = 1 << 16;
 
 /// Fewest lanes of a trial (all of a smaller run).
-pub const TRIAL_MIN: u64 = 4096;
+pub(crate) const TRIAL_MIN: u64 = 4096;
 
 /// A run's estimated cost.
 #[derive(Clone, Debug)]
@@ -54,7 +54,7 @@ impl Estimate {
     }
 
     /// The results table's size, bytes.
-    pub fn table_bytes(&self) -> f64 {
+    pub(crate) fn table_bytes(&self) -> f64 {
         self.trial_bytes as f64 * self.scale()
     }
 

@@ -121,7 +121,7 @@ fn consume<S: Sink>(
 }
 
 /// [`pipeline_range`], with the time each stage was busy.
-pub fn pipeline_timed<S: Sink>(
+pub(crate) fn pipeline_timed<S: Sink>(
     source: &Source,
     (start, end): (u64, u64),
     backend: &mut dyn Backend,

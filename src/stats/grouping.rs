@@ -100,7 +100,7 @@ impl Grouping {
 /// in `Sweep::lane_spec`); the lanes' own values may differ, when a
 /// tolerance scatters an axis parameter. As text: a number as lanes.csv
 /// writes it, or the word of an axis over laws or tables.
-pub fn grid_values(axes: &[Axis], point: u64) -> Vec<String> {
+pub(crate) fn grid_values(axes: &[Axis], point: u64) -> Vec<String> {
     let mut rest = point;
     let mut v: Vec<String> = axes
         .iter()

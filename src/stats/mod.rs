@@ -19,17 +19,17 @@ pub use summary::Stats;
 /// The 95 % Wilson score interval of a share k/n (Wilson, 1927): unlike
 /// the normal approximation it stays inside [0, 1] and is not empty at
 /// k = 0 or k = n.
-pub fn wilson(k: u64, n: u64) -> (f64, f64) {
+pub(crate) fn wilson(k: u64, n: u64) -> (f64, f64) {
     wilson_z(k, n, Z95)
 }
 
 /// z of a two-sided 95 % interval.
-pub const Z95: f64 = 1.959_963_984_540_054;
+pub(crate) const Z95: f64 = 1.959_963_984_540_054;
 /// z of a one-sided 95 % bound (either end of a two-sided 90 % interval).
-pub const Z95_ONE_SIDED: f64 = 1.644_853_626_951_472_2;
+pub(crate) const Z95_ONE_SIDED: f64 = 1.644_853_626_951_472_2;
 
 /// The Wilson score interval of k/n for the normal quantile `z`.
-pub fn wilson_z(k: u64, n: u64, z: f64) -> (f64, f64) {
+pub(crate) fn wilson_z(k: u64, n: u64, z: f64) -> (f64, f64) {
     if n == 0 {
         return (f64::NAN, f64::NAN);
     }
@@ -56,7 +56,7 @@ pub fn wilson_z(k: u64, n: u64, z: f64) -> (f64, f64) {
 /// Spearman's rank correlation of the pairs whose two values are both
 /// finite (average ranks for ties); NaN for fewer than 3 pairs or a
 /// constant side.
-pub fn spearman(x: &[f64], y: &[f64]) -> (f64, usize) {
+pub(crate) fn spearman(x: &[f64], y: &[f64]) -> (f64, usize) {
     let (xs, ys): (Vec<f64>, Vec<f64>) = x
         .iter()
         .zip(y)
@@ -97,7 +97,7 @@ fn correlate(rx: &[f64], ry: &[f64]) -> f64 {
 /// The rank correlations of many pairs of columns: a column whose
 /// values are all finite is ranked once for all its pairs ([`spearman`]
 /// of such a pair keeps every lane, so its ranks are the column's).
-pub struct Correlations<'a> {
+pub(crate) struct Correlations<'a> {
     cols: &'a [Vec<f64>],
     /// Per column: None until needed; then its whole ranks, or None when
     /// it has a value that is not finite (each pair is then filtered).
@@ -128,7 +128,7 @@ impl<'a> Correlations<'a> {
     }
 
     /// [`spearman`] of columns `x` and `y`, value for value.
-    pub fn spearman(&mut self, x: usize, y: usize) -> (f64, usize) {
+    pub(crate) fn spearman(&mut self, x: usize, y: usize) -> (f64, usize) {
         let n = self.cols[x].len();
         if n >= 3 && self.whole(x).is_some() && self.whole(y).is_some() {
             let rank = |c: usize| self.ranked[c].as_ref().and_then(|r| r.as_deref());

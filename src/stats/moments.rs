@@ -1,7 +1,8 @@
 //! Running moments of a column's finite values (count, mean, sum of
-//! squared deviations, min, max) by Welford's update, for one value at a
-//! time ([`Moments::add`]) or for many columns side by side
-//! ([`add_columns`]): each column's values still go in one after another
+//! squared deviations, min, max) by Welford's update, for many columns
+//! side by side ([`add_columns`]; the one-value update `Moments::add`,
+//! which the tests hold it to, is the same arithmetic): each column's
+//! values still go in one after another
 //! in the same order, so the moments are the same bits either way, but
 //! eight columns' updates run as the elements of one vector, and their
 //! divisions overlap instead of each waiting on the one before.
@@ -27,6 +28,7 @@ pub struct Moments {
 impl Moments {
     /// Adds `x`; a value that is not finite is left out. Welford's
     /// update: stable for any count.
+    #[cfg(test)]
     #[inline]
     pub fn add(&mut self, x: f64) {
         if !x.is_finite() {
@@ -127,8 +129,9 @@ impl Block {
 }
 
 /// Adds the rows of `xs` (one slice a column, each as long as the first)
-/// to `ms` (one a column), row after row: the same as [`Moments::add`]
-/// of each column's values in order, bit for bit.
+/// to `ms` (one a column), row after row: the same as Welford's update
+/// of each column's values in order, one at a time, bit for bit (a test
+/// compares them).
 pub fn add_columns(ms: &mut [Moments], xs: &[&[f64]]) {
     add_columns_on(best_isa(), ms, xs)
 }

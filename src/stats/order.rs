@@ -19,7 +19,7 @@
 use crate::integrator::Side;
 
 /// Two-sided coverage of the interval.
-pub const COVERAGE: f64 = 0.95;
+pub(crate) const COVERAGE: f64 = 0.95;
 
 /// The ranks (1-based, among n drives) of a share boundary: the order
 /// statistic that is the boundary, the two that bound its two-sided 95 %
@@ -43,7 +43,8 @@ pub struct Ranks {
 
 /// P(B <= k) for B ~ Binomial(n, p), summed in logs (no overflow for
 /// n up to 10^7).
-pub fn binomial_cdf(k: i64, n: usize, p: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn binomial_cdf(k: i64, n: usize, p: f64) -> f64 {
     if k < 0 {
         return 0.0;
     }
@@ -115,7 +116,7 @@ impl Iterator for Cdf {
 /// the boundary is c_(m + 1), the population's (1 - at_least)-quantile.
 /// Above (met for x >= c): the share is #(c_i <= x) / n, at least
 /// `at_least` from c_(k), k = ceil(n at_least): the at_least-quantile.
-pub fn boundary_ranks(n: usize, at_least: f64, side: Side) -> Ranks {
+pub(crate) fn boundary_ranks(n: usize, at_least: f64, side: Side) -> Ranks {
     let (k, q) = match side {
         Side::Below => {
             let m = (n as f64 * (1.0 - at_least) + 1e-9).floor() as usize;
@@ -156,7 +157,7 @@ pub fn boundary_ranks(n: usize, at_least: f64, side: Side) -> Ranks {
 }
 
 /// The t-th smallest (1-based) of `v` (reordered; NaN sorts last).
-pub fn kth(v: &mut [f64], t: usize) -> f64 {
+pub(crate) fn kth(v: &mut [f64], t: usize) -> f64 {
     if t == 0 || t > v.len() {
         return f64::NAN;
     }
@@ -166,7 +167,7 @@ pub fn kth(v: &mut [f64], t: usize) -> f64 {
 
 /// The bracket (L, U] of the t-th smallest critical value, from the
 /// drives' brackets `los` and `his` (reordered).
-pub fn order_bracket(los: &mut [f64], his: &mut [f64], t: usize) -> (f64, f64) {
+pub(crate) fn order_bracket(los: &mut [f64], his: &mut [f64], t: usize) -> (f64, f64) {
     (kth(los, t), kth(his, t))
 }
 

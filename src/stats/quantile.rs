@@ -138,7 +138,7 @@ impl Sketch {
     /// Adds the finite values of `xs` in order (the others are left
     /// out), as [`Sketch::add`] one at a time does: values that fall in
     /// the bucket of the run before them are counted in one step.
-    pub fn add_all(&mut self, xs: &[f64]) {
+    pub(crate) fn add_all(&mut self, xs: &[f64]) {
         let mut i = 0;
         while i < xs.len() {
             if let Some(r) = self.run.as_mut() {

@@ -62,7 +62,7 @@ impl Design {
 
 /// The results analysed, in `sensitivity.csv` order: every number column,
 /// then the indicators.
-pub fn result_names() -> Vec<String> {
+pub(crate) fn result_names() -> Vec<String> {
     number_columns()
         .map(|c| c.name.to_string())
         .chain(indicators().iter().map(Indicator::name))
@@ -75,7 +75,7 @@ struct Group {
 }
 
 /// Streams a sensitivity design's lanes into `sensitivity.csv`.
-pub struct SensitivityCsv {
+pub(crate) struct SensitivityCsv {
     design: Design,
     names: Vec<String>,
     numbers: usize,

@@ -40,7 +40,7 @@ pub struct Bootstrap {
 
 /// One index with its interval (NaN where undefined).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Index {
+pub(crate) struct Index {
     /// First-order index.
     pub s1: f64,
     /// Its interval's ends.
@@ -58,7 +58,7 @@ pub struct Index {
 /// The sums of one output over the row groups of a grid point, by
 /// bootstrap unit.
 #[derive(Clone, Debug)]
-pub struct Accumulator {
+pub(crate) struct Accumulator {
     d: usize,
     n: u64,
     units: usize,
@@ -235,7 +235,7 @@ fn estimate(t: &[f64], d: usize, centre: f64) -> Vec<(f64, f64)> {
 
 /// The `p` quantile of `v` by linear interpolation between order
 /// statistics (NumPy's default), NaN for no values; sorts `v`.
-pub fn percentile(v: &mut [f64], p: f64) -> f64 {
+pub(crate) fn percentile(v: &mut [f64], p: f64) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }
@@ -250,7 +250,7 @@ pub fn percentile(v: &mut [f64], p: f64) -> f64 {
 /// `units` a resample): each resample draws `units` units with replacement
 /// from the pinned ChaCha8 stream of `boot.seed`, keyed apart from the
 /// design's draws and by the group.
-pub fn resample_counts(boot: &Bootstrap, group: u64, units: usize) -> Vec<u32> {
+pub(crate) fn resample_counts(boot: &Bootstrap, group: u64, units: usize) -> Vec<u32> {
     let mut counts = vec![0u32; boot.resamples * units];
     counts.par_chunks_mut(units).enumerate().for_each(|(b, c)| {
         let mut u = Uniforms::keyed(boot.seed, *b"tswm-bs\0", group);

@@ -205,11 +205,6 @@ impl Stats {
         })
     }
 
-    /// A share search's boundaries so far, a group each.
-    pub fn boundaries(&self) -> &[Boundary] {
-        &self.boundaries
-    }
-
     /// Writes the last group; the file, to be committed with the run's
     /// other files.
     /// With the files, the seconds spent on sensitivity indices (a
@@ -220,7 +215,7 @@ impl Stats {
 
     /// [`Stats::finish`], with a share search's boundaries, a group each.
     #[allow(clippy::type_complexity)]
-    pub fn finish_all(mut self) -> Result<(Vec<AtomicFile>, Option<f64>, Vec<Boundary>)> {
+    pub(crate) fn finish_all(mut self) -> Result<(Vec<AtomicFile>, Option<f64>, Vec<Boundary>)> {
         if let Some(g) = self.group.take() {
             self.write_group(g)?;
         }

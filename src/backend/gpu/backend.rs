@@ -50,7 +50,7 @@ impl GpuBackend {
     }
 
     /// A backend whose recomputed rows run on `cpu`.
-    pub fn with_cpu(gpu: Gpu, settings: Settings, cpu: CpuBackend) -> GpuBackend {
+    pub(crate) fn with_cpu(gpu: Gpu, settings: Settings, cpu: CpuBackend) -> GpuBackend {
         // Each part of a chunk is the work size the device is tuned for;
         // `in_flight` of them overlap (`Gpu::run_parts`).
         let work = super::WorkSize::of(&gpu.info, &gpu.limits);

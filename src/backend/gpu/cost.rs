@@ -31,7 +31,7 @@ use crate::model::{stick_test, Lane};
 pub const LEARN_PER_CALL: usize = 8192;
 
 /// Lanes the model must have learnt from before it replaces t_end.
-pub const MIN_LEARNT: usize = 256;
+pub(crate) const MIN_LEARNT: usize = 256;
 
 /// Raw parameters a lane's cost may depend on (besides t_end).
 const N_RAW: usize = 19;
@@ -65,7 +65,7 @@ fn raw(l: &Lane) -> [f64; N_RAW] {
 /// never moves, so it takes no steps at all (docs/model.md section 4: a stuck
 /// lane leaves rest only when a force changes, and with the motor on at
 /// rest none does).
-pub fn never_moves(l: &Lane) -> bool {
+pub(crate) fn never_moves(l: &Lane) -> bool {
     l.v1_0 == 0.0 && l.motor_off >= l.t_end && stick_test(l, true).0
 }
 

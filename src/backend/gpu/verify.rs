@@ -15,12 +15,12 @@ use crate::model::{Lane, MotorKind};
 
 /// Largest energy-balance residual (relative to the largest energy term)
 /// a trusted row may have.
-pub const ENERGY_RESIDUAL: f64 = 1e-5;
+pub(crate) const ENERGY_RESIDUAL: f64 = 1e-5;
 
 /// Critical slip below which a Kloss motor counts as too stiff for f32:
 /// near synchronous speed one f32 step of ẋ1 then moves the motor force
 /// by more than 1e-4 of its peak.
-pub const STIFF_SIGMA_K: f64 = 1e-3;
+pub(crate) const STIFF_SIGMA_K: f64 = 1e-3;
 
 /// Relative rounding of the f32 path's energies, measured as above
 /// (worst energy residual 1e-6): a work smaller than this share of the
@@ -33,7 +33,7 @@ pub const TRUSTED_BOUND: f64 = 100.0 * crate::columns::VALUE_BOUND;
 
 /// Whether f32 represents a lane's inputs: finite, and not so small that
 /// they vanish. Lanes that fail go to the f64 path without a GPU attempt.
-pub fn representable(lane: &Lane) -> bool {
+pub(crate) fn representable(lane: &Lane) -> bool {
     let vals = [
         lane.m1,
         lane.m2,

@@ -14,7 +14,7 @@ use crate::error::Result;
 use crate::params::ParamColumns;
 
 /// The most parameter bytes of a lane table kept from its check.
-pub const KEEP_BYTES: usize = 128 << 20;
+pub(crate) const KEEP_BYTES: usize = 128 << 20;
 
 /// Where a run's lanes come from ([`Source::run_lanes`]).
 pub enum RunLanes<'a> {

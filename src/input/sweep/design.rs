@@ -55,16 +55,19 @@ pub struct Sensitivity {
 
 impl Sensitivity {
     /// Default bootstrap resamples.
-    pub const DEFAULT_BOOTSTRAP: usize = 1000;
+    pub(crate) const DEFAULT_BOOTSTRAP: usize = 1000;
     /// Default coverage of the intervals.
-    pub const DEFAULT_CONFIDENCE: f64 = 0.95;
+    pub(crate) const DEFAULT_CONFIDENCE: f64 = 0.95;
     /// Most resamples.
-    pub const MAX_BOOTSTRAP: usize = 10_000;
+    pub(crate) const MAX_BOOTSTRAP: usize = 10_000;
     /// Most inputs (the sequence's dimensions hold A and B).
-    pub const MAX_INPUTS: usize = crate::input::sobol_seq::MAX_DIMS / 2;
+    pub(crate) const MAX_INPUTS: usize = crate::input::sobol_seq::MAX_DIMS / 2;
     /// Most base samples.
-    pub const MAX_BASE: u64 = 1 << 30;
+    pub(crate) const MAX_BASE: u64 = 1 << 30;
 }
+
+// The sequence has 32 bits: a design needs no more base points than it has.
+const _: () = assert!(Sensitivity::MAX_BASE <= crate::input::sobol_seq::MAX_POINTS);
 
 /// How a sample's draw moves a parameter from its nominal value.
 #[derive(Clone, Copy, Debug)]
@@ -79,7 +82,7 @@ pub struct Shift {
 
 impl Shift {
     /// No tolerance: the nominal value itself.
-    pub const NONE: Shift = Shift {
+    pub(crate) const NONE: Shift = Shift {
         drawn: false,
         tol: 0.0,
         relative: false,

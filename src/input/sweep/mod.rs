@@ -75,7 +75,7 @@ impl Axis {
     }
 
     /// Whether the axis runs over words (a law or a table name), not numbers.
-    pub fn is_words(&self) -> bool {
+    pub(crate) fn is_words(&self) -> bool {
         matches!(self.values, AxisValues::Words(_))
     }
 
@@ -154,9 +154,9 @@ pub struct ReportSpec {
 
 impl ReportSpec {
     /// Panels unless `[report] panels` says otherwise.
-    pub const DEFAULT_PANELS: usize = 6;
+    pub(crate) const DEFAULT_PANELS: usize = 6;
     /// Most panels allowed (each is a few tens of kB of SVG).
-    pub const MAX_PANELS: usize = 48;
+    pub(crate) const MAX_PANELS: usize = 48;
 
     /// The results to plot.
     pub fn results(&self) -> Vec<String> {
@@ -171,7 +171,7 @@ impl ReportSpec {
     }
 
     /// The panel limit.
-    pub fn panels(&self) -> usize {
+    pub(crate) fn panels(&self) -> usize {
         if self.panels == 0 {
             Self::DEFAULT_PANELS
         } else {
@@ -237,7 +237,7 @@ impl Sweep {
 
     /// [`Sweep::lane_spec`] into `spec` (its earlier contents replaced):
     /// a lane source reuses one.
-    pub fn lane_spec_into(&self, i: u64, u: &mut Uniforms, spec: &mut Spec) {
+    pub(crate) fn lane_spec_into(&self, i: u64, u: &mut Uniforms, spec: &mut Spec) {
         // A search's drive as one lane: the searched parameter at the
         // bracket's lower end (the lane its first round starts with).
         let at = self.search.as_ref().map(|s| (s.param, s.from));
@@ -247,7 +247,7 @@ impl Sweep {
     /// [`Sweep::lane_spec_into`] with the nominal value of `at`'s
     /// parameter set to its value (a search's query point): the value a
     /// grid would set, around which the lane's tolerance, if any, draws.
-    pub fn lane_spec_at(
+    pub(crate) fn lane_spec_at(
         &self,
         i: u64,
         at: Option<(crate::params::Num, f64)>,
@@ -266,7 +266,7 @@ impl Sweep {
     /// the searched parameter, and how the drive's draw moves the value
     /// it is queried at. With `spec.set(searched, shift.apply(x))`, the
     /// lane is [`Sweep::lane_spec_at`] `i` at `x`, value for value.
-    pub fn search_drive(
+    pub(crate) fn search_drive(
         &self,
         i: u64,
         searched: crate::params::Num,
@@ -286,7 +286,7 @@ impl Sweep {
 
     /// The nominal design of grid point `point` (its values without the
     /// study's draws), with `at`'s parameter set: a search's design point.
-    pub fn nominal_spec_at(
+    pub(crate) fn nominal_spec_at(
         &self,
         point: u64,
         at: Option<(crate::params::Num, f64)>,
@@ -320,7 +320,7 @@ impl Sweep {
     /// Where lane `lane`'s error on `param` (one name, or several, comma
     /// separated) lies: "lane N", with the line of the first of them the
     /// file sets.
-    pub fn lane_at(&self, lane: u64, param: &str) -> String {
+    pub(crate) fn lane_at(&self, lane: u64, param: &str) -> String {
         let line = param.split(", ").find_map(|p| {
             self.key_lines
                 .iter()
@@ -336,12 +336,12 @@ impl Sweep {
     /// Whether its lanes are independent draws, so that a share of them
     /// has a Wilson interval: not for a sensitivity design, whose row
     /// groups share every input but one.
-    pub fn independent_lanes(&self) -> bool {
+    pub(crate) fn independent_lanes(&self) -> bool {
         self.study.as_ref().is_none_or(|s| s.sensitivity.is_none())
     }
 
     /// A stream of uniforms for this sweep's study.
-    pub fn uniforms(&self) -> Uniforms {
+    pub(crate) fn uniforms(&self) -> Uniforms {
         Uniforms::new(self.study.as_ref().map_or(0, |s| s.seed))
     }
 }

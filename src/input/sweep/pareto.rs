@@ -21,7 +21,7 @@ pub struct Objective {
 }
 
 /// Fewest and most objectives.
-pub const OBJECTIVES: (usize, usize) = (2, 3);
+pub(crate) const OBJECTIVES: (usize, usize) = (2, 3);
 
 impl Objective {
     /// Its text, as the sweep file and `sweep.resolved.toml` write it.
@@ -30,7 +30,7 @@ impl Objective {
     }
 
     /// `v` as a value to make as large as possible.
-    pub fn gain(&self, v: f64) -> f64 {
+    pub(crate) fn gain(&self, v: f64) -> f64 {
         if self.max {
             v
         } else {

@@ -11,7 +11,7 @@ use super::axes::parse_axes;
 use super::file::{key_lines, At, ReportDef, SweepFile, TableDef};
 use super::search::parse_search;
 use super::study::parse_study;
-use super::text::{read_text, suggest_in, toml_error};
+use super::text::{suggest_in, toml_error};
 use super::{Axis, AxisValues, Sweep};
 use crate::error::{did_you_mean, Error, Result};
 use crate::model::{FrictionTable, MAX_TABLES};
@@ -20,8 +20,9 @@ use crate::params::{Param, Spec, TableName};
 
 impl Sweep {
     /// Reads and validates a sweep file.
-    pub fn from_file(path: &Path) -> Result<Sweep> {
-        Sweep::parse(path, &read_text(path)?)
+    #[cfg(test)]
+    pub(crate) fn from_file(path: &Path) -> Result<Sweep> {
+        Sweep::parse(path, &super::text::read_text(path)?)
     }
 
     /// Parses sweep-file text; `path` names it in errors.
@@ -33,7 +34,7 @@ impl Sweep {
     /// is the run's lane count (a lane table's rows) that `[trace]` lanes
     /// are checked against, instead of the sweep's own (one lane, its
     /// `[base]`). None: the sweep's own.
-    pub fn parse_with_lanes(path: &Path, text: &str, lanes: Option<u64>) -> Result<Sweep> {
+    pub(crate) fn parse_with_lanes(path: &Path, text: &str, lanes: Option<u64>) -> Result<Sweep> {
         let file: SweepFile = toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         let at = At { path, text };
         let base = parse_base(&at, &file.base)?;

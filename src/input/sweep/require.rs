@@ -116,7 +116,7 @@ impl Requirement {
 
     /// Whether a lane whose cell in the column is `word` (a word column)
     /// or `x` (a number column) passes.
-    pub fn passes_value(&self, word: &str, x: f64) -> bool {
+    pub(crate) fn passes_value(&self, word: &str, x: f64) -> bool {
         match &self.test {
             Test::Word(w) => word == w,
             Test::Number(op, v) => match op {

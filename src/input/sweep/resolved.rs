@@ -7,7 +7,7 @@ use crate::params::{FrictionKind, MotorKind, Num, Param};
 impl Sweep {
     /// The sweep as TOML with every lane's source spelled out: base with
     /// defaults resolved, axes as value lists, the study and the table.
-    pub fn resolved_toml(&self) -> toml::Table {
+    pub(crate) fn resolved_toml(&self) -> toml::Table {
         let mut t = toml::Table::new();
         t.insert("base".into(), self.base_toml().into());
         let grid: Vec<toml::Value> = self.axes.iter().map(axis_toml).collect();

@@ -62,7 +62,7 @@ impl Search {
 
     /// The most lanes `drives` drives may integrate: every drive's first
     /// round and bisection (a share boundary refines fewer).
-    pub fn most_lanes(&self, drives: u64) -> u128 {
+    pub(crate) fn most_lanes(&self, drives: u64) -> u128 {
         drives as u128 * (FIRST_ROUND_POINTS + self.bisections()) as u128
     }
 }
@@ -72,7 +72,7 @@ impl super::Sweep {
     /// lanes: the searched parameter a last grid axis of the first
     /// round's points (`tswm check` compares these; later rounds depend
     /// on results). None without a search.
-    pub fn first_round(&self) -> Option<super::Sweep> {
+    pub(crate) fn first_round(&self) -> Option<super::Sweep> {
         let s = self.search.as_ref()?;
         let mut sweep = self.clone();
         sweep.axes.push(Axis {
@@ -273,7 +273,7 @@ fn share(at: &At, d: &SearchDef, study: Option<&Study>) -> Result<Option<f64>> {
 impl Search {
     /// Refuses a search of `drives` drives whose rounds may integrate more
     /// lanes than one run takes, saying how many and what to do.
-    pub fn check_size(&self, drives: u64) -> std::result::Result<(), String> {
+    pub(crate) fn check_size(&self, drives: u64) -> std::result::Result<(), String> {
         let most = self.most_lanes(drives);
         if most > MAX_RUN_LANES as u128 {
             return Err(format!(

@@ -118,7 +118,7 @@ pub struct Builder {
 
 impl Builder {
     /// A builder of a search run's batches (`search`) or another's.
-    pub fn for_run(search: bool) -> Builder {
+    pub(crate) fn for_run(search: bool) -> Builder {
         Builder {
             search,
             ..Builder::default()

@@ -35,7 +35,7 @@ pub fn columns() -> Vec<(&'static str, Kind)> {
 
 /// The columns of a run's results table: [`columns`], and for a search
 /// the columns of [`crate::columns::SEARCH`] after them.
-pub fn columns_for(search: bool) -> Vec<(&'static str, Kind)> {
+pub(crate) fn columns_for(search: bool) -> Vec<(&'static str, Kind)> {
     let mut c: Vec<(&'static str, Kind)> = Param::COLUMNS
         .iter()
         .map(|p| match p {
@@ -48,7 +48,7 @@ pub fn columns_for(search: bool) -> Vec<(&'static str, Kind)> {
 }
 
 /// The Arrow type of a column of `kind`.
-pub fn data_type(kind: Kind) -> DataType {
+pub(crate) fn data_type(kind: Kind) -> DataType {
     match kind {
         Kind::Float => DataType::Float64,
         Kind::Int => DataType::Int64,
@@ -63,7 +63,7 @@ pub fn schema() -> SchemaRef {
 }
 
 /// The schema of a run's results table ([`columns_for`]).
-pub fn schema_for(search: bool) -> SchemaRef {
+pub(crate) fn schema_for(search: bool) -> SchemaRef {
     static SCHEMAS: [OnceLock<SchemaRef>; 2] = [OnceLock::new(), OnceLock::new()];
     SCHEMAS[search as usize]
         .get_or_init(|| {
@@ -77,7 +77,7 @@ pub fn schema_for(search: bool) -> SchemaRef {
 }
 
 /// Whether a batch (or a table's header) holds a search's columns.
-pub fn is_search(names: &[&str]) -> bool {
+pub(crate) fn is_search(names: &[&str]) -> bool {
     names.contains(&crate::columns::SEARCH_STATUS)
 }
 
@@ -123,7 +123,7 @@ impl<'a> Col<'a> {
         }
     }
 
-    /// Whether the column has no rows.
+    /// Whether the column has no rows (clippy asks for it beside `len`).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -199,7 +199,7 @@ impl<'a> Col<'a> {
 /// `cols` holds one word (the same word, or empty throughout): the rows
 /// of a run need their words read once. Ascending, the last
 /// `rows.end`; number columns are left out.
-pub fn word_runs(cols: &[Col<'_>], rows: std::ops::Range<usize>) -> Vec<usize> {
+pub(crate) fn word_runs(cols: &[Col<'_>], rows: std::ops::Range<usize>) -> Vec<usize> {
     let mut ends: Vec<usize> = Vec::new();
     for c in cols {
         if let Col::S(a, _) = c {

@@ -96,7 +96,7 @@ impl WordKeys {
 
     /// Appends a row by its code (None: no word).
     #[inline]
-    pub fn push_code(&mut self, code: Option<usize>) {
+    pub(crate) fn push_code(&mut self, code: Option<usize>) {
         self.keys.push(code.map_or(NO_WORD, |c| c as i16));
     }
 

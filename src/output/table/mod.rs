@@ -101,7 +101,7 @@ impl Format {
 
     /// The results table of the folder `dir`, the first format whose file
     /// is there; an error naming the folder when none is.
-    pub fn of_folder(dir: &Path) -> Result<Format> {
+    pub(crate) fn of_folder(dir: &Path) -> Result<Format> {
         let all = Format::value_variants();
         if let Some(f) = all.iter().find(|f| dir.join(f.file_name()).is_file()) {
             return Ok(*f);
@@ -121,7 +121,11 @@ impl Format {
 
 /// The bytes the rows of `batch` take in a table of `format` (no
 /// header), as its writer writes them (for the estimate of a run's disk).
-pub fn rows_bytes(format: Format, pool: &rayon::ThreadPool, batch: &RecordBatch) -> Result<u64> {
+pub(crate) fn rows_bytes(
+    format: Format,
+    pool: &rayon::ThreadPool,
+    batch: &RecordBatch,
+) -> Result<u64> {
     format.table().rows_bytes(pool, batch)
 }
 

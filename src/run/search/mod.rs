@@ -45,7 +45,7 @@ enum Drives<'a> {
 }
 
 /// A search run on a backend: the backend of a search run's pipeline.
-pub struct SearchBackend<'a> {
+pub(crate) struct SearchBackend<'a> {
     inner: Box<dyn Backend + 'a>,
     search: Search,
     drives: Drives<'a>,

@@ -125,7 +125,7 @@ pub struct Manifest {
 }
 
 /// The kind of backend a [`crate::backend::Backend::name`] names.
-pub fn backend_kind(name: &str) -> &'static str {
+pub(crate) fn backend_kind(name: &str) -> &'static str {
     if name.starts_with("gpu") {
         "gpu"
     } else {
@@ -151,7 +151,10 @@ pub fn sweep_hash(resolved: &str, lane_table: Option<&str>) -> String {
 
 /// The hash of a source's run with the traces `trace`, and the lane
 /// table's digest when it has one.
-pub fn source_hash(source: &Source, trace: Option<&TraceSpec>) -> Result<(String, Option<String>)> {
+pub(crate) fn source_hash(
+    source: &Source,
+    trace: Option<&TraceSpec>,
+) -> Result<(String, Option<String>)> {
     let table = match source {
         Source::Table {
             table: TableIn::File(path),
@@ -210,7 +213,7 @@ impl Manifest {
     /// Why the file `name` of `dir` is not the one the manifest records:
     /// missing, another size, or (with `digest`) another SHA-256; None
     /// when it is.
-    pub fn file_differs(&self, dir: &Path, name: &str, digest: bool) -> Option<String> {
+    pub(crate) fn file_differs(&self, dir: &Path, name: &str, digest: bool) -> Option<String> {
         let Some(want) = self.files.get(name) else {
             return Some(format!("{MANIFEST} does not cover {name}"));
         };

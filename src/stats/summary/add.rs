@@ -20,7 +20,7 @@ impl Stats {
     /// `first..`; lanes come in order. Each group's rows of the batch are
     /// added column by column, the columns in parallel on `pool`: the
     /// same values in the same order as one row at a time.
-    pub fn add_batch(
+    pub(crate) fn add_batch(
         &mut self,
         first: u64,
         cols: &[Col<'_>],
