@@ -159,7 +159,7 @@ impl Scan {
     /// Adds the rows of `b`, the next lanes in order; `path` names the
     /// table in an error. A run of rows with the same words has them
     /// checked and read once.
-    pub fn batch_of(&mut self, path: &Path, b: &RecordBatch) -> Result<()> {
+    pub(crate) fn batch_of(&mut self, path: &Path, b: &RecordBatch) -> Result<()> {
         let cols = self.cols(b)?;
         let mut start = 0;
         for end in word_runs(&cols.words, 0..b.num_rows()) {
@@ -212,10 +212,12 @@ impl Scan {
     fn check_words(&self, path: &Path, c: &Cols<'_>, row: usize) -> Result<()> {
         let at = || Some(format!("row {}", self.folder.lanes + 1));
         for ((name, words, maybe), col) in self.words.iter().zip(&c.words) {
-            let w = col.word(row);
-            // `hold` is empty for a lane whose motor runs to the end,
-            // `drive` for one whose motor is cut.
-            if !(words.contains(&w) || (w.is_empty() && *maybe)) {
+            // A cell holds a word of its column's vocabulary, keyed by its
+            // code (every reader refuses another word), or is empty:
+            // `hold` for a lane whose motor runs to the end, `drive` for
+            // one whose motor is cut.
+            if col.code(row).is_none() && !*maybe {
+                let w = col.word(row);
                 return Err(Error::input(
                     path,
                     at(),
