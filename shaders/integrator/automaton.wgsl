@@ -15,16 +15,8 @@ struct State {
     pad3: u32, pad4: u32,
 }
 
-// Flag bits of State.flags: keep in sync with `flags` in src/backend/gpu/layout.rs.
-const F_STUCK: u32 = 1u;
-const F_MOTOR_ON: u32 = 2u;
-const F_DONE: u32 = 4u;
-const F_K1_VALID: u32 = 8u;
-const F_STARTED: u32 = 16u;
-const F_RUNNING_ON: u32 = 32u;
-const F_SPEEDING: u32 = 64u;
-const F_UPPER: u32 = 128u;
-const F_FLOW_TURN: u32 = 256u;
+// Flag bits of State.flags (F_*): generated into the prelude from `flags` in
+// src/backend/gpu/layout.rs.
 
 const NO_FIRST_SWITCH: f32 = -1.0;
 

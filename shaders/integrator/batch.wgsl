@@ -13,8 +13,8 @@ struct Globals {
     table_mu: array<vec4<f32>, 64>,
 }
 
-// Vec4s per table: keep in sync with src/backend/gpu/layout.rs.
-const TABLE_VEC4S: u32 = 8u;
+// Vec4s per table (TABLE_VEC4S): generated into the prelude from
+// src/model/friction.rs.
 
 // Keep in sync with `GpuControl` in src/backend/gpu/layout.rs.
 struct Control {

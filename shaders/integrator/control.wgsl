@@ -1,8 +1,8 @@
 // Mirrors src/integrator/control.rs: step-size control.
 
-// A step below this fraction of max(t, 1) s is a step underflow (the f64
-// path's `STEP_UNDERFLOW` is 1e-15; f32 resolves a time to 6e-8 of itself).
-const STEP_UNDERFLOW: f32 = 1e-7;
+// STEP_UNDERFLOW (the prelude, from src/backend/gpu/shader.rs): a step
+// below this fraction of max(t, 1) s is a step underflow (the f64 path's
+// is 1e-15; f32 resolves a time to 6e-8 of itself).
 
 struct StepSize { h: f32, landing: bool }
 

@@ -1,19 +1,16 @@
 // Mirrors src/integrator/events.rs: the events inside a step and their roots.
 
-// Root finding ends when the bracket is this narrow, as a fraction of the
-// step (the f64 path locates roots to `T_ROOT_TOL` = 1e-13 s).
-const ROOT_THETA_TOL: f32 = 1e-6;
+// Root finding ends when the bracket is ROOT_THETA_TOL narrow (the
+// prelude, from src/backend/gpu/shader.rs), a fraction of the step (the
+// f64 path locates roots to `T_ROOT_TOL` = 1e-13 s).
 
 fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
     let th1 = 1.0 - th;
     return r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])));
 }
 
-// Event functions: keep in sync with `EventFn` in src/integrator/events.rs.
-const EV_SWITCH: u32 = 0u;
-const EV_REST: u32 = 1u;
-const EV_SPEEDING: u32 = 2u;
-const EV_BRANCH: u32 = 3u;
+// Event functions (EV_*): generated into the prelude from `EventFn` in
+// src/integrator/events.rs.
 
 fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
     if (which == EV_SWITCH) { return f32(m.side) * phi(l, v, m.motor_on); }

@@ -1,9 +1,9 @@
 // Mirrors src/integrator/flow.rs: a step's energy flow, split between the
 // directions of power flow.
 
-// Bisection ends when the bracket is this narrow: 2^-24, the resolution of
-// f32 on [0, 1] (2^-52 in f64, `P_ZERO_TOL` in src/integrator/flow.rs).
-const P_ZERO_TOL: f32 = 5.9604645e-8;
+// Bisection ends when the bracket is P_ZERO_TOL narrow (the prelude):
+// 2^-24, the resolution of f32 on [0, 1] (2^-52 in f64, `P_ZERO_TOL` in
+// src/integrator/flow.rs).
 
 fn dense_slope(r: array<f32, 5>, th: f32) -> f32 {
     let th1 = 1.0 - th;

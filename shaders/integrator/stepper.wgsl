@@ -1,40 +1,8 @@
 // Mirrors src/integrator/stepper.rs: one Dormand–Prince 5(4) trial step,
 // its error norm and its dense output.
 
-
-// Dormand-Prince 5(4): keep in sync with src/integrator/stepper.rs.
-const A21: f32 = 1.0 / 5.0;
-const A31: f32 = 3.0 / 40.0;
-const A32: f32 = 9.0 / 40.0;
-const A41: f32 = 44.0 / 45.0;
-const A42: f32 = -56.0 / 15.0;
-const A43: f32 = 32.0 / 9.0;
-const A51: f32 = 19372.0 / 6561.0;
-const A52: f32 = -25360.0 / 2187.0;
-const A53: f32 = 64448.0 / 6561.0;
-const A54: f32 = -212.0 / 729.0;
-const A61: f32 = 9017.0 / 3168.0;
-const A62: f32 = -355.0 / 33.0;
-const A63: f32 = 46732.0 / 5247.0;
-const A64: f32 = 49.0 / 176.0;
-const A65: f32 = -5103.0 / 18656.0;
-const A71: f32 = 35.0 / 384.0;
-const A73: f32 = 500.0 / 1113.0;
-const A74: f32 = 125.0 / 192.0;
-const A75: f32 = -2187.0 / 6784.0;
-const A76: f32 = 11.0 / 84.0;
-const E1: f32 = 71.0 / 57600.0;
-const E3: f32 = -71.0 / 16695.0;
-const E4: f32 = 71.0 / 1920.0;
-const E5: f32 = -17253.0 / 339200.0;
-const E6: f32 = 22.0 / 525.0;
-const E7: f32 = -1.0 / 40.0;
-const D1: f32 = -12715105075.0 / 11282082432.0;
-const D3: f32 = 87487479700.0 / 32700410799.0;
-const D4: f32 = -10690763975.0 / 1880347072.0;
-const D5: f32 = 701980252875.0 / 199316789632.0;
-const D6: f32 = -1453857185.0 / 822651844.0;
-const D7: f32 = 69997945.0 / 29380423.0;
+// Dormand-Prince 5(4): the tableau (A*, E*, D*) is generated into the prelude from
+// `TABLEAU` in src/integrator/stepper.rs.
 
 fn stage2_v(v0: f32, h: f32, k1: f32) -> f32 {
     return v0 + h * (A21 * k1);

@@ -1,14 +1,7 @@
 // Mirrors src/model/friction.rs: the friction laws' μ(Vs).
 
-// The agma law: the constants of src/model/laws.rs (a test compares them).
-const FT_PER_MIN_PER_M_PER_S: f32 = 196.8503937007874;
-const AGMA_LOW_A: f32 = 0.124;
-const AGMA_LOW_B: f32 = 0.074;
-const AGMA_LOW_E: f32 = 0.645;
-const AGMA_HIGH_A: f32 = 0.103;
-const AGMA_HIGH_B: f32 = 0.110;
-const AGMA_HIGH_E: f32 = 0.450;
-const AGMA_HIGH_C: f32 = 0.012;
+// The agma law: its constants (AGMA_*, FT_PER_MIN_PER_M_PER_S) are
+// generated into the prelude from src/model/laws.rs.
 
 fn tan_small(x: f32) -> f32 {
     if (abs(x) > 0.15) { return tan(x); }

@@ -1,8 +1,6 @@
 // Mirrors src/model/kernel.rs: the per-lane formulas, each written once,
 // under the same names (a test checks the names on both sides).
 
-const PI: f32 = 3.14159265358979;
-
 fn kloss(v_sync: f32, sigma_k: f32, f_crit: f32, v: f32) -> f32 {
     let sigma = (v_sync - v) / v_sync;
     let sk = sigma_k;

@@ -37,6 +37,16 @@ pub enum EventFn {
     Branch = 3,
 }
 
+impl EventFn {
+    /// Every event function, in code order.
+    pub const ALL: [EventFn; 4] = [
+        EventFn::Switch,
+        EventFn::Rest,
+        EventFn::Speeding,
+        EventFn::Branch,
+    ];
+}
+
 /// The event function's value at speed `v`; an event is where it turns
 /// from >= 0 to < 0.
 #[inline]

@@ -18,16 +18,21 @@ use crate::model::{Coefs, FrictionTable, Lane, Mode};
 
 /// Declares the tableau's coefficients, each with its value as its doc.
 macro_rules! tableau {
-    ($($name:ident = $value:expr;)*) => {$(
-        #[doc = concat!("`", stringify!($name), " = ", stringify!($value), "`")]
-        pub const $name: f64 = $value;
-    )*};
+    ($($name:ident = $value:expr;)*) => {
+        $(
+            #[doc = concat!("`", stringify!($name), " = ", stringify!($value), "`")]
+            pub const $name: f64 = $value;
+        )*
+        /// Every coefficient by its name (the shader's prelude is
+        /// generated from it: `backend::gpu::shader::prelude`).
+        pub const TABLEAU: &[(&str, f64)] = &[$((stringify!($name), $name)),*];
+    };
 }
 
 // Dormand–Prince 5(4): the stages' coefficients a, the error weights e
 // (fifth minus fourth order) and the dense output's d (Hairer & Wanner's
-// dopri5 contd5). Keep in sync with the shader (a test reads its
-// constants and compares). Stage times c2..c5 (1/5, 3/10, 4/5, 8/9) are
+// dopri5 contd5). The shader's constants of the same names are
+// generated from these ([`TABLEAU`]). Stage times c2..c5 (1/5, 3/10, 4/5, 8/9) are
 // not needed: between events the right-hand side is autonomous.
 tableau! {
     A21 = 1.0 / 5.0;

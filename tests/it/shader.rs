@@ -83,164 +83,79 @@ fn u32_const(m: &naga::Module, name: &str) -> u32 {
     }
 }
 
-/// Every constant the shader shares with the host: law codes, flag bits,
-/// status codes, event codes, the Dormand–Prince tableau, the agma law
-/// and the f32 limits.
+/// The constants the shader shares with the host are generated from the
+/// Rust declarations (`shader::prelude`), none kept by hand: each has the
+/// value of its declaration as naga reads it (the f32 ones through their
+/// printed digits), every status, event, flag and tableau coefficient is
+/// there once, and no shader file declares a constant named as one of
+/// `src/` (it would be a second, hand-kept copy).
 #[test]
-fn shared_constants_match_the_shader() {
+fn shared_constants_are_generated_from_the_rust() {
+    use tswm::backend::gpu::layout::flags;
+    use tswm::integrator::events::EventFn;
+    use tswm::integrator::stepper::TABLEAU;
     let m = module();
-    for (name, want) in shared_u32() {
-        assert_eq!(u32_const(&m, &name), want, "shader `const {name}`");
-    }
-    for (name, want) in shared_f32() {
-        match shader_const(&m, name) {
-            naga::Literal::F32(v) => assert_eq!(v, want, "shader `const {name}`"),
-            l => panic!("`const {name}` is not an f32: {l:?}"),
+    let prelude = tswm::backend::gpu::shader::prelude();
+    let mut names = Vec::new();
+    for line in prelude.lines().filter_map(|l| l.strip_prefix("const ")) {
+        let (name, rest) = line.split_once(": ").unwrap();
+        let (ty, value) = rest.split_once(" = ").unwrap();
+        let value = value.trim_end_matches(';');
+        match (ty, shader_const(&m, name)) {
+            ("u32", naga::Literal::U32(v)) => {
+                assert_eq!(v.to_string() + "u", value, "`const {name}`")
+            }
+            ("f32", naga::Literal::F32(v)) => {
+                let printed: f32 = value.trim_end_matches('f').parse().unwrap();
+                assert_eq!(v.to_bits(), printed.to_bits(), "`const {name}`");
+            }
+            (ty, l) => panic!("`const {name}: {ty}` reads as {l:?}"),
         }
+        names.push(name.to_string());
     }
-    // Every status the host knows has its code in the shader, once.
-    let mut seen: Vec<u32> = shared_u32()
-        .into_iter()
-        .filter(|(n, _)| n.starts_with("S_"))
-        .map(|(_, c)| c)
+    for (n, v) in TABLEAU {
+        assert!(
+            matches!(shader_const(&m, n), naga::Literal::F32(x) if x == *v as f32),
+            "tableau {n}"
+        );
+    }
+    let mut statuses: Vec<u32> = Status::ALL
+        .map(|st| u32_const(&m, &format!("S_{}", st.name().to_uppercase())))
+        .to_vec();
+    statuses.sort();
+    assert_eq!(statuses, Status::ALL.map(|s| s.code()));
+    for e in EventFn::ALL {
+        assert_eq!(
+            u32_const(&m, &format!("EV_{}", format!("{e:?}").to_uppercase())),
+            e as u32
+        );
+    }
+    for (n, v) in flags::ALL {
+        assert_eq!(u32_const(&m, &format!("F_{n}")), *v, "flag {n}");
+    }
+    assert_eq!(
+        u32_const(&m, "NY"),
+        tswm::integrator::NY as u32,
+        "the state's components"
+    );
+    // No hand-kept copy: a shader file's constant named as one of `src/`.
+    let rust = rust_const_names();
+    let files = tswm::backend::gpu::SHADER
+        .strip_prefix(prelude.as_str())
+        .unwrap()
+        .to_string();
+    let kept: Vec<&str> = files
+        .lines()
+        .filter_map(|l| l.strip_prefix("const ")?.split(':').next())
+        .filter(|n| rust.contains(*n) || names.iter().any(|g| g == n))
         .collect();
-    seen.sort();
-    assert_eq!(seen, Status::ALL.map(|s| s.code()));
+    assert!(
+        kept.is_empty(),
+        "shader files declare constants the Rust declares (generate them): {kept:?}"
+    );
 }
 
 use tswm::integrator::Status;
-
-/// The integer constants the shader shares with the host, by name.
-fn shared_u32() -> Vec<(String, u32)> {
-    use tswm::backend::gpu::layout::flags;
-    use tswm::integrator::events::EventFn;
-    // (The law codes are generated: `shader::prelude`.)
-    let mut out: Vec<(String, u32)> = Vec::new();
-    let codes: &[(&str, u32)] = &[
-        ("F_STUCK", flags::STUCK),
-        ("F_MOTOR_ON", flags::MOTOR_ON),
-        ("F_DONE", flags::DONE),
-        ("F_K1_VALID", flags::K1_VALID),
-        ("F_STARTED", flags::STARTED),
-        ("F_RUNNING_ON", flags::RUNNING_ON),
-        ("F_SPEEDING", flags::SPEEDING),
-        ("F_UPPER", flags::UPPER),
-        ("F_FLOW_TURN", flags::FLOW_TURN),
-        ("S_OK", Status::Ok as u32),
-        ("S_INCONSISTENT", Status::Inconsistent as u32),
-        ("S_NONFINITE", Status::NonFinite as u32),
-        ("S_MAX_STEPS", Status::MaxSteps as u32),
-        ("S_MAX_EVENTS", Status::MaxEvents as u32),
-        ("S_STEP_UNDERFLOW", Status::StepUnderflow as u32),
-        ("NY", tswm::integrator::NY as u32),
-        ("EV_SWITCH", EventFn::Switch as u32),
-        ("EV_REST", EventFn::Rest as u32),
-        ("EV_SPEEDING", EventFn::Speeding as u32),
-        ("EV_BRANCH", EventFn::Branch as u32),
-        ("TABLE_VEC4S", (tswm::model::MAX_TABLE_POINTS / 4) as u32),
-    ];
-    out.extend(codes.iter().map(|&(n, v)| (n.to_string(), v)));
-    out
-}
-
-/// The f32 constants the shader shares with the host, by name.
-fn shared_f32() -> Vec<(&'static str, f32)> {
-    use tswm::backend::gpu::shader as gpu;
-    use tswm::integrator::stepper as dp;
-    use tswm::model::laws as fr;
-    let f64s: &[(&str, f64)] = &[
-        ("A21", dp::A21),
-        ("A31", dp::A31),
-        ("A32", dp::A32),
-        ("A41", dp::A41),
-        ("A42", dp::A42),
-        ("A43", dp::A43),
-        ("A51", dp::A51),
-        ("A52", dp::A52),
-        ("A53", dp::A53),
-        ("A54", dp::A54),
-        ("A61", dp::A61),
-        ("A62", dp::A62),
-        ("A63", dp::A63),
-        ("A64", dp::A64),
-        ("A65", dp::A65),
-        ("A71", dp::A71),
-        ("A73", dp::A73),
-        ("A74", dp::A74),
-        ("A75", dp::A75),
-        ("A76", dp::A76),
-        ("E1", dp::E1),
-        ("E3", dp::E3),
-        ("E4", dp::E4),
-        ("E5", dp::E5),
-        ("E6", dp::E6),
-        ("E7", dp::E7),
-        ("D1", dp::D1),
-        ("D3", dp::D3),
-        ("D4", dp::D4),
-        ("D5", dp::D5),
-        ("D6", dp::D6),
-        ("D7", dp::D7),
-        // The agma law's constants.
-        ("FT_PER_MIN_PER_M_PER_S", fr::FT_PER_MIN_PER_M_PER_S),
-        ("AGMA_LOW_A", fr::AGMA_LOW_A),
-        ("AGMA_LOW_B", fr::AGMA_LOW_B),
-        ("AGMA_LOW_E", fr::AGMA_LOW_E),
-        ("AGMA_HIGH_A", fr::AGMA_HIGH_A),
-        ("AGMA_HIGH_B", fr::AGMA_HIGH_B),
-        ("AGMA_HIGH_E", fr::AGMA_HIGH_E),
-        ("AGMA_HIGH_C", fr::AGMA_HIGH_C),
-        ("PI", std::f64::consts::PI),
-    ];
-    let mut out: Vec<(&str, f32)> = f64s.iter().map(|&(n, v)| (n, v as f32)).collect();
-    // Limits whose f32 value differs from the f64 path's: the host states
-    // them in `backend::gpu::shader`.
-    out.extend([
-        ("STEP_UNDERFLOW", gpu::STEP_UNDERFLOW),
-        ("ROOT_THETA_TOL", gpu::ROOT_THETA_TOL),
-        ("P_ZERO_TOL", gpu::P_ZERO_TOL),
-    ]);
-    out
-}
-
-/// No name means two things: a shader constant whose name is also a
-/// constant of `src/` is one of the shared constants the test above
-/// compares, or is generated from the Rust (`shader::prelude`); the rest
-/// are the shader's own.
-#[test]
-fn a_shader_constant_named_as_a_host_constant_is_compared() {
-    let m = module();
-    let rust = rust_const_names();
-    let compared: Vec<String> = shared_u32()
-        .into_iter()
-        .map(|(n, _)| n)
-        .chain(shared_f32().into_iter().map(|(n, _)| n.to_string()))
-        .collect();
-    let prelude = tswm::backend::gpu::shader::prelude();
-    let generated: Vec<&str> = prelude
-        .lines()
-        .filter_map(|l| l.strip_prefix("const ")?.split(':').next())
-        .collect();
-    assert!(generated.contains(&"FRICTION_AGMA") && generated.contains(&"LAW_SLOTS"));
-    let mut bad = Vec::new();
-    for (_, c) in m.constants.iter() {
-        let Some(name) = c.name.as_deref() else {
-            continue;
-        };
-        if rust.contains(name) && !compared.iter().any(|n| n == name) && !generated.contains(&name)
-        {
-            bad.push(name.to_string());
-        }
-    }
-    assert!(
-        bad.is_empty(),
-        "shader constants named as host constants, not compared: {bad:?}"
-    );
-    // And every shared one exists in the shader.
-    for n in &compared {
-        shader_const(&m, n);
-    }
-}
 
 /// The names of `const NAME` items anywhere under `src/`.
 fn rust_const_names() -> std::collections::BTreeSet<String> {

@@ -107,25 +107,35 @@ impl From<&Lane> for GpuLane {
 
 /// Flag bits of `GpuState::flags`: the shader's `F_*` constants.
 pub mod flags {
-    /// At rest, held.
-    pub const STUCK: u32 = 1;
-    /// Motor force on.
-    pub const MOTOR_ON: u32 = 2;
-    /// Finished or abandoned.
-    pub const DONE: u32 = 4;
-    /// k1 holds the derivative at the current state.
-    pub const K1_VALID: u32 = 8;
-    /// `init` has run.
-    pub const STARTED: u32 = 16;
-    /// Running on past t_end towards t_max.
-    pub const RUNNING_ON: u32 = 32;
-    /// Running on ended because the lane began to speed up.
-    pub const SPEEDING: u32 = 64;
-    /// On the friction law's upper branch.
-    pub const UPPER: u32 = 128;
-    /// A step's mesh power turned and turned back inside it
-    /// ([`Recheck::FlowTurn`](crate::integrator::path::Recheck::FlowTurn)).
-    pub const FLOW_TURN: u32 = 256;
+    macro_rules! flags {
+        ($($(#[$m:meta])* $name:ident = $value:expr;)*) => {
+            $($(#[$m])* pub const $name: u32 = $value;)*
+            /// Every flag by its name (the shader's `F_*` constants are
+            /// generated from it: `shader::prelude`).
+            pub const ALL: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
+        };
+    }
+    flags! {
+        /// At rest, held.
+        STUCK = 1;
+        /// Motor force on.
+        MOTOR_ON = 2;
+        /// Finished or abandoned.
+        DONE = 4;
+        /// k1 holds the derivative at the current state.
+        K1_VALID = 8;
+        /// `init` has run.
+        STARTED = 16;
+        /// Running on past t_end towards t_max.
+        RUNNING_ON = 32;
+        /// Running on ended because the lane began to speed up.
+        SPEEDING = 64;
+        /// On the friction law's upper branch.
+        UPPER = 128;
+        /// A step's mesh power turned and turned back inside it
+        /// ([`Recheck::FlowTurn`](crate::integrator::path::Recheck::FlowTurn)).
+        FLOW_TURN = 256;
+    }
 }
 
 /// A lane's integration state between dispatches. Keep in sync with

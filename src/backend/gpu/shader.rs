@@ -9,10 +9,11 @@
 //! line names the Rust file it mirrors, and a Rust helper with a WGSL twin
 //! has the same name there ([`MIRRORED`], and the model's
 //! [`KERNEL`](crate::model::kernel::KERNEL)); a test checks the names on
-//! both sides and the constants the two share (flags, status and event
+//! both sides. The constants the two share (law, flag, status and event
 //! codes, the Dormand–Prince tableau, the agma law's constants and the
-//! limits below). The law codes are not kept in step: the [`prelude`]
-//! generates them from the Rust declarations.
+//! limits below) are not kept in step by hand: the [`prelude`] generates
+//! them from the Rust declarations, and a test fails on a shader file
+//! that declares one itself.
 //!
 //! Differences forced by f32: x1, the works and the time are compensated
 //! (Kahan) sums; the per-step tolerance is 1e-6 rather than 1e-8
@@ -47,21 +48,76 @@ macro_rules! shader_files {
 /// declarations, then the files of [`SHADER_FILES`].
 pub static SHADER: LazyLock<String> = LazyLock::new(|| prelude() + FILES);
 
-/// What the shader reads from the Rust declarations, generated rather than
-/// kept in step by hand: each law's code under its word (`MOTOR_KLOSS`,
-/// `FRICTION_AGMA`, from `model::laws`) and the number of law slots of a
-/// lane.
+/// `(name, value as f32)` of Rust constants, each named once: the
+/// shader's constant of the same name is generated from it.
+macro_rules! named_f32 {
+    ($($m:ident :: $c:ident),+ $(,)?) => {
+        [$((stringify!($c), $m::$c as f32)),+]
+    };
+}
+
+/// What the shader shares with the Rust, generated from the Rust
+/// declarations rather than kept in step by hand: each law's code under
+/// its word (`MOTOR_KLOSS`, `FRICTION_AGMA`) and the lane's law slots
+/// (`model::laws`); the state's flag bits (`F_*`, `layout::flags`), the
+/// status codes (`S_*`, `Status`), the event functions (`EV_*`,
+/// `EventFn`), the state's components (`NY`) and a friction table's
+/// points (`TABLE_VEC4S`); the Dormand–Prince tableau
+/// (`stepper::TABLEAU`); the agma law's constants (`model::laws`); and
+/// the f32 limits stated below. The shader's files declare no constant
+/// of these names (a test holds them to it).
 pub fn prelude() -> String {
-    let mut s = String::from("// Generated from the Rust declarations (model/laws.rs).\n");
-    for m in MotorKind::ALL {
-        let name = m.name().to_uppercase();
-        let _ = writeln!(s, "const MOTOR_{name}: u32 = {}u;", m.code());
+    use crate::integrator::events::EventFn;
+    use crate::integrator::{Status, NY};
+    use crate::model::laws;
+    let mut s = String::from("// Generated from the Rust declarations (backend/gpu/shader.rs).\n");
+    let mut u32s: Vec<(String, u32)> = Vec::new();
+    u32s.extend(MotorKind::ALL.map(|m| (format!("MOTOR_{}", m.name().to_uppercase()), m.code())));
+    u32s.extend(
+        FrictionKind::ALL.map(|f| (format!("FRICTION_{}", f.name().to_uppercase()), f.code())),
+    );
+    u32s.push(("LAW_SLOTS".into(), LAW_SLOTS as u32));
+    u32s.extend(
+        super::layout::flags::ALL
+            .iter()
+            .map(|&(n, v)| (format!("F_{n}"), v)),
+    );
+    u32s.extend(Status::ALL.map(|st| (format!("S_{}", st.name().to_uppercase()), st.code())));
+    u32s.extend(
+        EventFn::ALL.map(|e| (format!("EV_{}", format!("{e:?}").to_uppercase()), e as u32)),
+    );
+    u32s.push(("NY".into(), NY as u32));
+    u32s.push((
+        "TABLE_VEC4S".into(),
+        (crate::model::MAX_TABLE_POINTS / 4) as u32,
+    ));
+    for (n, v) in u32s {
+        let _ = writeln!(s, "const {n}: u32 = {v}u;");
     }
-    for f in FrictionKind::ALL {
-        let name = f.name().to_uppercase();
-        let _ = writeln!(s, "const FRICTION_{name}: u32 = {}u;", f.code());
+    let mut f32s: Vec<(&str, f32)> = crate::integrator::stepper::TABLEAU
+        .iter()
+        .map(|&(n, v)| (n, v as f32))
+        .collect();
+    f32s.extend(named_f32!(
+        laws::FT_PER_MIN_PER_M_PER_S,
+        laws::AGMA_LOW_A,
+        laws::AGMA_LOW_B,
+        laws::AGMA_LOW_E,
+        laws::AGMA_HIGH_A,
+        laws::AGMA_HIGH_B,
+        laws::AGMA_HIGH_E,
+        laws::AGMA_HIGH_C,
+    ));
+    f32s.push(("PI", std::f32::consts::PI));
+    f32s.extend([
+        ("STEP_UNDERFLOW", STEP_UNDERFLOW),
+        ("ROOT_THETA_TOL", ROOT_THETA_TOL),
+        ("P_ZERO_TOL", P_ZERO_TOL),
+    ]);
+    for (n, v) in f32s {
+        // Rust's shortest digits of an f32, read back as that f32 (`f`).
+        let _ = writeln!(s, "const {n}: f32 = {v:?}f;");
     }
-    let _ = writeln!(s, "const LAW_SLOTS: u32 = {LAW_SLOTS}u;");
     s
 }
 
