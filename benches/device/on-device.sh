@@ -45,6 +45,24 @@ for s in ${CHECK:-sweeps/efficiency_map.toml sweeps/heterogeneous.toml}; do
   [ "$rc" = 0 ] || failed=1
 done >"$OUT/check.txt" 2>&1
 cat "$OUT/check.txt"
+# 1b. the shader's functions by what they compute on this GPU: its f64
+# ln, exp, pow and tan (tests/it/math64.rs) and the mirrored functions
+# against the Rust ones (src/backend/gpu/mirrored/), from the test
+# binaries prepare.sh strips beside the binary
+{
+  for t in "it-tests math64" "lib-tests mirrored"; do
+    set -- $t
+    if [ -x "$here/$1" ]; then
+      echo "== $1 $2"
+      TSWM_REQUIRE_GPU=1 timeout 120 "$here/$1" "$2" --nocapture 2>&1 |
+        grep -E "f64 shader|worst|test result|panicked|differ|ulp" | sort -u
+      [ "${PIPESTATUS[0]}" = 0 ] || failed=1
+    else
+      echo "== $1 not prepared (benches/device/prepare.sh strips it)"
+    fi
+  done
+} >"$OUT/shader-tests.txt" 2>&1
+cat "$OUT/shader-tests.txt"
 # 2. throughput: GPU against all CPU cores
 "$T" devices 2>/dev/null | grep -qiE 'nvidia|llvmpipe|amd|intel' && backends="gpu cpu" || backends=cpu
 SIZES=${SIZES:-100000 1000000 10000000} BACKENDS=${BACKENDS:-$backends} \

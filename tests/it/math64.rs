@@ -183,8 +183,9 @@ fn the_shaders_f64_functions_are_within_4_ulp_of_the_cpu_paths() {
             }
         }
     }
-    for (f, name) in ["ln", "exp", "pow", "tan"].iter().enumerate() {
-        // Straight to stderr (seen with --nocapture): the figures.
+    // Every function's figure first (seen with --nocapture), then the bound.
+    let names = ["ln", "exp", "pow", "tan"];
+    for (f, name) in names.iter().enumerate() {
         use std::io::Write;
         let _ = writeln!(
             std::io::stderr(),
@@ -192,13 +193,14 @@ fn the_shaders_f64_functions_are_within_4_ulp_of_the_cpu_paths() {
             worst[f].0,
             worst[f].1
         );
-        assert!(
-            worst[f].0 <= 4,
-            "{name}: {} ulp from the CPU path's at {:e}",
-            worst[f].0,
-            worst[f].1
-        );
     }
+    let over: Vec<String> = names
+        .iter()
+        .zip(&worst)
+        .filter(|(_, w)| w.0 > 4)
+        .map(|(name, w)| format!("{name}: {} ulp from the CPU path's at {:e}", w.0, w.1))
+        .collect();
+    assert!(over.is_empty(), "{over:?}");
     // The edges: ln at 0 and below, exp past its range, 0^y.
     let edges = [
         0.0, 710.0, 0.0, 2.0, 0.0, //
