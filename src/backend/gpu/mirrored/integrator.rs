@@ -11,7 +11,7 @@
 //! underflow's threshold (1e-7 of max(t, 1) in f32, 1e-15 in f64), is
 //! checked against the shader's own threshold.
 
-use super::{report, values, Run};
+use super::{values, Run, Tally, BOUND};
 use crate::backend::gpu::shader::STEP_UNDERFLOW;
 use crate::input::sampling::Uniforms;
 use crate::integrator::control::{retry_size, step_factor, step_size, H_INITIAL};
@@ -21,9 +21,6 @@ use crate::integrator::stepper::{
     dense_coeffs, dense_r5, error_scale, error_term, increment, stage2_v, stage3_v, stage4_v,
     stage5_v, stage6_v,
 };
-
-/// f32's bound on a value, relative to its scale.
-const BOUND: f64 = 2e-5;
 
 /// Numbers a case: v0, h, k1..k7, and the increment dw and last
 /// coefficient r4 of the dense output of ∫p a split is given.
@@ -247,30 +244,14 @@ fn the_shaders_step_functions_compute_what_the_rust_ones_do() {
     let Some(got) = values(&run) else {
         return;
     };
-    let mut worst = [0.0f64; 31];
-    let mut bad = Vec::new();
+    let mut tally = Tally::new(NAMES.len());
     for (i, (a, w)) in want.iter().enumerate() {
         for (k, &(c, scale, margin)) in w.iter().enumerate() {
-            let g = f64::from(got[i * K + k]);
-            let dev = if g == c {
-                0.0
-            } else if scale == 0.0 {
-                if margin.abs() <= BOUND {
-                    0.0
-                } else {
-                    f64::INFINITY
-                }
-            } else {
-                (g - c).abs() / scale
-            };
-            worst[k] = worst[k].max(dev);
-            if !(dev <= BOUND) && bad.len() < 20 {
-                bad.push(format!(
-                    "{}: args {a:?}: shader {g:e}, Rust {c:e} (scale {scale:e})",
-                    NAMES[k]
-                ));
-            }
+            let near = margin.abs() <= BOUND;
+            tally.add(k, f64::from(got[i * K + k]), c, scale, near, || {
+                format!("{}: args {a:?}", NAMES[k])
+            });
         }
     }
-    report("mirrored steps", &NAMES, &worst, &bad);
+    tally.report("mirrored steps", &NAMES);
 }

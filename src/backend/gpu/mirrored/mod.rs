@@ -274,12 +274,70 @@ fn dispatch(dev: &wgpu::Device, queue: &wgpu::Queue, run: &Run) -> Vec<f32> {
     bytemuck::cast_slice::<u8, f32>(&view).to_vec()
 }
 
-/// Prints each value's worst deviation (seen with --nocapture) and fails
-/// with the first cases that differ.
-pub(super) fn report(test: &str, names: &[&str], worst: &[f64], bad: &[String]) {
-    use std::io::Write;
-    for (n, w) in names.iter().zip(worst) {
-        let _ = writeln!(std::io::stderr(), "{test} {n}: worst {w:.2e} of its scale");
+/// f32's bound on a value, relative to the scale of its terms.
+pub(super) const BOUND: f64 = 2e-5;
+
+/// The worst deviation of each value of a test, and its first cases
+/// over [`BOUND`].
+pub(super) struct Tally {
+    worst: Vec<f64>,
+    bad: Vec<String>,
+}
+
+impl Tally {
+    pub(super) fn new(values: usize) -> Tally {
+        Tally {
+            worst: vec![0.0; values],
+            bad: Vec::new(),
+        }
     }
-    assert!(bad.is_empty(), "{test}: cases differ:\n{}", bad.join("\n"));
+
+    /// Value `k` of a case: the shader's `g` against the Rust's `c`,
+    /// relative to `scale`; a decision (`scale` 0) must be the same
+    /// unless its quantity is `near` its threshold. Equal values count as
+    /// equal, infinities included, and so does "never": +∞ in f64, 3e38 in
+    /// the shader (which may assume there are no infinities). `case`
+    /// describes the case for the message.
+    pub(super) fn add(
+        &mut self,
+        k: usize,
+        g: f64,
+        c: f64,
+        scale: f64,
+        near: bool,
+        case: impl FnOnce() -> String,
+    ) {
+        let dev = if g == c || (c.is_infinite() && g * c.signum() >= 1e38) {
+            0.0
+        } else if scale == 0.0 {
+            if near {
+                0.0
+            } else {
+                f64::INFINITY
+            }
+        } else {
+            (g - c).abs() / scale
+        };
+        self.worst[k] = self.worst[k].max(dev);
+        if !(dev <= BOUND) && self.bad.len() < 20 {
+            self.bad.push(format!(
+                "{}: shader {g:e}, Rust {c:e} (scale {scale:e})",
+                case()
+            ));
+        }
+    }
+
+    /// Prints each value's worst deviation (seen with --nocapture) and
+    /// fails with the first cases that differ.
+    pub(super) fn report(self, test: &str, names: &[&str]) {
+        use std::io::Write;
+        for (n, w) in names.iter().zip(&self.worst) {
+            let _ = writeln!(std::io::stderr(), "{test} {n}: worst {w:.2e} of its scale");
+        }
+        assert!(
+            self.bad.is_empty(),
+            "{test}: cases differ:\n{}",
+            self.bad.join("\n")
+        );
+    }
 }

@@ -11,16 +11,13 @@
 //! and equal where it is a decision (a side, a branch, a stick). Without
 //! an adapter the test says why it is skipped, unless TSWM_REQUIRE_GPU=1.
 
-use super::{report, values, Run};
+use super::{values, Run, Tally, BOUND};
 use crate::input::sampling::Uniforms;
 use crate::integrator::events::{event_value, locate_root, EventFn};
 use crate::integrator::rhs::rhs;
 use crate::model::{self, kernel, FrictionKind, FrictionTable, Lane, Mode, MotorKind};
 use crate::params::table_name::TableName;
 use crate::params::{Num, Param, Spec};
-
-/// f32's bound on a value, relative to its scale.
-const BOUND: f64 = 2e-5;
 
 /// Values a case: see `ENTRY`.
 const K: usize = 36;
@@ -293,45 +290,29 @@ fn the_shaders_model_functions_compute_what_the_rust_ones_do() {
     let Some(got) = values(&run) else {
         return;
     };
-    let mut bad = Vec::new();
-    let mut worst = [0.0f64; 34];
+    let mut tally = Tally::new(NAMES.len());
     for (i, (li, m, v, w)) in want.iter().enumerate() {
+        let l = &lanes[*li];
+        // A decision is left to f32 where its quantity is within its reach
+        // of the threshold: φ for the side, the sliding speed for the
+        // branch, |T| against μs N for the stick.
+        let n = (l.f2 * l.cos_g - w[16].0 * l.sin_g).abs();
+        let near_side = w[14].0.abs() <= BOUND * w[14].1;
+        let near_branch = (w[3].0 - l.branch_speed).abs() <= BOUND * w[3].1;
+        let near_stick = (w[21].0.abs() - l.mu_s * n).abs() <= BOUND * w[21].1;
         for (k, &(c, scale)) in w.iter().enumerate() {
-            let g = f64::from(got[i * K + k]);
-            let dev = if g == c || (c.is_infinite() && g * c.signum() >= 1e38) {
-                // Equal, infinities included (a paper ρ of a lane of
-                // another law, whose slots are 0, is +∞ on both sides;
-                // "never", +∞ in f64, is 3e38 in the shader, which may
-                // assume there are no infinities).
-                0.0
-            } else if scale == 0.0 {
-                // A decision: the same, unless its quantity is within f32's
-                // reach of the threshold.
-                let near = match k {
-                    15 => w[14].0.abs() <= BOUND * w[14].1,
-                    17 => (w[3].0 - lanes[*li].branch_speed).abs() <= BOUND * w[3].1,
-                    _ => {
-                        let l = &lanes[*li];
-                        let n = (l.f2 * l.cos_g - w[16].0 * l.sin_g).abs();
-                        (w[21].0.abs() - l.mu_s * n).abs() <= BOUND * w[21].1
-                    }
-                };
-                if g == c || near {
-                    0.0
-                } else {
-                    f64::INFINITY
-                }
-            } else {
-                (g - c).abs() / scale
+            let near = match k {
+                15 => near_side,
+                17 => near_branch,
+                _ => near_stick,
             };
-            worst[k] = worst[k].max(dev);
-            if !(dev <= BOUND) && bad.len() < 20 {
-                bad.push(format!(
-                    "{}: lane {li} ({:?}, {:?}), v {v:e}, {m:?}: shader {g:e}, Rust {c:e} (scale {scale:e})",
-                    NAMES[k], lanes[*li].friction, lanes[*li].motor
-                ));
-            }
+            tally.add(k, f64::from(got[i * K + k]), c, scale, near, || {
+                format!(
+                    "{}: lane {li} ({:?}, {:?}), v {v:e}, {m:?}",
+                    NAMES[k], l.friction, l.motor
+                )
+            });
         }
     }
-    report("mirrored model", &NAMES, &worst, &bad);
+    tally.report("mirrored model", &NAMES);
 }
