@@ -156,7 +156,8 @@ fn kernel(c: &mut Criterion) {
             g.bench_with_input(BenchmarkId::new("gpu", n), &l32, |b, l| {
                 b.iter(|| {
                     for (k, part) in l.chunks(chunk).enumerate() {
-                        dev.run(k as u64, part, globals, &mut states).unwrap();
+                        dev.run::<f32>(k as u64, part, globals, &mut states)
+                            .unwrap();
                     }
                 })
             });

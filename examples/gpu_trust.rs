@@ -36,7 +36,7 @@ fn main() {
     let mut states: Vec<GpuState> = Vec::new();
     let mut all: Vec<GpuState> = Vec::new();
     for (k, part) in l32.chunks(65536).enumerate() {
-        gpu.run(
+        gpu.run::<f32>(
             k as u64,
             part,
             GpuGlobals::new(&Settings::default(), &[]),

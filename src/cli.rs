@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
-use crate::backend::Choice;
+use crate::backend::{Choice, Precision};
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
 use crate::input::sweep::TraceSpec;
@@ -39,6 +39,12 @@ pub struct LanesArgs {
     /// 5 times the steps.
     #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
     pub tol: Option<f64>,
+    /// The GPU's arithmetic: f32 (rows within 5e-5, each checked, the
+    /// untrusted ones recomputed in f64), f64 (the CPU path's bound, 1e-6;
+    /// refused on an adapter without 64-bit floats), or auto (f64 where
+    /// the adapter has it and a trial finds it no slower, else f32).
+    #[arg(long, value_enum, default_value_t = Precision::Auto)]
+    pub precision: Precision,
 }
 
 /// What `tswm run` does with the lanes (Python's `tswm.run` fills the
@@ -140,6 +146,17 @@ pub struct Plan {
     pub threads: usize,
     /// Integration settings of the CPU path.
     pub settings: Settings,
+    /// The GPU's arithmetic.
+    pub precision: Precision,
+}
+
+impl Plan {
+    /// Opens the backend `choice` for a run of `lanes` of these lanes, at
+    /// this plan's threads, settings and GPU precision
+    /// ([`crate::backend::open`]).
+    pub fn backend(&self, choice: Choice, lanes: u64) -> Result<Box<dyn crate::backend::Backend>> {
+        crate::backend::open(choice, self.precision, lanes, self.threads, self.settings)
+    }
 }
 
 /// Most rows the sampling interval of a run's traces may give (about
@@ -282,6 +299,7 @@ impl LanesArgs {
             source,
             threads,
             settings,
+            precision: self.precision,
         })
     }
 

@@ -37,12 +37,14 @@ cat "$OUT/devices.txt"
 # 1. every GPU row against the f64 CPU path, the verdict kept (its first lines)
 failed=0
 for s in ${CHECK:-sweeps/efficiency_map.toml sweeps/heterogeneous.toml}; do
-  echo "== tswm check $s"
-  timeout 200 "$T" check "$s" >/tmp/tswm-check.txt 2>&1
-  rc=$?
-  head -n 40 /tmp/tswm-check.txt
-  echo "exit status $rc"
-  [ "$rc" = 0 ] || failed=1
+  for p in f32 f64; do
+    echo "== tswm check $s --precision $p"
+    timeout 200 "$T" check "$s" --precision "$p" >/tmp/tswm-check.txt 2>&1
+    rc=$?
+    head -n 40 /tmp/tswm-check.txt
+    echo "exit status $rc"
+    [ "$rc" = 0 ] || failed=1
+  done
 done >"$OUT/check.txt" 2>&1
 cat "$OUT/check.txt"
 # 1b. the shader's functions by what they compute on this GPU: its f64
@@ -64,7 +66,7 @@ cat "$OUT/check.txt"
 } >"$OUT/shader-tests.txt" 2>&1
 cat "$OUT/shader-tests.txt"
 # 2. throughput: GPU against all CPU cores
-"$T" devices 2>/dev/null | grep -qiE 'nvidia|llvmpipe|amd|intel' && backends="gpu cpu" || backends=cpu
+"$T" devices 2>/dev/null | grep -qiE 'nvidia|llvmpipe|amd|intel' && backends="gpu:f32 gpu:f64 cpu" || backends=cpu
 SIZES=${SIZES:-100000 1000000 10000000} BACKENDS=${BACKENDS:-$backends} \
   timeout 300 bash "$here/run.sh" "$T" "$OUT/bench" >"$OUT/bench.log" 2>&1
 tail -n 20 "$OUT/bench/results.md" 2>/dev/null || tail -n 20 "$OUT/bench.log"

@@ -9,8 +9,8 @@
 # --release`), OUTDIR to ./device-bench. Writes OUTDIR/results.md (a
 # table for docs/performance.md) and OUTDIR/log.txt. SIZES (default
 # "100000 1000000 10000000") picks the lane counts, MAX_LANES (default
-# 10000000) stops below 10^7; BACKENDS (default "gpu cpu") picks the
-# backends.
+# 10000000) stops below 10^7; BACKENDS (default "gpu:f32 gpu:f64 cpu",
+# BACKEND:PRECISION) picks the backends.
 #
 # "integration" is `tswm bench`: lanes generated, integrated, the GPU rows
 # checked (and untrusted ones recomputed), nothing written. "end to end"
@@ -24,7 +24,8 @@ set -euo pipefail
 tswm=${1:-target/release/tswm}
 out=${2:-device-bench}
 max=${MAX_LANES:-10000000}
-backends=${BACKENDS:-gpu cpu}
+# BACKEND:PRECISION, or BACKEND (precision auto).
+backends=${BACKENDS:-gpu:f32 gpu:f64 cpu}
 mkdir -p "$out/scratch"
 log=$out/log.txt
 : >"$log"
@@ -65,8 +66,11 @@ for n in ${SIZES:-100000 1000000 10000000}; do
   for kind in uniform heterogeneous; do
     f=$(sweep "$kind" "$n")
     for b in $backends; do
-      k=$("$tswm" bench "$f" --backend "$b" 2>>"$log" | tee -a "$log" | rate)
-      e=$("$tswm" run "$f" --backend "$b" --no-report --out "$out/scratch/run" 2>>"$log" | tee -a "$log" | rate)
+      be=${b%%:*}
+      pr=auto
+      [ "$be" = "$b" ] || pr=${b#*:}
+      k=$("$tswm" bench "$f" --backend "$be" --precision "$pr" 2>>"$log" | tee -a "$log" | rate)
+      e=$("$tswm" run "$f" --backend "$be" --precision "$pr" --no-report --out "$out/scratch/run" 2>>"$log" | tee -a "$log" | rate)
       rm -rf "$out/scratch/run"
       echo "| $n | $kind | $b | ${k:-failed} | ${e:-failed} |" | tee -a "$out/results.md"
     done

@@ -156,6 +156,7 @@ pub fn base_folders(base: &Path) {
         lanes: None,
         threads: Some(1),
         tol: None,
+        precision: tswm::backend::Precision::Auto,
     };
     // A sensitivity design, for the report's reading of sensitivity.csv.
     let sens = base.join("sens.toml");
@@ -173,6 +174,7 @@ pub fn base_folders(base: &Path) {
         lanes: None,
         threads: Some(1),
         tol: None,
+        precision: tswm::backend::Precision::Auto,
     };
     for (out, shard, lanes) in [
         ("run", None, &lanes),

@@ -21,7 +21,7 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use tswm::backend::Choice;
+use tswm::backend::{Choice, Precision};
 use tswm::cli::{LanesArgs, Plan, RunFlags};
 use tswm::columns::Kind;
 use tswm::error::Error;
@@ -83,6 +83,7 @@ struct Lanes {
     frame: Option<Arc<Frame>>,
     threads: Option<usize>,
     tol: Option<f64>,
+    precision: Precision,
 }
 
 impl Lanes {
@@ -94,6 +95,7 @@ impl Lanes {
             lanes: None,
             threads: self.threads,
             tol: self.tol,
+            precision: self.precision,
         };
         let (threads, settings) = args.settings()?;
         let sweep = match (&self.sweep_path, &self.sweep_text) {
@@ -111,6 +113,7 @@ impl Lanes {
             source,
             threads,
             settings,
+            precision: self.precision,
         })
     }
 }
@@ -130,8 +133,20 @@ struct LaneSource(
 );
 
 impl LaneSource {
-    /// The lanes, to run on `threads` threads at tolerance `tol`.
-    fn lanes(self, threads: Option<usize>, tol: Option<f64>) -> PyResult<Lanes> {
+    /// The lanes, to run on `threads` threads at tolerance `tol`, the GPU
+    /// in `precision` (its word).
+    fn lanes(self, threads: Option<usize>, tol: Option<f64>, precision: &str) -> PyResult<Lanes> {
+        let precision = match precision {
+            "auto" => Precision::Auto,
+            "f32" => Precision::F32,
+            "f64" => Precision::F64,
+            other => {
+                return Err(failure(Error::Usage(format!(
+                    "precision: `{}` is not a precision; allowed: auto, f32, f64",
+                    tswm::error::shown(other, 40)
+                ))))
+            }
+        };
         let LaneSource(sweep_path, sweep_text, sweep_name, lanes_path, lanes_table, lanes_name) =
             self;
         let frame = match lanes_table {
@@ -151,6 +166,7 @@ impl LaneSource {
             frame,
             threads,
             tol,
+            precision,
         })
     }
 }
@@ -182,7 +198,7 @@ fn table(batches: Vec<RecordBatch>) -> PyResult<PyArrowType<Table>> {
 /// folder `tswm run` writes too. `progress(phase, done, total)` is
 /// called from time to time.
 #[pyfunction]
-#[pyo3(signature = (source, backend_name, threads, tol, out, format, report, progress))]
+#[pyo3(signature = (source, backend_name, threads, tol, precision, out, format, report, progress))]
 #[allow(clippy::too_many_arguments)]
 fn run(
     py: Python<'_>,
@@ -190,12 +206,13 @@ fn run(
     backend_name: &str,
     threads: Option<usize>,
     tol: Option<f64>,
+    precision: &str,
     out: Option<PathBuf>,
     format: &str,
     report: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<PyArrowType<Table>> {
-    let lanes = source.lanes(threads, tol)?;
+    let lanes = source.lanes(threads, tol, precision)?;
     let choice = backend(backend_name)?;
     let format = match format {
         "csv" => Format::Csv,
@@ -317,7 +334,7 @@ fn stats_columns(
 /// Integrates the lanes on a backend, writing nothing: lanes, seconds,
 /// lanes/s and the backend's name.
 #[pyfunction]
-#[pyo3(signature = (source, backend_name, threads, tol, progress))]
+#[pyo3(signature = (source, backend_name, threads, tol, precision, progress))]
 #[pyo3(name = "bench")]
 fn bench_lanes<'py>(
     py: Python<'py>,
@@ -325,9 +342,10 @@ fn bench_lanes<'py>(
     backend_name: &str,
     threads: Option<usize>,
     tol: Option<f64>,
+    precision: &str,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let lanes = source.lanes(threads, tol)?;
+    let lanes = source.lanes(threads, tol, precision)?;
     let choice = backend(backend_name)?;
     let b = drive::drive(py, progress, move |show| {
         tswm::commands::bench::measure(&lanes.plan(&show)?, choice, &show)
@@ -344,15 +362,16 @@ fn bench_lanes<'py>(
 /// lanes, the two backends, whether every bound held, and the table of
 /// deviations `tswm check` prints.
 #[pyfunction]
-#[pyo3(signature = (source, threads, tol, progress))]
+#[pyo3(signature = (source, threads, tol, precision, progress))]
 fn check<'py>(
     py: Python<'py>,
     source: LaneSource,
     threads: Option<usize>,
     tol: Option<f64>,
+    precision: &str,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let lanes = source.lanes(threads, tol)?;
+    let lanes = source.lanes(threads, tol, precision)?;
     let c = drive::drive(py, progress, move |show| {
         let checked = tswm::commands::check::compare(&lanes.plan(&show)?, None, &show)?;
         Ok((

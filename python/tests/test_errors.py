@@ -96,6 +96,7 @@ def test_bad_arguments_are_input_errors(root, tmp_path):
         ({"format": "xlsx"}, "format: `xlsx` is not a format; allowed: csv, parquet"),
         ({"threads": 0}, "threads: 0 is not allowed; allowed: 1 to 1024 (this machine runs"),
         ({"tol": 1.0}, "--tol: 1e0 is not allowed"),
+        ({"precision": "f16"}, "precision: `f16` is not a precision; allowed: auto, f32, f64"),
     ]:
         msg = input_error(lambda: tswm.run(paper, out=tmp_path / "o", progress=False, **kw))
         assert msg.startswith(want), msg

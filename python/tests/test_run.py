@@ -158,3 +158,22 @@ def test_bench_check_and_devices(root):
     assert all(a["shader_f64"] for a in d["adapters"] if a["name"].startswith("llvmpipe"))
     c = tswm.check(root / "sweeps/paper.toml", progress=False)
     assert c.lanes == 2 and c.passed, str(c)
+
+
+def test_precision_f64_on_an_adapter_with_it(root):
+    """`precision="f64"`: rows say `gpu64`, and `tswm.check` holds them to
+    the CPU path's bound (1e-6) on every lane; an adapter without 64-bit
+    floats raises InputError naming it."""
+    d = tswm.devices()
+    if not d["adapters"]:
+        pytest.skip("no GPU adapter (install mesa-vulkan-drivers)")
+    sweep = root / "sweeps/friction_laws.toml"
+    if not d["adapters"][0]["shader_f64"]:
+        msg = str(pytest.raises(tswm.InputError, tswm.run, sweep, backend="gpu", precision="f64").value)
+        assert d["adapters"][0]["name"] in msg and "no 64-bit floats" in msg, msg
+        return
+    t = tswm.run(sweep, backend="gpu", precision="f64", progress=False)
+    assert set(t.column("path").to_pylist()) == {"gpu64"}
+    c = tswm.check(sweep, precision="f64", progress=False)
+    assert c.passed and c.disagreeing == 0 and c.lanes == t.num_rows, str(c)
+    assert "gpu f64" in c.gpu

@@ -474,6 +474,9 @@ def _engine(
         bar.close()
 
 
+#: The GPU's arithmetic, as `precision` names it.
+_PRECISIONS = "auto, f32, f64"
+
 #: What `out` may be, for the errors that say so.
 _OUT = "a folder's path: a new or empty folder, or the folder of an earlier tswm run"
 
@@ -485,6 +488,7 @@ def run(
     backend: str = "auto",
     threads: Optional[int] = None,
     tol: Optional[float] = None,
+    precision: str = "auto",
     out: Optional[Folder] = None,
     format: str = "csv",
     report: bool = True,
@@ -506,6 +510,11 @@ def run(
         threads: CPU threads (default: all cores).
         tol: the f64 path's per-step tolerance (1e-13 to 1e-4; 1e-8 by
             default).
+        precision: the GPU's arithmetic: ``"auto"`` (f64 where the
+            adapter has it and a trial finds it no slower, else f32),
+            ``"f32"`` (rows within 5e-5, each checked, the untrusted ones
+            recomputed in f64) or ``"f64"`` (the CPU path's bound, 1e-6;
+            an adapter without 64-bit floats is refused).
         out: also write the folder ``tswm run --out OUT`` writes
             (``lanes.csv`` or ``lanes.parquet``, ``summary.csv``,
             ``sweep.resolved.toml``, ``report.html``, ...).
@@ -531,6 +540,7 @@ def run(
         _word(backend, "backend", "auto, cpu, gpu"),
         _threads(threads),
         _tol(tol),
+        _word(precision, "precision", _PRECISIONS),
         None if out is None else _path(out, "out", _OUT),
         _word(format, "format", "csv, parquet"),
         report,
@@ -731,13 +741,26 @@ def check(
     lanes: Optional[Lanes] = None,
     threads: Optional[int] = None,
     tol: Optional[float] = None,
+    precision: str = "auto",
     progress: Optional[bool] = None,
 ) -> Check:
-    """Runs the lanes on the GPU (f32) and on the f64 CPU path and compares
-    every row against the bounds of ``tswm check``; a missed bound is
-    ``passed = False``, not an error. Raises :class:`Error` when there is
-    no GPU."""
-    return Check(_engine(_tswm.check, sweep, lanes, progress, _threads(threads), _tol(tol)))
+    """Runs the lanes on the GPU and on the f64 CPU path and compares
+    every row against the bounds of ``tswm check``: the f32 path's, or with
+    ``precision="f64"`` the f64 path's (1e-6, every lane; the CPU at the
+    same tolerances); a missed bound is ``passed = False``, not an error.
+    Raises :class:`Error` when there is no GPU, and :class:`InputError`
+    for ``"f64"`` on an adapter without 64-bit floats."""
+    return Check(
+        _engine(
+            _tswm.check,
+            sweep,
+            lanes,
+            progress,
+            _threads(threads),
+            _tol(tol),
+            _word(precision, "precision", _PRECISIONS),
+        )
+    )
 
 
 def bench(
@@ -747,6 +770,7 @@ def bench(
     backend: str = "auto",
     threads: Optional[int] = None,
     tol: Optional[float] = None,
+    precision: str = "auto",
     progress: Optional[bool] = None,
 ) -> Dict[str, Any]:
     """Integrates the lanes, writing nothing: ``{"lanes", "seconds",
@@ -760,6 +784,7 @@ def bench(
         _word(backend, "backend", "auto, cpu, gpu"),
         _threads(threads),
         _tol(tol),
+        _word(precision, "precision", _PRECISIONS),
     )
 
 

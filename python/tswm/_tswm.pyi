@@ -25,6 +25,7 @@ def run(
     backend_name: str,
     threads: Optional[int],
     tol: Optional[float],
+    precision: str,
     out: Optional[str],
     format: str,
     report: bool,
@@ -42,12 +43,14 @@ def bench(
     backend_name: str,
     threads: Optional[int],
     tol: Optional[float],
+    precision: str,
     progress: Progress,
 ) -> Dict[str, Any]: ...
 def check(
     source: LaneSource,
     threads: Optional[int],
     tol: Optional[float],
+    precision: str,
     progress: Progress,
 ) -> Dict[str, Any]: ...
 def devices() -> Dict[str, Any]: ...

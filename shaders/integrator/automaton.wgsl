@@ -1,40 +1,42 @@
 // Mirrors src/integrator/automaton.rs: a lane's state and the switching
 // automaton's moves between contact modes.
 
-// Keep in sync with `GpuState` in src/backend/gpu/layout.rs.
+// Keep in sync with `GpuState` in src/backend/gpu/layout.rs. 32 reals
+// and 16 words: a whole number of the struct's alignment in f32 (16
+// bytes) and in f64 (32, a vec4<f64>'s), so neither has hidden padding.
 struct State {
-    t_hi: f32, t_lo: f32, h: f32, t_first_switch: f32,
-    flow: vec4<f32>,    // w1_in, w1_out, w2_in, w2_out
-    flow_c: vec4<f32>,  // their Kahan compensations
-    y: array<f32, NY>,
-    yc: array<f32, NY>,
-    k1: array<f32, NY>,
+    t_hi: real, t_lo: real, h: real, t_first_switch: real,
+    flow: vec4<real>,    // w1_in, w1_out, w2_in, w2_out
+    flow_c: vec4<real>,  // their Kahan compensations
+    y: array<real, NY>,
+    yc: array<real, NY>,
+    k1: array<real, NY>,
+    pad_r0: real, pad_r1: real,
     side: i32, dir: i32, flags: u32, status: u32,
     switches: u32, reversals: u32, sticks: u32, steps: u32,
-    events: u32, pad0: u32, pad1: u32, pad2: u32,
-    pad3: u32, pad4: u32,
+    events: u32, pad: array<u32, 7>,
 }
 
 // Flag bits of State.flags (F_*): generated into the prelude from `flags` in
 // src/backend/gpu/layout.rs.
 
-const NO_FIRST_SWITCH: f32 = -1.0;
+const NO_FIRST_SWITCH: real = -1.0;
 
 fn has(st: ptr<function, State>, f: u32) -> bool { return ((*st).flags & f) != 0u; }
 fn set_flag(st: ptr<function, State>, f: u32, on: bool) {
     if (on) { (*st).flags |= f; } else { (*st).flags &= ~f; }
 }
 
-fn time_of(st: ptr<function, State>) -> f32 { return (*st).t_hi - (*st).t_lo; }
+fn time_of(st: ptr<function, State>) -> real { return (*st).t_hi - (*st).t_lo; }
 
-fn time_add(st: ptr<function, State>, h: f32) {
+fn time_add(st: ptr<function, State>, h: real) {
     let y = h - (*st).t_lo;
     let t = (*st).t_hi + y;
     (*st).t_lo = (t - (*st).t_hi) - y;
     (*st).t_hi = t;
 }
 
-fn time_set(st: ptr<function, State>, t: f32) {
+fn time_set(st: ptr<function, State>, t: real) {
     (*st).t_hi = t;
     (*st).t_lo = 0.0;
 }
@@ -53,10 +55,10 @@ fn init(l: Lane, st: ptr<function, State>) {
     let v = l.v1_0;
     (*st).t_hi = 0.0;
     (*st).t_lo = 0.0;
-    (*st).y = array<f32, NY>(l.x1_0, v, 0.0, 0.0, 0.0, 0.0);
-    (*st).yc = array<f32, NY>();
-    (*st).flow = vec4<f32>();
-    (*st).flow_c = vec4<f32>();
+    (*st).y = array<real, NY>(l.x1_0, v, 0.0, 0.0, 0.0, 0.0);
+    (*st).yc = array<real, NY>();
+    (*st).flow = vec4<real>();
+    (*st).flow_c = vec4<real>();
     (*st).h = min(g.h_initial, l.t_end);
     (*st).side = side_of(phi(l, v, motor_on));
     (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
@@ -103,7 +105,7 @@ fn come_to_rest(l: Lane, st: ptr<function, State>) {
     depart(l, st, s.y);
 }
 
-fn depart(l: Lane, st: ptr<function, State>, tf: f32) {
+fn depart(l: Lane, st: ptr<function, State>, tf: real) {
     let dir = select(-1, 1, tf > 0.0);
     if ((*st).dir != 0 && dir != (*st).dir) { (*st).reversals += 1u; }
     (*st).dir = dir;
@@ -126,16 +128,16 @@ fn cut_motor(l: Lane, st: ptr<function, State>) {
     }
 }
 
-fn horizon(l: Lane, st: ptr<function, State>) -> f32 {
+fn horizon(l: Lane, st: ptr<function, State>) -> real {
     return select(l.t_end, l.t_max, has(st, F_RUNNING_ON));
 }
 
-fn reach_time_event(l: Lane, st: ptr<function, State>, t_stop: f32) {
+fn reach_time_event(l: Lane, st: ptr<function, State>, t_stop: real) {
     time_set(st, t_stop);
     if (t_stop < horizon(l, st)) {
         cut_motor(l, st);
     } else if (!has(st, F_RUNNING_ON) && l.t_max > l.t_end && l.motor_off < l.t_end
-        && !has(st, F_STUCK) && has(st, F_K1_VALID) && f32((*st).dir) * (*st).k1[1] < 0.0) {
+        && !has(st, F_STUCK) && has(st, F_K1_VALID) && real((*st).dir) * (*st).k1[1] < 0.0) {
         set_flag(st, F_RUNNING_ON, true);
     } else {
         set_flag(st, F_DONE, true);

@@ -3,14 +3,17 @@
 // point that works a slot through lanes.
 
 // Keep in sync with `GpuGlobals` in src/backend/gpu/layout.rs.
+// The words first, then four reals: the tables start 16-aligned in f32
+// and 32-aligned in f64.
 struct Globals {
     n_lanes: u32, budget: u32, max_steps: u32, max_events: u32,
-    tol: f32, h_initial: f32, n_tables: u32, row_lanes: u32,
-    n_slots: u32, pad0: u32, pad1: u32, pad2: u32,
+    n_tables: u32, row_lanes: u32, n_slots: u32, pad0: u32,
+    // The per-step tolerance of the works, and of x1 and v1.
+    tol: real, tol_traj: real, h_initial: real, pad_r: real,
     // Points per table; table t's point i is at [t * TABLE_VEC4S + i / 4][i % 4].
     table_n: array<vec4<u32>, 2>,
-    table_vs: array<vec4<f32>, 64>,
-    table_mu: array<vec4<f32>, 64>,
+    table_vs: array<vec4<real>, 64>,
+    table_mu: array<vec4<real>, 64>,
 }
 
 // Vec4s per table (TABLE_VEC4S): generated into the prelude from

@@ -4,11 +4,11 @@
 // below this fraction of max(t, 1) s is a step underflow (the f64 path's
 // is 1e-15; f32 resolves a time to 6e-8 of itself).
 
-struct StepSize { h: f32, landing: bool }
+struct StepSize { h: real, landing: bool }
 
 // The size of the step to try from the proposed size h, at speed v and
 // acceleration a in direction dir, `remaining` before the next time event.
-fn step_size(h: f32, steep: bool, dir: f32, v: f32, a: f32, remaining: f32) -> StepSize {
+fn step_size(h: real, steep: bool, dir: real, v: real, a: real, remaining: real) -> StepSize {
     var hh = h;
     // Approaching rest under a law steep at rest, grade the steps into the stop.
     if (steep && a * dir < 0.0) {
@@ -20,16 +20,16 @@ fn step_size(h: f32, steep: bool, dir: f32, v: f32, a: f32, remaining: f32) -> S
     return StepSize(hh, landing);
 }
 
-struct Retry { h: f32, underflow: bool }
+struct Retry { h: real, underflow: bool }
 
 // The size to try again after a rejected trial of size h, and whether it is
 // too small to go on at time t.
-fn retry_size(h: f32, fac: f32, t: f32) -> Retry {
+fn retry_size(h: real, fac: real, t: real) -> Retry {
     let hh = h * min(fac, 1.0);
     return Retry(hh, hh < STEP_UNDERFLOW * max(t, 1.0));
 }
 
-fn step_factor(err: f32) -> f32 {
-    if (err > 0.0) { return clamp(0.9 * pow(err, -0.2), 0.2, 5.0); }
+fn step_factor(err: real) -> real {
+    if (err > 0.0) { return clamp(0.9 * pow_r(err, -0.2), 0.2, 5.0); }
     return 5.0;
 }

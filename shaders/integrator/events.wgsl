@@ -4,7 +4,7 @@
 // prelude, from src/backend/gpu/shader.rs), a fraction of the step (the
 // f64 path locates roots to `T_ROOT_TOL` = 1e-13 s).
 
-fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
+fn dense_v(r: array<real, 5>, th: real) -> real {
     let th1 = 1.0 - th;
     return r[0] + th * (r[1] + th1 * (r[2] + th * (r[3] + th1 * r[4])));
 }
@@ -12,20 +12,20 @@ fn dense_v(r: array<f32, 5>, th: f32) -> f32 {
 // Event functions (EV_*): generated into the prelude from `EventFn` in
 // src/integrator/events.rs.
 
-fn event_value(l: Lane, m: Mode, which: u32, v: f32) -> f32 {
-    if (which == EV_SWITCH) { return f32(m.side) * phi(l, v, m.motor_on); }
-    if (which == EV_REST) { return f32(m.dir) * v; }
+fn event_value(l: Lane, m: Mode, which: u32, v: real) -> real {
+    if (which == EV_SWITCH) { return real(m.side) * phi(l, v, m.motor_on); }
+    if (which == EV_REST) { return real(m.dir) * v; }
     if (which == EV_BRANCH) {
-        let vs = sliding_speed(f32(m.dir), v, l.inv_cos_g);
+        let vs = sliding_speed(real(m.dir), v, l.inv_cos_g);
         return select(l.branch_speed - vs, vs - l.branch_speed, m.upper);
     }
-    return -f32(m.dir) * motion(l, m, v).acc;
+    return -real(m.dir) * motion(l, m, v).acc;
 }
 
-fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f32 {
-    var a = 0.0;
+fn locate_root(l: Lane, m: Mode, which: u32, r: array<real, 5>, g_end: real) -> real {
+    var a: real = 0.0;
     var fa = event_value(l, m, which, r[0]);
-    var b = 1.0;
+    var b: real = 1.0;
     var fb = g_end;
     if (fa <= 0.0) { return 0.0; }
     var side = 0;
@@ -48,17 +48,17 @@ fn locate_root(l: Lane, m: Mode, which: u32, r: array<f32, 5>, g_end: f32) -> f3
 }
 
 // x: θ of the earliest event (> 1: none), y: which (EV_*)
-fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<f32> {
+fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<real> {
     let g_rest = event_value(l, m, EV_REST, tr.y1[1]);
     let g_switch = event_value(l, m, EV_SWITCH, tr.y1[1]);
-    var theta = 2.0;
+    var theta: real = 2.0;
     var which = EV_REST;
     if (g_rest < 0.0) { theta = locate_root(l, m, EV_REST, tr.dense, g_rest); }
     if (g_switch < 0.0) {
         let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
         if (th < theta) { theta = th; which = EV_SWITCH; }
     }
-    let g_speeding = -f32(m.dir) * tr.k7[1];
+    let g_speeding = -real(m.dir) * tr.k7[1];
     if (running_on && g_speeding < 0.0) {
         let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
         if (th < theta) { theta = th; which = EV_SPEEDING; }
@@ -70,5 +70,5 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<f32> {
             if (th < theta) { theta = th; which = EV_BRANCH; }
         }
     }
-    return vec2<f32>(theta, f32(which));
+    return vec2<real>(theta, real(which));
 }

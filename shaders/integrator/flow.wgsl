@@ -5,35 +5,35 @@
 // 2^-24, the resolution of f32 on [0, 1] (2^-52 in f64, `P_ZERO_TOL` in
 // src/integrator/flow.rs).
 
-fn dense_slope(r: array<f32, 5>, th: f32) -> f32 {
+fn dense_slope(r: array<real, 5>, th: real) -> real {
     let th1 = 1.0 - th;
     return r[1] + (th1 - th) * r[2] + th * (2.0 - 3.0 * th) * r[3] + 2.0 * th * th1 * (th1 - th) * r[4];
 }
 
 // [in, out] parts of a step's increment r[1] of the integral of p, from
 // its dense output r (r0 = 0) and p at the step's start and end.
-fn split(r: array<f32, 5>, p0: f32, p_end: f32) -> vec2<f32> {
+fn split(r: array<real, 5>, p0: real, p_end: real) -> vec2<real> {
     if (crosses(p0, p_end)) { return split_crossing(r, p0); }
     return split_whole(r[1], p0, p_end);
 }
 
 // Whether p changes sign inside a step (a zero at an end is no crossing).
-fn crosses(p0: f32, p_end: f32) -> bool {
+fn crosses(p0: real, p_end: real) -> bool {
     return p0 * p_end < 0.0;
 }
 
 // `split` of an increment where p keeps its sign: all of it to one part.
-fn split_whole(total: f32, p0: f32, p_end: f32) -> vec2<f32> {
+fn split_whole(total: real, p0: real, p_end: real) -> vec2<real> {
     let positive = p0 + p_end > 0.0 || (p0 + p_end == 0.0 && total >= 0.0);
-    return select(vec2<f32>(0.0, -total), vec2<f32>(total, 0.0), positive);
+    return select(vec2<real>(0.0, -total), vec2<real>(total, 0.0), positive);
 }
 
 // `split` where p changes sign inside the step: the zero by bisection.
-fn split_crossing(r: array<f32, 5>, p0: f32) -> vec2<f32> {
+fn split_crossing(r: array<real, 5>, p0: real) -> vec2<real> {
     let total = r[1];
-    let sign = select(-1.0, 1.0, p0 > 0.0);
-    var a = 0.0;
-    var b = 1.0;
+    let sign = select(real(-1.0), real(1.0), p0 > 0.0);
+    var a: real = 0.0;
+    var b: real = 1.0;
     // A trip count the compiler cannot see: a constant one is unrolled,
     // and that code, run only at a crossing, halved lavapipe's throughput.
     var it = 0u;
@@ -44,24 +44,24 @@ fn split_crossing(r: array<f32, 5>, p0: f32) -> vec2<f32> {
     }
     let first = dense_v(r, 0.5 * (a + b));
     let rest = total - first;
-    return select(vec2<f32>(rest, -first), vec2<f32>(first, -rest), sign > 0.0);
+    return select(vec2<real>(rest, -first), vec2<real>(first, -rest), sign > 0.0);
 }
 
-fn dense_w(dw: f32, h: f32, q0: f32, q_end: f32, r4: f32) -> array<f32, 5> {
+fn dense_w(dw: real, h: real, q0: real, q_end: real, r4: real) -> array<real, 5> {
     let r2 = h * q0 - dw;
-    return array<f32, 5>(0.0, dw, r2, dw - h * q_end - r2, r4);
+    return array<real, 5>(0.0, dw, r2, dw - h * q_end - r2, r4);
 }
 
 // Whether p turned and turned back inside a step: the same sign at both
 // ends, the other at the middle of its dense output. The split cannot see
 // it; the row is recomputed in f64 (`Recheck::FlowTurn`). (The f64 path's
 // steps, a hundred times tighter, were not seen to miss one.)
-fn turns_inside(r: array<f32, 5>, p0: f32, p_end: f32) -> bool {
+fn turns_inside(r: array<real, 5>, p0: real, p_end: real) -> bool {
     return !crosses(p0, p_end) && dense_slope(r, 0.5) * (p0 + p_end) < 0.0;
 }
 
 // Whether p1 or p2 turned and turned back inside an accepted step.
-fn flow_turns(k1: array<f32, NY>, tr: Trial, h: f32) -> bool {
+fn flow_turns(k1: array<real, NY>, tr: Trial, h: real) -> bool {
     let p1_0 = k1[5];
     let p1_end = tr.k7[5];
     let p2_0 = k1[4] - k1[5];
@@ -71,12 +71,12 @@ fn flow_turns(k1: array<f32, NY>, tr: Trial, h: f32) -> bool {
 }
 
 // Increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step.
-fn step_flow(k1: array<f32, NY>, tr: Trial, h: f32) -> vec4<f32> {
+fn step_flow(k1: array<real, NY>, tr: Trial, h: real) -> vec4<real> {
     let p1_0 = k1[5];
     let p1_end = tr.k7[5];
     let p2_0 = k1[4] - k1[5];
     let p2_end = tr.k7[4] - tr.k7[5];
     let f1 = split(dense_w(tr.dw.x, h, p1_0, p1_end, tr.dw_r4.x), p1_0, p1_end);
     let f2 = split(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
-    return vec4<f32>(f1, f2);
+    return vec4<real>(f1, f2);
 }

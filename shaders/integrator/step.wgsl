@@ -1,10 +1,10 @@
 // Mirrors src/integrator/step.rs: one step attempt, prepared, tried and
 // finished.
 
-struct StepPlan { ok: bool, mode: Mode, h: f32, t_stop: f32, landing: bool }
+struct StepPlan { ok: bool, mode: Mode, h: real, t_stop: real, landing: bool }
 
 // The lane's next time event: its motor's cut-off, else the end of its run.
-fn time_stop(l: Lane, st: ptr<function, State>) -> f32 {
+fn time_stop(l: Lane, st: ptr<function, State>) -> real {
     let end = horizon(l, st);
     if (has(st, F_MOTOR_ON) && l.motor_off < end) { return l.motor_off; }
     return end;
@@ -26,7 +26,7 @@ fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
         set_flag(st, F_K1_VALID, true);
     }
     let remaining = (t_stop - (*st).t_hi) + (*st).t_lo;
-    let s = step_size((*st).h, l.steep != 0u, f32((*st).dir), (*st).y[1], (*st).k1[1], remaining);
+    let s = step_size((*st).h, l.steep != 0u, real((*st).dir), (*st).y[1], (*st).k1[1], remaining);
     return StepPlan(true, m, s.h, t_stop, s.landing);
 }
 
@@ -69,7 +69,7 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
 
 // Compensated (Kahan) sum of an accepted step's energy flow, before the
 // state moves.
-fn add_flow(st: ptr<function, State>, tr: Trial, h: f32) {
+fn add_flow(st: ptr<function, State>, tr: Trial, h: real) {
     if (flow_turns((*st).k1, tr, h)) { set_flag(st, F_FLOW_TURN, true); }
     let yy = step_flow((*st).k1, tr, h) - (*st).flow_c;
     let s = (*st).flow + yy;
@@ -77,9 +77,9 @@ fn add_flow(st: ptr<function, State>, tr: Trial, h: f32) {
     (*st).flow = s;
 }
 
-fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, which: u32, h_next: f32) {
+fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: real, which: u32, h_next: real) {
     let h_ev = theta * plan.h;
-    let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol);
+    let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol, g.tol_traj);
     add_flow(st, ev, h_ev);
     time_add(st, h_ev);
     (*st).y = ev.y1;
@@ -107,7 +107,7 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: f32, 
 fn attempt(l: Lane, st: ptr<function, State>) {
     let plan = prepare(l, st);
     if (plan.ok) {
-        let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol);
+        let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol, g.tol_traj);
         finish_step(l, st, plan, tr);
     }
 }

@@ -3,10 +3,10 @@
 // The agma law: its constants (AGMA_*, FT_PER_MIN_PER_M_PER_S) are
 // generated into the prelude from src/model/laws.rs.
 
-fn tan_small(x: f32) -> f32 {
-    if (abs(x) > 0.15) { return tan(x); }
+fn tan_small(x: real) -> real {
+    if (abs(x) > 0.15) { return tan_r(x); }
     let x2 = x * x;
-    var p = 62.0 / 2835.0;
+    var p: real = 62.0 / 2835.0;
     p = p * x2 + 17.0 / 315.0;
     p = p * x2 + 2.0 / 15.0;
     p = p * x2 + 1.0 / 3.0;
@@ -14,32 +14,32 @@ fn tan_small(x: f32) -> f32 {
 }
 
 // Point i of table t (see `GpuGlobals`).
-fn table_at(t: u32, i: u32) -> vec2<f32> {
+fn table_at(t: u32, i: u32) -> vec2<real> {
     let k = t * TABLE_VEC4S + i / 4u;
-    return vec2<f32>(g.table_vs[k][i % 4u], g.table_mu[k][i % 4u]);
+    return vec2<real>(g.table_vs[k][i % 4u], g.table_mu[k][i % 4u]);
 }
 
-fn agma_mu(vs: f32, upper: bool) -> f32 {
+fn agma_mu(vs: real, upper: bool) -> real {
     let v = max(vs, 0.0) * FT_PER_MIN_PER_M_PER_S;
     // pow(0, e) is not defined in WGSL: Vs^e = 0 at rest.
     let e = select(AGMA_LOW_E, AGMA_HIGH_E, upper);
-    var pw = 0.0;
-    if (v > 0.0) { pw = pow(v, e); }
-    if (upper) { return AGMA_HIGH_A * exp(-AGMA_HIGH_B * pw) + AGMA_HIGH_C; }
-    return AGMA_LOW_A * exp(-AGMA_LOW_B * pw);
+    var pw: real = 0.0;
+    if (v > 0.0) { pw = pow_r(v, e); }
+    if (upper) { return AGMA_HIGH_A * exp_r(-AGMA_HIGH_B * pw) + AGMA_HIGH_C; }
+    return AGMA_LOW_A * exp_r(-AGMA_LOW_B * pw);
 }
 
 // The stribeck law from its slots (μc, μs, v_st, δ, kv).
-fn stribeck_mu(s: array<f32, LAW_SLOTS>, vs: f32) -> f32 {
+fn stribeck_mu(s: array<real, LAW_SLOTS>, vs: real) -> real {
     // pow(0, δ) is not defined in WGSL: (Vs/v_st)^δ = 0 at rest.
-    var pw = 0.0;
-    if (vs > 0.0) { pw = pow(vs / s[2], s[3]); }
-    return s[0] + (s[1] - s[0]) * exp(-pw) + s[4] * vs;
+    var pw: real = 0.0;
+    if (vs > 0.0) { pw = pow_r(vs / s[2], s[3]); }
+    return s[0] + (s[1] - s[0]) * exp_r(-pw) + s[4] * vs;
 }
 
 // The lane's law on its slots `l.law` (the law's parameters in the
 // parameter table's order), as tan ρ: a coefficient μ over cos αn.
-fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
+fn mu_sliding(l: Lane, vs: real, upper: bool) -> real {
     let s = l.law;
     if (l.friction == FRICTION_PAPER) {
         return tan_small(paper_rho(s[0], s[1], s[2], vs));
@@ -49,7 +49,7 @@ fn mu_sliding(l: Lane, vs: f32, upper: bool) -> f32 {
     if (l.friction == FRICTION_STRIBECK) { return stribeck_mu(s, vs) * l.inv_cos_an; }
     if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
         // No such law or table: NaN makes the lane `nonfinite`, never a number.
-        return bitcast<f32>(0x7fc00000u);
+        return real(bitcast<f32>(0x7fc00000u));
     }
     // table: linear between points, flat past the ends
     let t = l.table;

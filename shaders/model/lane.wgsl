@@ -1,16 +1,18 @@
-// Mirrors src/model/lane.rs: a lane's constants, in f32.
+// Mirrors src/model/lane.rs: a lane's constants, in the shader's `real`
+// (f32, or f64 where the adapter has it: the prelude says which).
 
 // `GpuLane` in src/backend/gpu/layout.rs (a test holds the layouts
 // together). `law`: the friction law's parameters, in the parameter
-// table's order; LAW_SLOTS comes from the generated prelude.
+// table's order; LAW_SLOTS comes from the generated prelude. The u32
+// fields come last, so that no real is out of its alignment in f64.
 struct Lane {
-    m1: f32, m2: f32, tan_g: f32, sin_g: f32,
-    cos_g: f32, inv_cos_g: f32, f2: f32, motor: u32,
-    v_sync: f32, sigma_k: f32, f_crit: f32, f1: f32,
-    motor_off: f32, friction: u32, law: array<f32, LAW_SLOTS>,
-    mu_s: f32, x1_0: f32, v1_0: f32, t_end: f32,
-    t_max: f32, table: u32, inv_cos_an: f32, steep: u32,
-    branch_speed: f32,
+    m1: real, m2: real, tan_g: real, sin_g: real,
+    cos_g: real, inv_cos_g: real, f2: real, v_sync: real,
+    sigma_k: real, f_crit: real, f1: real, motor_off: real,
+    law: array<real, LAW_SLOTS>,
+    mu_s: real, x1_0: real, v1_0: real, t_end: real,
+    t_max: real, inv_cos_an: real, branch_speed: real,
+    motor: u32, friction: u32, table: u32, steep: u32,
 }
 
 // Whether the lane's friction law has two branches (`branch_speed` is
@@ -19,6 +21,6 @@ fn has_branches(l: Lane) -> bool {
     return l.branch_speed < 1.0e38;
 }
 
-fn above_branch(l: Lane, vs: f32) -> bool {
+fn above_branch(l: Lane, vs: real) -> bool {
     return vs > l.branch_speed;
 }

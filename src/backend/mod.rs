@@ -1,6 +1,6 @@
 //! Backends: what turns lane parameters into results (the f64 CPU path
-//! in [`cpu`], the f32 GPU path in [`gpu`]), and which one a run gets
-//! (`--backend auto|cpu|gpu`).
+//! in [`cpu`], the GPU path in f32 or f64 in [`gpu`]), and which one a run
+//! gets (`--backend auto|cpu|gpu`, `--precision auto|f32|f64`).
 
 pub mod cpu;
 pub mod gpu;
@@ -12,7 +12,7 @@ use crate::input::testmodels::paper_like;
 use crate::integrator::{LaneResult, Settings};
 use crate::model::FrictionTable;
 use crate::params::ParamColumns;
-use gpu::{Gpu, GpuBackend};
+use gpu::{Gpu, GpuBackend, ShaderReal};
 
 /// Something that turns lane parameters into results.
 pub trait Backend {
@@ -67,6 +67,21 @@ pub enum Choice {
     Gpu,
 }
 
+/// The GPU's arithmetic (`--precision`; the CPU path is f64 always).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Precision {
+    /// f64 where the adapter has 64-bit floats and a trial finds it no
+    /// slower per row than f32 with its recomputed rows; else f32.
+    #[default]
+    Auto,
+    /// f32: every row checked, the untrusted ones recomputed on the f64
+    /// CPU path; rows within 5e-5.
+    F32,
+    /// f64: the CPU path's algorithm and bound (1e-6) on the device;
+    /// refused on an adapter without 64-bit floats.
+    F64,
+}
+
 /// Below this many lanes `auto` runs on the CPU without a trial: opening a
 /// software adapter and compiling its pipeline costs more than it can save.
 pub const AUTO_TRIAL_MIN_LANES: u64 = 20_000;
@@ -79,46 +94,82 @@ const AUTO_TRIAL_LANES: usize = 4096;
 /// `auto`: a hardware GPU when there is one; else, for runs of at least
 /// [`AUTO_TRIAL_MIN_LANES`] lanes with a software adapter present, the
 /// faster of the CPU path and that adapter on a trial of 4096 paper-like
-/// lanes run on both; else the CPU path.
+/// lanes run on both; else the CPU path. The GPU computes in `precision`
+/// ([`open_gpu`]); the CPU path is f64, and refuses `f32`.
 pub fn open(
     choice: Choice,
+    precision: Precision,
     lanes: u64,
     threads: usize,
     settings: Settings,
 ) -> Result<Box<dyn Backend>> {
     let cpu = || -> Result<Box<dyn Backend>> { Ok(Box::new(CpuBackend::new(threads, settings)?)) };
     match choice {
+        Choice::Cpu if precision == Precision::F32 => Err(crate::error::Error::Usage(
+            "--precision f32 is the GPU's f32 path; --backend cpu computes in f64 \
+             (use --precision f64 or auto, or --backend gpu)"
+                .into(),
+        )),
         Choice::Cpu => cpu(),
-        Choice::Gpu => {
-            let c = CpuBackend::new(threads, settings)?;
-            Ok(Box::new(GpuBackend::with_cpu(
-                Gpu::new(false)?,
-                settings,
-                c,
-            )))
-        }
+        Choice::Gpu => open_gpu(false, precision, lanes, threads, settings),
         Choice::Auto => {
-            if let Ok(gpu) = Gpu::new(true) {
-                let c = CpuBackend::new(threads, settings)?;
-                return Ok(Box::new(GpuBackend::with_cpu(gpu, settings, c)));
+            if let Ok(b) = open_gpu(true, precision, lanes, threads, settings) {
+                return Ok(b);
             }
             if lanes < AUTO_TRIAL_MIN_LANES {
                 return cpu();
             }
-            let Ok(soft) = Gpu::new(false) else {
+            let Ok(soft) = open_gpu(false, precision, lanes, threads, settings) else {
                 return cpu();
             };
-            let c = CpuBackend::new(threads, settings)?;
-            let recompute = CpuBackend::new(threads, settings)?;
-            let g = GpuBackend::with_cpu(soft, settings, recompute);
-            trial(Box::new(c), Box::new(g))
+            trial([cpu()?, soft], ["cpu", "software gpu"])
         }
     }
 }
 
-/// Runs the trial lanes on both and keeps the faster, named with the
-/// trial's figures.
-fn trial(mut cpu: Box<dyn Backend>, mut soft: Box<dyn Backend>) -> Result<Box<dyn Backend>> {
+/// Opens the best adapter (hardware only, with `hardware_only`) in
+/// `precision`: `f64` is refused on an adapter without 64-bit floats;
+/// `auto` takes the real type [`auto_trial`] names, or f64 unless f32 (its
+/// recomputed rows included) is faster on the trial lanes.
+pub fn open_gpu(
+    hardware_only: bool,
+    precision: Precision,
+    lanes: u64,
+    threads: usize,
+    settings: Settings,
+) -> Result<Box<dyn Backend>> {
+    let on = |gpu: Gpu| -> Result<Box<dyn Backend>> {
+        let c = CpuBackend::new(threads, settings)?;
+        Ok(Box::new(GpuBackend::with_cpu(gpu, settings, c)))
+    };
+    match precision {
+        Precision::F32 => on(Gpu::open(hardware_only, ShaderReal::F32)?),
+        Precision::F64 => on(Gpu::open(hardware_only, ShaderReal::F64)?),
+        Precision::Auto => {
+            let g32 = Gpu::open(hardware_only, ShaderReal::F32)?;
+            if !auto_trial(g32.has_f64(), gpu::is_hardware(&g32.info), lanes) {
+                return on(g32);
+            }
+            let Ok(g64) = Gpu::open(hardware_only, ShaderReal::F64) else {
+                return on(g32);
+            };
+            trial([on(g64)?, on(g32)?], ["gpu f64", "gpu f32"])
+        }
+    }
+}
+
+/// Whether `--precision auto` tries f64 against f32 on an adapter: only
+/// where it has 64-bit floats (`has_f64`), is hardware (a software
+/// adapter runs f64 at half its vector width and the f64 functions from
+/// arithmetic: lavapipe took 10 times f32's time a lane, docs/gpu.md) and
+/// the run has [`AUTO_TRIAL_MIN_LANES`] lanes or more. Otherwise f32.
+pub fn auto_trial(has_f64: bool, hardware: bool, lanes: u64) -> bool {
+    has_f64 && hardware && lanes >= AUTO_TRIAL_MIN_LANES
+}
+
+/// Runs the trial lanes on both backends and keeps the faster (the first
+/// when they tie), named with the trial's figures; `words` name them.
+fn trial(backends: [Box<dyn Backend>; 2], words: [&str; 2]) -> Result<Box<dyn Backend>> {
     let lanes: ParamColumns = paper_like(AUTO_TRIAL_LANES, 7)
         .iter()
         .map(|s| s.resolve(&[]).expect("paper-like lanes are valid"))
@@ -129,20 +180,19 @@ fn trial(mut cpu: Box<dyn Backend>, mut soft: Box<dyn Backend>) -> Result<Box<dy
         b.run_chunk(0, &lanes, &[], &mut out)?;
         Ok(lanes.len() as f64 / t.elapsed().as_secs_f64())
     };
-    let rc = rate(cpu.as_mut())?;
-    let Ok(rg) = rate(soft.as_mut()) else {
-        return Ok(cpu);
+    let [mut first, mut second] = backends;
+    let r1 = rate(first.as_mut())?;
+    let Ok(r2) = rate(second.as_mut()) else {
+        return Ok(first);
     };
-    Ok(Box::new(if rg > rc {
-        Auto {
-            inner: soft,
-            why: format!("auto: {rg:.0} vs cpu {rc:.0} lanes/s in a trial"),
-        }
+    let (inner, rw, rl, loser) = if r2 > r1 {
+        (second, r2, r1, words[0])
     } else {
-        Auto {
-            inner: cpu,
-            why: format!("auto: {rc:.0} vs software gpu {rg:.0} lanes/s in a trial"),
-        }
+        (first, r1, r2, words[1])
+    };
+    Ok(Box::new(Auto {
+        inner,
+        why: format!("auto: {rw:.0} vs {loser} {rl:.0} lanes/s in a trial"),
     }))
 }
 
@@ -173,5 +223,21 @@ impl Backend for Auto {
         out: &mut Vec<LaneResult>,
     ) -> Result<()> {
         self.inner.run_chunk(first, lanes, tables, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--precision auto` tries f64 only on hardware with 64-bit floats and
+    /// a run of at least the trial threshold; everywhere else it is f32.
+    #[test]
+    fn auto_precision_falls_back_to_f32() {
+        let n = AUTO_TRIAL_MIN_LANES;
+        assert!(auto_trial(true, true, n));
+        assert!(!auto_trial(false, true, n), "no f64 on the adapter");
+        assert!(!auto_trial(true, false, n), "a software adapter");
+        assert!(!auto_trial(true, true, n - 1), "a small run");
     }
 }

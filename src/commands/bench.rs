@@ -1,6 +1,6 @@
 //! `tswm bench`: lanes/s of a backend on a sweep, nothing written.
 
-use crate::backend::{self, Choice};
+use crate::backend::Choice;
 use crate::cli::{LanesArgs, Plan};
 use crate::error::Result;
 use crate::progress::Show;
@@ -55,7 +55,7 @@ impl Bench {
 /// Integrates the lanes of `plan` on `choice`, writing nothing.
 pub fn measure(plan: &Plan, choice: Choice, show: &Show) -> Result<Bench> {
     let total = plan.source.lane_count();
-    let be = backend::open(choice, total, plan.threads, plan.settings)?;
+    let be = plan.backend(choice, total)?;
     // A search integrates its rounds as a run does.
     let mut be = run::search::around(be, &plan.source, (0, total))?;
     let start = std::time::Instant::now();

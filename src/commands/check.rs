@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use crate::backend::gpu::{Gpu, GpuBackend};
-use crate::backend::{self, CpuBackend};
+use crate::backend::gpu::{Gpu, GpuBackend, ShaderReal};
+use crate::backend::{self, CpuBackend, Precision};
 use crate::cli::{LanesArgs, Plan};
 use crate::error::{Error, Result};
 use crate::input::lanes::Source;
@@ -25,12 +25,33 @@ pub struct Checked {
 
 /// Runs the lanes of `plan` on the GPU and on the f64 CPU path and
 /// compares them (every disagreeing lane to `disagreements`, when given).
+/// The GPU runs in f64 with `--precision f64` (its rows held to the CPU
+/// path's bound), else in f32.
 pub fn compare(plan: &Plan, disagreements: Option<&Path>, show: &Show) -> Result<Checked> {
-    let cpu = CpuBackend::new(plan.threads, plan.settings)?;
-    let cpu_name = backend::Backend::name(&cpu);
+    let real = match plan.precision {
+        Precision::F64 => ShaderReal::F64,
+        Precision::F32 | Precision::Auto => ShaderReal::F32,
+    };
+    // The f64 GPU path runs at the CPU path's tighter settings (it has no
+    // error estimate of its own to refine by): the reference runs at the
+    // same, so that what is compared is the path, not two tolerances.
+    let reference = match real {
+        ShaderReal::F64 => plan.settings.tighter(),
+        ShaderReal::F32 => plan.settings,
+    };
+    let cpu = CpuBackend::new(plan.threads, reference)?;
+    let cpu_name = match real {
+        ShaderReal::F64 => format!(
+            "{} at the f64 GPU path's tolerances ({:.0e}, x1 and v1 {:.0e})",
+            backend::Backend::name(&cpu),
+            reference.tol_of(2),
+            reference.tol_of(0)
+        ),
+        ShaderReal::F32 => backend::Backend::name(&cpu),
+    };
     let recompute = CpuBackend::new(plan.threads, plan.settings)?;
-    let mut gpu = GpuBackend::with_cpu(Gpu::new(false)?, plan.settings, recompute);
-    let report = match disagreements {
+    let mut gpu = GpuBackend::with_cpu(Gpu::open(false, real)?, plan.settings, recompute);
+    let mut report = match disagreements {
         None => check::Report::default(),
         Some(p) => {
             let f = std::fs::File::create(p).map_err(|e| Error::io(p, e))?;
@@ -66,6 +87,7 @@ pub fn compare(plan: &Plan, disagreements: Option<&Path>, show: &Show) -> Result
         ),
         Source::Table { .. } => (None, None),
     };
+    report.f64_rows = real == ShaderReal::F64;
     let source = first.as_ref().unwrap_or(&plan.source);
     let report = check::compare(source, &mut gpu, cpu, show, report)?;
     Ok(Checked {

@@ -31,7 +31,7 @@ pub struct Adapter {
     /// Whether it is a hardware GPU (not a software rasteriser).
     pub hardware: bool,
     /// Whether its shaders have 64-bit floats (wgpu's `SHADER_F64`;
-    /// Vulkan only). `tswm`'s GPU path runs in f32 on every adapter.
+    /// Vulkan only): whether `--precision f64` runs on it.
     pub shader_f64: bool,
     /// The limits a run's work is sized by: largest storage buffer
     /// binding and buffer (bytes), workgroups a dimension, invocations a
@@ -103,7 +103,7 @@ pub fn run() -> Result<()> {
              max_compute_workgroups_per_dimension {groups}, max_compute_invocations_per_workgroup {invocations}\n  \
              chunks: {chunk} lanes, cut into parts of {part} lanes, {in_flight} in flight at once, each on {slots} slots \
              ({}; at most {} lanes a part by the limits)\n  \
-             64-bit floats in shaders (SHADER_F64): {} (the GPU path runs in f32)",
+             64-bit floats in shaders (SHADER_F64): {}",
             a.name,
             a.device_type,
             a.api,
@@ -121,7 +121,11 @@ pub fn run() -> Result<()> {
                 )
             },
             a.max_part_lanes,
-            if a.shader_f64 { "yes" } else { "no" },
+            if a.shader_f64 {
+                "yes (--precision f64 runs here)"
+            } else {
+                "no (--precision f64 is refused here; f32 runs)"
+            },
         );
     }
     Ok(())

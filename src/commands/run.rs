@@ -32,6 +32,7 @@ pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
                 source: crate::input::lanes::Source::sweep(file)?,
                 threads,
                 settings,
+                precision: lanes.precision,
             }
         }
         _ => lanes.plan_part(&part, show)?,
@@ -79,7 +80,7 @@ pub fn execute(
             }
         },
     };
-    let mut be = backend::open(flags.backend, total, plan.threads, plan.settings)?;
+    let mut be = plan.backend(flags.backend, total)?;
     let range = shard.as_ref().map_or((0, total), |s| s.range);
     if range.1 - range.0 > ESTIMATE_FROM {
         // A long run says what it will cost before it starts (on the
@@ -153,12 +154,7 @@ fn paper_note(source: &crate::input::lanes::Source) -> String {
 fn dry_run(plan: &Plan, shard: Option<Shard>, flags: &RunFlags) -> Result<Done> {
     let total = plan.source.lane_count();
     let range = shard.map_or((0, total), |s| s.range_in(total, plan.source.shard_unit()));
-    let mut be = backend::open(
-        flags.backend,
-        range.1 - range.0,
-        plan.threads,
-        plan.settings,
-    )?;
+    let mut be = plan.backend(flags.backend, range.1 - range.0)?;
     let e = estimate(&plan.source, be.as_mut(), plan.threads, flags.format, range)?;
     Ok(Done {
         line: format!(
@@ -217,7 +213,7 @@ pub fn collect(
 ) -> Result<Vec<arrow_array::RecordBatch>> {
     let trace = trace_plan(&[], None, &plan.source)?;
     let total = plan.source.lane_count();
-    let be = backend::open(backend, total, plan.threads, plan.settings)?;
+    let be = plan.backend(backend, total)?;
     let mut be = run::search::around(be, &plan.source, (0, total))?;
     let target = run::Target {
         dir: None,

@@ -151,7 +151,7 @@ pub fn init(lane: &Lane, tables: &[FrictionTable]) -> LaneState {
 }
 
 /// Sets the contact side, counting a switch when it changes.
-pub(super) fn set_side(st: &mut LaneState, side: i32) {
+pub(crate) fn set_side(st: &mut LaneState, side: i32) {
     if side != st.side {
         st.switches += 1;
         if st.t_first_switch.is_nan() {
@@ -162,7 +162,7 @@ pub(super) fn set_side(st: &mut LaneState, side: i32) {
 }
 
 /// Ends the lane as inconsistent when the current mode has D <= 0.
-pub(super) fn check_mode(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
+pub(crate) fn check_mode(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     if st.stuck || st.done {
         return;
     }
@@ -176,7 +176,7 @@ pub(super) fn check_mode(lane: &Lane, tables: &[FrictionTable], st: &mut LaneSta
 
 /// ẋ1 is 0 (at start, or at a rest event): stick, or leave in the
 /// direction of the tangential force.
-pub(super) fn come_to_rest(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
+pub(crate) fn come_to_rest(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     st.y[1] = 0.0;
     // At rest the sliding speed is below 10 ft/min: the lower branch.
     st.upper = false;
@@ -191,7 +191,7 @@ pub(super) fn come_to_rest(lane: &Lane, tables: &[FrictionTable], st: &mut LaneS
 }
 
 /// Leaves rest in direction sign(T) on the side of φ.
-fn depart(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState, tf: f64) {
+pub(crate) fn depart(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState, tf: f64) {
     let dir = if tf > 0.0 { 1 } else { -1 };
     if st.dir != 0 && dir != st.dir {
         st.reversals += 1;
@@ -206,7 +206,7 @@ fn depart(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState, tf: f64) {
 }
 
 /// The motor is cut at the current time.
-fn cut_motor(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
+pub(crate) fn cut_motor(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     st.motor_on = false;
     st.events += 1;
     st.k1_valid = false;
@@ -223,7 +223,7 @@ fn cut_motor(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
 
 /// The end of the lane's run: t_end, or t_max once it runs on.
 #[inline]
-pub(super) fn horizon(lane: &Lane, st: &LaneState) -> f64 {
+pub(crate) fn horizon(lane: &Lane, st: &LaneState) -> f64 {
     if st.running_on {
         lane.t_max
     } else {
@@ -235,7 +235,7 @@ pub(super) fn horizon(lane: &Lane, st: &LaneState) -> f64 {
 /// the motor's cut-off. At t_end a lane whose motor is cut and that is
 /// still coasting (sliding, slowing down) runs on towards t_max, when one
 /// is set, to find out whether it holds (docs/model.md section 10).
-pub(super) fn reach_time_event(
+pub(crate) fn reach_time_event(
     lane: &Lane,
     tables: &[FrictionTable],
     st: &mut LaneState,

@@ -71,15 +71,19 @@ pub enum RowPath {
     /// The f64 CPU path, run again at tighter settings because the lane's
     /// error estimate was over the bound (`accuracy`).
     Refined,
+    /// The f64 GPU path (`--precision f64`): the CPU path's algorithm and
+    /// bound, on the device.
+    Gpu64,
 }
 
 impl RowPath {
-    /// Every path, in code order: `cpu`, `gpu`, `cpu:refined`, then
-    /// `cpu:REASON` for each [`Recheck`] in its order.
+    /// Every path, in code order: `cpu`, `gpu`, `cpu:refined`,
+    /// `cpu:REASON` for each [`Recheck`] in its order, then `gpu64`.
     pub fn every() -> impl Iterator<Item = RowPath> {
         [RowPath::Cpu, RowPath::Gpu, RowPath::Refined]
             .into_iter()
             .chain(Recheck::ALL.map(RowPath::Recomputed))
+            .chain([RowPath::Gpu64])
     }
 
     /// The path's code: its place in [`RowPath::every`] (the key of the
@@ -90,10 +94,11 @@ impl RowPath {
             RowPath::Gpu => 1,
             RowPath::Refined => 2,
             RowPath::Recomputed(r) => 3 + r as usize,
+            RowPath::Gpu64 => 3 + Recheck::ALL.len(),
         }
     }
 
-    /// The cell: `cpu`, `gpu`, `cpu:refined` or `cpu:REASON`.
+    /// The cell: `cpu`, `gpu`, `cpu:refined`, `cpu:REASON` or `gpu64`.
     pub fn name(self) -> &'static str {
         RowPath::words()[self.code()]
     }
@@ -116,6 +121,7 @@ impl RowPath {
             RowPath::Gpu => "gpu".into(),
             RowPath::Recomputed(r) => format!("cpu:{}", r.name()),
             RowPath::Refined => "cpu:refined".into(),
+            RowPath::Gpu64 => "gpu64".into(),
         }
     }
 }

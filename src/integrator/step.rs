@@ -24,8 +24,8 @@ use crate::model::{FrictionTable, Lane, Mode};
 pub struct StepPlan {
     pub(crate) mode: Mode,
     pub(crate) h: f64,
-    t_stop: f64,
-    landing: bool,
+    pub(crate) t_stop: f64,
+    pub(crate) landing: bool,
 }
 
 impl StepPlan {
@@ -200,7 +200,7 @@ pub(crate) fn finish_uncommon(
 
 /// Adds an accepted step's energy flow (from `st`, before it moves).
 #[inline]
-fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
+pub(crate) fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
     let (d, split_err) = step_flow(&st.k1, trial, h);
     st.budget.add_step(&st.k1, trial, &d);
     st.budget.add_split(split_err);
@@ -212,7 +212,7 @@ fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
 /// Steps again, exactly to an event at fraction θ of the step, for a
 /// full-order state there, and enters the new mode.
 #[allow(clippy::too_many_arguments)]
-fn step_to_event(
+pub(crate) fn step_to_event(
     lane: &Lane,
     tables: &[FrictionTable],
     set: &Settings,

@@ -93,7 +93,7 @@ impl Tracer {
             }
             let radii = params.row((lane - first) as usize).radii();
             let row = &mut results[(lane - first) as usize];
-            if row.path == RowPath::Gpu {
+            if matches!(row.path, RowPath::Gpu | RowPath::Gpu64) {
                 *row = LaneResult {
                     path: RowPath::Recomputed(Recheck::Traced),
                     ..r.with_shaft_speeds(&l, radii)

@@ -403,7 +403,7 @@ fn a_lanes_result_does_not_depend_on_the_slot_that_ran_it() {
     for slots in [u32::MAX, 64, 7] {
         dev.slots = slots;
         let mut states = Vec::new();
-        dev.run(0, &lanes, globals, &mut states).unwrap();
+        dev.run::<f32>(0, &lanes, globals, &mut states).unwrap();
         assert_eq!(states.len(), lanes.len());
         runs.push(bytemuck::cast_slice::<_, u8>(&states).to_vec());
     }
@@ -435,11 +435,11 @@ fn parts_of_a_chunk_overlap_upload_compute_and_read_back() {
     let parts: Vec<&[GpuLane]> = lanes.chunks(1000).collect();
     let mut outs = vec![Vec::new(); parts.len()];
     let mut log: Vec<Span> = Vec::new();
-    dev.run_parts(0, &parts, globals, &mut outs, 2, Some(&mut log))
+    dev.run_parts::<f32>(0, &parts, globals, &mut outs, 2, Some(&mut log))
         .unwrap();
     for (i, part) in parts.iter().enumerate() {
         let mut alone = Vec::new();
-        dev.run(0, part, globals, &mut alone).unwrap();
+        dev.run::<f32>(0, part, globals, &mut alone).unwrap();
         assert!(
             bytemuck::cast_slice::<_, u8>(&alone) == bytemuck::cast_slice::<_, u8>(&outs[i]),
             "part {i} differs from its run alone"

@@ -16,6 +16,7 @@ mod friction_laws;
 mod fuzz;
 mod gear;
 mod gpu;
+mod gpu64;
 mod math64;
 mod output;
 mod pareto;

@@ -258,6 +258,7 @@ fn five_hundred_random_sweeps_get_their_reports() {
             lanes: None,
             threads: Some(1),
             tol: None,
+            precision: tswm::backend::Precision::Auto,
         };
         let out = dir.join("o");
         let flags = RunFlags {

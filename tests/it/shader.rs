@@ -5,11 +5,17 @@
 use std::mem::{offset_of, size_of};
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use tswm::backend::gpu::layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
+use tswm::backend::gpu::layout::{
+    GpuControl, GpuGlobals, GpuGlobals64, GpuLane, GpuLane64, GpuState, GpuState64,
+};
+use tswm::backend::gpu::{SHADER, SHADER_F64};
 
 fn module() -> naga::Module {
-    naga::front::wgsl::parse_str(&tswm::backend::gpu::SHADER)
-        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&tswm::backend::gpu::SHADER)))
+    parsed(&SHADER)
+}
+
+fn parsed(src: &str) -> naga::Module {
+    naga::front::wgsl::parse_str(src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(src)))
 }
 
 #[test]
@@ -17,8 +23,39 @@ fn shader_parses_and_validates() {
     let m = module();
     Validator::new(ValidationFlags::all(), Capabilities::empty())
         .validate(&m)
-        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&tswm::backend::gpu::SHADER)));
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&SHADER)));
     assert!(m.entry_points.iter().any(|e| e.name == "main"));
+}
+
+/// The f64 shader is the same files on the f64 prelude: it validates
+/// with 64-bit floats (and only with them), and none of its functions
+/// calls a transcendental built-in, which SPIR-V does not define for f64.
+#[test]
+fn the_f64_shader_validates_with_float64_only() {
+    let m = parsed(&SHADER_F64);
+    Validator::new(ValidationFlags::all(), Capabilities::FLOAT64)
+        .validate(&m)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&SHADER_F64)));
+    assert!(
+        Validator::new(ValidationFlags::all(), Capabilities::empty())
+            .validate(&m)
+            .is_err()
+    );
+    use naga::MathFunction as F;
+    for (_, f) in m.functions.iter() {
+        for (_, e) in f.expressions.iter() {
+            if let naga::Expression::Math { fun, .. } = e {
+                assert!(
+                    !matches!(
+                        fun,
+                        F::Exp | F::Log | F::Pow | F::Tan | F::Atan | F::Tanh | F::Sin | F::Cos
+                    ),
+                    "{:?} calls {fun:?}",
+                    f.name
+                );
+            }
+        }
+    }
 }
 
 /// (size, [(member, offset)]) of a WGSL struct.
@@ -45,20 +82,43 @@ macro_rules! rust_layout {
     };
 }
 
+macro_rules! host_layouts {
+    ($lane:ty, $state:ty, $globals:ty) => {
+        [
+            (
+                "Lane",
+                rust_layout!($lane; m1, m2, tan_g, sin_g, cos_g, inv_cos_g, f2, v_sync, sigma_k, f_crit, f1,
+                    motor_off, law, mu_s, x1_0, v1_0, t_end, t_max, inv_cos_an, branch_speed, motor, friction,
+                    table, steep),
+            ),
+            (
+                "State",
+                rust_layout!($state; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, pad_r0, pad_r1,
+                    side, dir, flags, status, switches, reversals, sticks, steps, events, pad),
+            ),
+            (
+                "Globals",
+                rust_layout!($globals; n_lanes, budget, max_steps, max_events, n_tables, row_lanes, n_slots,
+                    pad0, tol, tol_traj, h_initial, pad_r, table_n, table_vs, table_mu),
+            ),
+            ("Control", rust_layout!(GpuControl; n_active, next_lane)),
+        ]
+    };
+}
+
+/// The host's structs have the shader's sizes and member offsets, in f32
+/// and in f64 (no hidden padding on either side: bytemuck's `Pod` would
+/// refuse it on the host).
 #[test]
 fn host_structs_match_the_shader() {
     let m = module();
-    let lane = rust_layout!(GpuLane; m1, m2, tan_g, sin_g, cos_g, inv_cos_g, f2, motor, v_sync, sigma_k, f_crit, f1,
-        motor_off, friction, law, mu_s, x1_0, v1_0, t_end, t_max, table, inv_cos_an, steep, branch_speed);
-    assert_eq!(wgsl_layout(&m, "Lane"), lane);
-    let state = rust_layout!(GpuState; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, side, dir, flags,
-        status, switches, reversals, sticks, steps, events, pad0, pad1, pad2, pad3, pad4);
-    assert_eq!(wgsl_layout(&m, "State"), state);
-    let globals = rust_layout!(GpuGlobals; n_lanes, budget, max_steps, max_events, tol, h_initial, n_tables, row_lanes,
-        n_slots, pad0, pad1, pad2, table_n, table_vs, table_mu);
-    assert_eq!(wgsl_layout(&m, "Globals"), globals);
-    let control = rust_layout!(GpuControl; n_active, next_lane);
-    assert_eq!(wgsl_layout(&m, "Control"), control);
+    for (name, host) in host_layouts!(GpuLane, GpuState, GpuGlobals) {
+        assert_eq!(wgsl_layout(&m, name), host, "{name} in f32");
+    }
+    let m = parsed(&SHADER_F64);
+    for (name, host) in host_layouts!(GpuLane64, GpuState64, GpuGlobals64) {
+        assert_eq!(wgsl_layout(&m, name), host, "{name} in f64");
+    }
 }
 
 /// The value of the shader's module-scope `const NAME`, as naga's
@@ -96,27 +156,21 @@ fn shared_constants_are_generated_from_the_rust() {
     use tswm::integrator::stepper::TABLEAU;
     let m = module();
     let prelude = tswm::backend::gpu::shader::prelude();
-    let mut names = Vec::new();
-    for line in prelude.lines().filter_map(|l| l.strip_prefix("const ")) {
-        let (name, rest) = line.split_once(": ").unwrap();
-        let (ty, value) = rest.split_once(" = ").unwrap();
-        let value = value.trim_end_matches(';');
-        match (ty, shader_const(&m, name)) {
-            ("u32", naga::Literal::U32(v)) => {
-                assert_eq!(v.to_string() + "u", value, "`const {name}`")
-            }
-            ("f32", naga::Literal::F32(v)) => {
-                let printed: f32 = value.trim_end_matches('f').parse().unwrap();
-                assert_eq!(v.to_bits(), printed.to_bits(), "`const {name}`");
-            }
-            (ty, l) => panic!("`const {name}: {ty}` reads as {l:?}"),
-        }
-        names.push(name.to_string());
-    }
+    let names = generated_constants(&m, &prelude);
     for (n, v) in TABLEAU {
         assert!(
             matches!(shader_const(&m, n), naga::Literal::F32(x) if x == *v as f32),
             "tableau {n}"
+        );
+    }
+    // The f64 shader's: the same names, the Rust values themselves.
+    let m64 = parsed(&SHADER_F64);
+    let prelude64 = shader::prelude_of(ShaderReal::F64);
+    assert_eq!(generated_constants(&m64, &prelude64), names);
+    for (n, v) in TABLEAU {
+        assert!(
+            matches!(shader_const(&m64, n), naga::Literal::F64(x) if x == *v),
+            "tableau {n} in f64"
         );
     }
     let mut statuses: Vec<u32> = Status::ALL
@@ -155,7 +209,36 @@ fn shared_constants_are_generated_from_the_rust() {
     );
 }
 
+use tswm::backend::gpu::{shader, ShaderReal};
 use tswm::integrator::Status;
+
+/// The names of the constants of a generated `prelude`, each checked
+/// against module `m`: a u32 or a `real` (f32 or f64, by its suffix)
+/// whose printed digits read back as naga's value.
+fn generated_constants(m: &naga::Module, prelude: &str) -> Vec<String> {
+    let mut names = Vec::new();
+    for line in prelude.lines().filter_map(|l| l.strip_prefix("const ")) {
+        let (name, rest) = line.split_once(": ").unwrap();
+        let (ty, value) = rest.split_once(" = ").unwrap();
+        let value = value.trim_end_matches(';');
+        match (ty, shader_const(m, name)) {
+            ("u32", naga::Literal::U32(v)) => {
+                assert_eq!(v.to_string() + "u", value, "`const {name}`")
+            }
+            ("real", naga::Literal::F64(v)) => {
+                let printed: f64 = value.strip_suffix("lf").unwrap().parse().unwrap();
+                assert_eq!(v.to_bits(), printed.to_bits(), "`const {name}`");
+            }
+            ("real", naga::Literal::F32(v)) => {
+                let printed: f32 = value.strip_suffix('f').unwrap().parse().unwrap();
+                assert_eq!(v.to_bits(), printed.to_bits(), "`const {name}`");
+            }
+            (ty, l) => panic!("`const {name}: {ty}` reads as {l:?}"),
+        }
+        names.push(name.to_string());
+    }
+    names
+}
 
 /// The names of `const NAME` items anywhere under `src/`.
 fn rust_const_names() -> std::collections::BTreeSet<String> {

@@ -4,11 +4,12 @@
 //! recomputed on the f64 path in the same run.
 
 use super::cost::{CostModel, MIN_LEARNT};
-use super::layout::{flags, GpuGlobals, GpuLane, GpuState, GPU_TOL_F64};
-use super::{verify, Gpu};
+use super::layout::{flags, GPU_TOL_F64};
+use super::real::Real;
+use super::{verify, Gpu, ShaderReal};
 use crate::backend::{Backend, CpuBackend};
 use crate::error::Result;
-use crate::integrator::{LaneResult, Recheck, RowPath, Settings};
+use crate::integrator::{EndState, LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
 use crate::params::{LaneParams, ParamColumns};
 
@@ -27,15 +28,16 @@ pub struct GpuBackend {
     /// off only to measure the raw f32 kernel).
     pub self_check: bool,
     lanes64: Vec<Lane>,
-    lanes32: Vec<GpuLane>,
     on_gpu: Vec<usize>,
     /// Predicts each lane's steps, to order lanes (learnt during the run).
     cost: CostModel,
     keys: Vec<f64>,
     keyed: Vec<(f64, usize)>,
     steps: Vec<u32>,
-    states: Vec<GpuState>,
-    part_states: Vec<Vec<GpuState>>,
+    /// The end state and flag bits of each lane of `on_gpu`, one for one.
+    ends: Vec<(EndState, u32)>,
+    f32_bufs: Buffers<f32>,
+    f64_bufs: Buffers<f64>,
     redo: Vec<(usize, Recheck)>,
     redo_params: ParamColumns,
     redo_out: Vec<LaneResult>,
@@ -62,14 +64,14 @@ impl GpuBackend {
             cpu,
             self_check: true,
             lanes64: Vec::new(),
-            lanes32: Vec::new(),
             on_gpu: Vec::new(),
             cost: CostModel::new(),
             keys: Vec::new(),
             keyed: Vec::new(),
             steps: Vec::new(),
-            states: Vec::new(),
-            part_states: Vec::new(),
+            ends: Vec::new(),
+            f32_bufs: Buffers::default(),
+            f64_bufs: Buffers::default(),
             redo: Vec::new(),
             redo_params: ParamColumns::default(),
             redo_out: Vec::new(),
@@ -84,10 +86,17 @@ impl GpuBackend {
 
 impl Backend for GpuBackend {
     fn name(&self) -> String {
-        format!("gpu: {}", self.gpu.describe())
+        match self.gpu.real {
+            ShaderReal::F32 => format!("gpu: {}", self.gpu.describe()),
+            ShaderReal::F64 => format!("gpu f64: {}", self.gpu.describe()),
+        }
     }
     fn tolerance(&self) -> f64 {
-        GPU_TOL_F64
+        match self.gpu.real {
+            ShaderReal::F32 => GPU_TOL_F64,
+            // The f64 path runs at the tighter settings (`GpuGlobals64::new`).
+            ShaderReal::F64 => self.settings.tighter().tol,
+        }
     }
     fn chunk_lanes(&self) -> usize {
         self.in_flight * self.part
@@ -108,8 +117,9 @@ impl Backend for GpuBackend {
         self.redo.clear();
         // Lanes f32 cannot represent never go to the GPU.
         self.on_gpu.clear();
+        let f64 = self.gpu.real == ShaderReal::F64;
         for (i, l) in self.lanes64.iter().enumerate() {
-            if !self.self_check || verify::representable(l) {
+            if !self.self_check || f64 || verify::representable(l) {
                 self.on_gpu.push(i);
             } else {
                 self.redo.push((i, Recheck::F32Range));
@@ -120,7 +130,7 @@ impl Backend for GpuBackend {
         // the first chunk is ordered by predicted steps too. The pilot is
         // one lane a slot: a single wave, which leaves the rest of a full
         // chunk a whole number of waves.
-        self.states.clear();
+        self.ends.clear();
         let mut done = 0;
         if !self.cost.trained() {
             let pilot = (self.gpu.slots as usize).max(MIN_LEARNT);
@@ -130,15 +140,17 @@ impl Backend for GpuBackend {
             }
         }
         self.run_ordered(chunk, done..self.on_gpu.len(), tables)?;
-        for (&i, st) in self.on_gpu.iter().zip(&self.states) {
-            let mut r = st
-                .end_state(&self.lanes64[i])
-                .result(&self.lanes64[i], tables);
-            r.path = RowPath::Gpu;
-            let finished = st.flags & flags::DONE != 0;
-            let turned = st.flags & flags::FLOW_TURN != 0;
-            let why = verify::recheck(&self.lanes64[i], &r, finished)
-                .or(turned.then_some(crate::integrator::path::Recheck::FlowTurn));
+        for (&i, (end, bits)) in self.on_gpu.iter().zip(&self.ends) {
+            let mut r = end.result(&self.lanes64[i], tables);
+            r.path = if f64 { RowPath::Gpu64 } else { RowPath::Gpu };
+            let finished = bits & flags::DONE != 0;
+            let turned = bits & flags::FLOW_TURN != 0;
+            let why = if f64 {
+                verify::recheck_f64(finished)
+            } else {
+                verify::recheck(&self.lanes64[i], &r, finished)
+            }
+            .or(turned.then_some(crate::integrator::path::Recheck::FlowTurn));
             match why {
                 Some(why) if self.self_check => self.redo.push((i, why)),
                 _ => out[i] = r.with_shaft_speeds(&self.lanes64[i], lanes.row(i).radii()),
@@ -154,7 +166,7 @@ impl GpuBackend {
     /// together and refill together (see [`CostModel`]), and the last
     /// lanes a part hands out are its shortest, so few slots still run
     /// when it has none left to give. `on_gpu[range]` is left in that
-    /// order and their end states are appended to `states`, one for one.
+    /// order and their end states are appended to `ends`, one for one.
     /// The model then learns from the lanes' step counts.
     fn run_ordered(
         &mut self,
@@ -171,26 +183,24 @@ impl GpuBackend {
         for (w, &(_, i)) in which.iter_mut().zip(&self.keyed) {
             *w = i;
         }
-        self.lanes32.clear();
-        let l64 = &self.lanes64;
-        self.lanes32
-            .extend(which.iter().map(|&i| GpuLane::from(&l64[i])));
-        let globals = GpuGlobals::new(&self.settings, tables);
-        // Parts of like cost (the lanes are sorted), in flight together.
-        let n_parts = self.lanes32.len().div_ceil(self.part).max(1);
-        let size = self.lanes32.len().div_ceil(n_parts).max(1);
-        let parts: Vec<&[GpuLane]> = self.lanes32.chunks(size).collect();
-        self.part_states.resize_with(parts.len(), Vec::new);
-        let outs = &mut self.part_states[..parts.len()];
-        self.gpu
-            .run_parts(chunk, &parts, globals, outs, self.in_flight, None)?;
-        let first = self.states.len();
-        for s in outs.iter() {
-            self.states.extend_from_slice(s);
+        let first = self.ends.len();
+        let run = Run {
+            gpu: &self.gpu,
+            chunk,
+            which,
+            lanes: &self.lanes64,
+            settings: &self.settings,
+            tables,
+            part: self.part,
+            in_flight: self.in_flight,
+        };
+        match self.gpu.real {
+            ShaderReal::F32 => run.go(&mut self.f32_bufs, &mut self.ends)?,
+            ShaderReal::F64 => run.go(&mut self.f64_bufs, &mut self.ends)?,
         }
         self.steps.clear();
         self.steps
-            .extend(self.states[first..].iter().map(|s| s.steps));
+            .extend(self.ends[first..].iter().map(|(e, _)| e.steps));
         self.cost
             .learn(&self.lanes64, &self.on_gpu[range], &self.steps);
         Ok(())
@@ -216,6 +226,60 @@ impl GpuBackend {
                 ..*r
             };
         }
+        Ok(())
+    }
+}
+
+/// The host's buffers of one real type, kept between chunks.
+struct Buffers<R: Real> {
+    lanes: Vec<R::Lane>,
+    part_states: Vec<Vec<R::State>>,
+}
+
+impl<R: Real> Default for Buffers<R> {
+    fn default() -> Self {
+        Buffers {
+            lanes: Vec::new(),
+            part_states: Vec::new(),
+        }
+    }
+}
+
+/// One ordered run of lanes on the device, whatever its real type.
+struct Run<'a> {
+    gpu: &'a Gpu,
+    chunk: u64,
+    which: &'a [usize],
+    lanes: &'a [Lane],
+    settings: &'a Settings,
+    tables: &'a [FrictionTable],
+    part: usize,
+    in_flight: usize,
+}
+
+impl Run<'_> {
+    /// Converts the lanes `which` to `R`, runs them in parts of like cost
+    /// (the lanes are sorted), in flight together, and appends each
+    /// lane's end state and flag bits to `ends`.
+    fn go<R: Real>(&self, bufs: &mut Buffers<R>, ends: &mut Vec<(EndState, u32)>) -> Result<()> {
+        bufs.lanes.clear();
+        bufs.lanes
+            .extend(self.which.iter().map(|&i| R::Lane::from(&self.lanes[i])));
+        let globals = R::globals(self.settings, self.tables);
+        let n_parts = bufs.lanes.len().div_ceil(self.part).max(1);
+        let size = bufs.lanes.len().div_ceil(n_parts).max(1);
+        let parts: Vec<&[R::Lane]> = bufs.lanes.chunks(size).collect();
+        bufs.part_states.resize_with(parts.len(), Vec::new);
+        let outs = &mut bufs.part_states[..parts.len()];
+        self.gpu
+            .run_parts::<R>(self.chunk, &parts, globals, outs, self.in_flight, None)?;
+        let states = outs.iter().flatten();
+        ends.extend(
+            self.which
+                .iter()
+                .zip(states)
+                .map(|(&i, s)| (R::end_state(s, &self.lanes[i]), R::flags(s))),
+        );
         Ok(())
     }
 }

@@ -7,7 +7,8 @@ use std::time::Instant;
 
 use wgpu::util::DeviceExt;
 
-use super::layout::{GpuControl, GpuGlobals, GpuLane, GpuState};
+use super::layout::GpuControl;
+use super::real::Real;
 use super::work::{Phase, Span};
 use super::{gpu_err, Gpu, POLL_TIMEOUT, WORKGROUP};
 use crate::error::Result;
@@ -15,15 +16,15 @@ use crate::error::Result;
 impl Gpu {
     /// Integrates `lanes` to their ends; `out` gets one state per lane.
     /// `chunk` names the chunk in errors.
-    pub fn run(
+    pub fn run<R: Real>(
         &self,
         chunk: u64,
-        lanes: &[GpuLane],
-        globals: GpuGlobals,
-        out: &mut Vec<GpuState>,
+        lanes: &[R::Lane],
+        globals: R::Globals,
+        out: &mut Vec<R::State>,
     ) -> Result<()> {
         let mut outs = [std::mem::take(out)];
-        self.run_parts(chunk, &[lanes], globals, &mut outs, 1, None)?;
+        self.run_parts::<R>(chunk, &[lanes], globals, &mut outs, 1, None)?;
         let [o] = outs;
         *out = o;
         Ok(())
@@ -35,16 +36,22 @@ impl Gpu {
     /// dispatches run, and a part that ends makes room for the next one's
     /// upload. `outs[i]` gets part i's states; `log`, when given, gets the
     /// span of every upload, round of dispatches and read-back.
-    pub fn run_parts(
+    /// The device must have been opened for `R` ([`Gpu::real`]).
+    pub fn run_parts<R: Real>(
         &self,
         chunk: u64,
-        parts: &[&[GpuLane]],
-        globals: GpuGlobals,
-        outs: &mut [Vec<GpuState>],
+        parts: &[&[R::Lane]],
+        globals: R::Globals,
+        outs: &mut [Vec<R::State>],
         in_flight: usize,
         mut log: Option<&mut Vec<Span>>,
     ) -> Result<()> {
         assert_eq!(parts.len(), outs.len());
+        assert_eq!(
+            R::SHADER,
+            self.real,
+            "a device opened for one real type runs only its own"
+        );
         let in_flight = in_flight.max(1);
         let mut live: std::collections::VecDeque<Part> = Default::default();
         let mut next = 0;
@@ -54,7 +61,7 @@ impl Gpu {
                 outs[next].clear();
                 if !parts[next].is_empty() {
                     let t0 = Instant::now();
-                    let mut p = self.start_part(chunk, next, parts[next], globals)?;
+                    let mut p = self.start_part::<R>(chunk, next, parts[next], globals)?;
                     if let Some(l) = log.as_deref_mut() {
                         l.push(Span::new(next, Phase::Upload, t0));
                     }
@@ -72,7 +79,15 @@ impl Gpu {
             if p.reading {
                 let mut bytes = Vec::new();
                 self.copy_mapped(chunk, &p.b.states_read, &mut bytes)?;
-                outs[p.index].extend_from_slice(bytemuck::cast_slice(&bytes));
+                match bytemuck::try_cast_slice(&bytes) {
+                    Ok(states) => outs[p.index].extend_from_slice(states),
+                    // A read-back not aligned for the state's type.
+                    Err(_) => outs[p.index].extend(
+                        bytes
+                            .chunks_exact(std::mem::size_of::<R::State>())
+                            .map(bytemuck::pod_read_unaligned::<R::State>),
+                    ),
+                }
                 if let Some(l) = log.as_deref_mut() {
                     l.push(Span::new(p.index, Phase::ReadBack, p.submitted));
                 }
@@ -104,26 +119,28 @@ impl Gpu {
     }
 
     /// Uploads a part and sizes its dispatches.
-    fn start_part(
+    fn start_part<R: Real>(
         &self,
         chunk: u64,
         index: usize,
-        lanes: &[GpuLane],
-        mut globals: GpuGlobals,
+        lanes: &[R::Lane],
+        mut globals: R::Globals,
     ) -> Result<Part> {
         let n = lanes.len() as u32;
         let slots = n.min(self.slots.max(1));
         let groups = slots.div_ceil(WORKGROUP);
         let gx = groups.min(self.limits.max_compute_workgroups_per_dimension);
         let gy = groups.div_ceil(gx);
-        globals.n_lanes = n;
-        globals.n_slots = slots;
-        globals.budget = self.budget;
-        globals.row_lanes = gx * WORKGROUP;
-        let b = self.chunk_buffers(chunk, lanes, slots, &globals)?;
+        let sizes = R::sizes(&mut globals);
+        sizes.n_lanes = n;
+        sizes.n_slots = slots;
+        sizes.budget = self.budget;
+        sizes.row_lanes = gx * WORKGROUP;
+        let max_steps = sizes.max_steps;
+        let b = self.chunk_buffers::<R>(chunk, lanes, slots, &globals)?;
         // Enough rounds for every lane of the busiest slot to take
         // max_steps accepted steps plus as many rejections.
-        let per_lane = (2 * globals.max_steps as u64).div_ceil(self.budget as u64) + 2;
+        let per_lane = (2 * max_steps as u64).div_ceil(self.budget as u64) + 2;
         let max_dispatches = per_lane * (n as u64).div_ceil(slots as u64);
         Ok(Part {
             index,
@@ -191,14 +208,14 @@ impl Gpu {
 
     /// The buffers of one chunk and their bind group; out-of-memory and
     /// validation errors name the chunk.
-    fn chunk_buffers(
+    fn chunk_buffers<R: Real>(
         &self,
         chunk: u64,
-        lanes: &[GpuLane],
+        lanes: &[R::Lane],
         slots: u32,
-        globals: &GpuGlobals,
+        globals: &R::Globals,
     ) -> Result<ChunkBuffers> {
-        let state_bytes = (lanes.len() * std::mem::size_of::<GpuState>()) as u64;
+        let state_bytes = (lanes.len() * std::mem::size_of::<R::State>()) as u64;
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let vscope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;

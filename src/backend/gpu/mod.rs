@@ -13,12 +13,14 @@ mod dispatch;
 pub mod layout;
 #[cfg(test)]
 mod mirrored;
+pub mod real;
 pub mod shader;
 pub mod verify;
 mod work;
 
 pub use backend::GpuBackend;
-pub use shader::SHADER;
+pub use real::ShaderReal;
+pub use shader::{SHADER, SHADER_F64};
 pub use work::{
     max_chunk_lanes, Phase, Span, WorkSize, HW_IN_FLIGHT, HW_LANES_PER_SLOT, HW_RESIDENT,
     SW_IN_FLIGHT, SW_LANES_PER_SLOT, SW_SLOTS_PER_CORE,
@@ -99,6 +101,10 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// The device's limits.
     pub limits: wgpu::Limits,
+    /// The real type its pipeline computes in.
+    pub real: ShaderReal,
+    /// The adapter's features.
+    pub features: wgpu::Features,
     pub(super) pipeline: wgpu::ComputePipeline,
     pub(super) lost: Arc<Mutex<Option<String>>>,
     /// Step attempts per lane per dispatch (default [`BUDGET`]).
@@ -109,14 +115,39 @@ pub struct Gpu {
     pub slots: u32,
 }
 
+/// Refuses the f64 shader, in one line naming the adapter, on an adapter
+/// whose `features` have no 64-bit floats in shaders.
+pub fn refuse_f64(
+    name: &str,
+    kind: wgpu::DeviceType,
+    api: wgpu::Backend,
+    features: wgpu::Features,
+) -> Result<()> {
+    if features.contains(wgpu::Features::SHADER_F64) {
+        return Ok(());
+    }
+    Err(Error::Usage(format!(
+        "--precision f64: the adapter {name} ({kind:?}, {api:?}) has no 64-bit floats in \
+         shaders (SHADER_F64); use --precision f32 or auto"
+    )))
+}
+
 pub(super) fn gpu_err(chunk: u64, what: impl std::fmt::Display) -> Error {
     Error::Gpu(format!("chunk {chunk}: {what}"))
 }
 
 impl Gpu {
-    /// Opens the best adapter (discrete, integrated, virtual, software);
-    /// with `hardware_only`, software adapters do not count.
+    /// Opens the best adapter (discrete, integrated, virtual, software)
+    /// for the f32 shader; with `hardware_only`, software adapters do not
+    /// count.
     pub fn new(hardware_only: bool) -> Result<Gpu> {
+        Gpu::open(hardware_only, ShaderReal::F32)
+    }
+
+    /// Opens the best adapter for the shader in `real`: f64 is refused, in
+    /// one line naming the adapter, when the adapter has no 64-bit floats
+    /// in shaders (wgpu's `SHADER_F64`).
+    pub fn open(hardware_only: bool, real: ShaderReal) -> Result<Gpu> {
         let inst = instance();
         let mut list = pollster::block_on(inst.enumerate_adapters(wgpu::Backends::PRIMARY));
         list.sort_by_key(|a| rank(a.get_info().device_type));
@@ -133,6 +164,15 @@ impl Gpu {
                 })
             })?;
         let info = adapter.get_info();
+        let f64_feature = wgpu::Features::SHADER_F64;
+        if real == ShaderReal::F64 {
+            refuse_f64(
+                &info.name,
+                info.device_type,
+                info.backend,
+                adapter.features(),
+            )?;
+        }
         let alimits = adapter.limits();
         // Ask for the adapter's own storage limits: chunks are sized from them.
         let limits = wgpu::Limits {
@@ -143,7 +183,10 @@ impl Gpu {
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("tswm"),
-            required_features: wgpu::Features::empty(),
+            required_features: match real {
+                ShaderReal::F32 => wgpu::Features::empty(),
+                ShaderReal::F64 => f64_feature,
+            },
             required_limits: limits.clone(),
             ..Default::default()
         }))
@@ -156,7 +199,13 @@ impl Gpu {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tswm shader"),
-            source: wgpu::ShaderSource::Wgsl(SHADER.as_str().into()),
+            source: wgpu::ShaderSource::Wgsl(
+                match real {
+                    ShaderReal::F32 => SHADER.as_str(),
+                    ShaderReal::F64 => SHADER_F64.as_str(),
+                }
+                .into(),
+            ),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("tswm"),
@@ -177,6 +226,8 @@ impl Gpu {
             queue,
             info,
             limits,
+            real,
+            features: adapter.features(),
             pipeline,
             lost,
             budget: BUDGET,
@@ -193,6 +244,12 @@ impl Gpu {
     /// Slots a chunk gets unless set: [`WorkSize::of`] this device.
     pub fn default_slots(&self) -> u32 {
         WorkSize::of(&self.info, &self.limits).slots
+    }
+
+    /// Whether the adapter has 64-bit floats in shaders (wgpu's
+    /// `SHADER_F64`), which `--precision f64` needs.
+    pub fn has_f64(&self) -> bool {
+        self.features.contains(wgpu::Features::SHADER_F64)
     }
 
     /// Short description: "NAME (type, backend)".
@@ -213,5 +270,34 @@ impl Gpu {
             Some(m) => Err(gpu_err(chunk, m)),
             None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An adapter without 64-bit floats refuses f64 in one line that names
+    /// it, as a usage error (exit 2); one with them does not.
+    #[test]
+    fn f64_is_refused_on_an_adapter_without_it() {
+        let refuse = |features| {
+            refuse_f64(
+                "Example GPU 9000",
+                wgpu::DeviceType::DiscreteGpu,
+                wgpu::Backend::Metal,
+                features,
+            )
+        };
+        let e = refuse(wgpu::Features::empty()).unwrap_err();
+        let line = e.to_string();
+        assert!(!line.contains('\n'), "{line}");
+        assert!(
+            line.contains("Example GPU 9000 (DiscreteGpu, Metal)"),
+            "{line}"
+        );
+        assert!(line.contains("--precision f32 or auto"), "{line}");
+        assert_eq!(e.exit_code(), 2);
+        assert!(refuse(wgpu::Features::SHADER_F64).is_ok());
     }
 }

@@ -1,19 +1,21 @@
 //! The shader: the TSWM hybrid integrator in WGSL, one lane per
-//! invocation, in f32.
+//! invocation, in f32 ([`SHADER`]) or in f64 ([`SHADER_F64`]).
 //!
 //! It is the same algorithm as the f64 CPU path, in the same parts and
 //! order, one file per Rust module under `shaders/` (listed in
 //! [`SHADER_FILES`], in the order a lane's values pass through them) and
-//! joined into one source at build time ([`SHADER`]): WGSL has no modules
-//! or includes, and a pipeline is made from one source. Each file's first
+//! joined into one source at build time: WGSL has no modules or
+//! includes, and a pipeline is made from one source. Each file's first
 //! line names the Rust file it mirrors, and a Rust helper with a WGSL twin
 //! has the same name there ([`MIRRORED`], and the model's
 //! [`KERNEL`](crate::model::kernel::KERNEL)); a test checks the names on
-//! both sides. The constants the two share (law, flag, status and event
-//! codes, the Dormand–Prince tableau, the agma law's constants and the
-//! limits below) are not kept in step by hand: the [`prelude`] generates
-//! them from the Rust declarations, and a test fails on a shader file
-//! that declares one itself.
+//! both sides. The files compute in `real`, which the [`prelude_of`] each
+//! shader starts with declares as f32 or f64, with the transcendental
+//! functions they call (`pow_r`, `exp_r`, `tan_r`) and the constants the
+//! two sides share (law, flag, status and event codes, the Dormand–Prince
+//! tableau, the agma law's constants and the limits below), generated
+//! from the Rust declarations rather than kept in step by hand; a test
+//! fails on a shader file that declares one itself.
 //!
 //! Differences forced by f32: x1, the works and the time are compensated
 //! (Kahan) sums; the per-step tolerance is 1e-6 rather than 1e-8
@@ -21,15 +23,20 @@
 //! step fraction of [`ROOT_THETA_TOL`] rather than to 1e-13 s; a step
 //! below [`STEP_UNDERFLOW`]·max(t, 1) s, not 1e-15·max(t, 1), is an
 //! underflow; `tan_small`'s series stops at x^9, exact in f32; "never" is
-//! 3e38 rather than infinity. The f64 path computes x^y and the step
-//! factor's err^(−1/5) with its own straight-line kernels (so that they
-//! run as vector code); here WGSL's `pow` does. Where a mesh power changes
-//! sign inside a step, the f64 path finds the zero by the Illinois method,
-//! the shader by halvings down to [`P_ZERO_TOL`].
+//! 3e38 rather than infinity. In f64 the limits are the CPU path's (roots
+//! to a step fraction of [`ROOT_THETA_TOL_F64`]), the tolerances those of
+//! [`Settings::tighter`](crate::integrator::Settings::tighter), and the
+//! sums keep their compensation, which f64 does not need. The f64 path
+//! computes x^y and the step factor's err^(−1/5) with its own
+//! straight-line kernels (so that they run as vector code); here `pow_r`
+//! does. Where a mesh power changes sign inside a step, the f64 path
+//! finds the zero by the Illinois method, the shader by halvings down to
+//! [`P_ZERO_TOL`].
 
 use std::fmt::Write;
 use std::sync::LazyLock;
 
+use super::real::ShaderReal;
 use crate::model::laws::LAW_SLOTS;
 use crate::model::{FrictionKind, MotorKind};
 
@@ -44,15 +51,22 @@ macro_rules! shader_files {
     };
 }
 
-/// The shader source: the [`prelude`] generated from the Rust
+/// The shader source in f32: the [`prelude`] generated from the Rust
 /// declarations, then the files of [`SHADER_FILES`].
 pub static SHADER: LazyLock<String> = LazyLock::new(|| prelude() + FILES);
 
-/// `(name, value as f32)` of Rust constants, each named once: the
-/// shader's constant of the same name is generated from it.
-macro_rules! named_f32 {
+/// The shader source in f64: the prelude of [`ShaderReal::F64`], the f64
+/// functions written from arithmetic (`shaders/f64/math.wgsl`), then the
+/// same files as [`SHADER`]'s.
+pub static SHADER_F64: LazyLock<String> = LazyLock::new(|| {
+    prelude_of(ShaderReal::F64) + include_str!("../../../shaders/f64/math.wgsl") + "\n" + FILES
+});
+
+/// `(name, value)` of Rust constants, each named once: the shader's
+/// constant of the same name is generated from it.
+macro_rules! named {
     ($($m:ident :: $c:ident),+ $(,)?) => {
-        [$((stringify!($c), $m::$c as f32)),+]
+        [$((stringify!($c), $m::$c as f64)),+]
     };
 }
 
@@ -65,12 +79,33 @@ macro_rules! named_f32 {
 /// points (`TABLE_VEC4S`); the Dormand–Prince tableau
 /// (`stepper::TABLEAU`); the agma law's constants (`model::laws`); and
 /// the f32 limits stated below. The shader's files declare no constant
-/// of these names (a test holds them to it).
+/// of these names (a test holds them to it). This is [`SHADER`]'s, in
+/// f32; [`prelude_of`] gives either.
 pub fn prelude() -> String {
+    prelude_of(ShaderReal::F32)
+}
+
+/// The prelude with `real` as `real`: the alias, the transcendental
+/// functions the files call (`pow_r`, `exp_r`, `tan_r`: WGSL's built-ins
+/// in f32, the ones of `shaders/f64/math.wgsl` in f64, since the
+/// built-ins are not defined for f64 in SPIR-V), the constants in that
+/// type, and the limits of that type's path.
+pub fn prelude_of(real: ShaderReal) -> String {
     use crate::integrator::events::EventFn;
     use crate::integrator::{Status, NY};
     use crate::model::laws;
     let mut s = String::from("// Generated from the Rust declarations (backend/gpu/shader.rs).\n");
+    let (ty, suffix, f) = match real {
+        ShaderReal::F32 => ("f32", "f", ""),
+        ShaderReal::F64 => ("f64", "lf", "_64"),
+    };
+    let _ = writeln!(s, "alias real = {ty};");
+    let _ = writeln!(
+        s,
+        "fn pow_r(x: real, y: real) -> real {{ return pow{f}(x, y); }}"
+    );
+    let _ = writeln!(s, "fn exp_r(x: real) -> real {{ return exp{f}(x); }}");
+    let _ = writeln!(s, "fn tan_r(x: real) -> real {{ return tan{f}(x); }}");
     let mut u32s: Vec<(String, u32)> = Vec::new();
     u32s.extend(MotorKind::ALL.map(|m| (format!("MOTOR_{}", m.name().to_uppercase()), m.code())));
     u32s.extend(
@@ -94,11 +129,8 @@ pub fn prelude() -> String {
     for (n, v) in u32s {
         let _ = writeln!(s, "const {n}: u32 = {v}u;");
     }
-    let mut f32s: Vec<(&str, f32)> = crate::integrator::stepper::TABLEAU
-        .iter()
-        .map(|&(n, v)| (n, v as f32))
-        .collect();
-    f32s.extend(named_f32!(
+    let mut reals: Vec<(&str, f64)> = crate::integrator::stepper::TABLEAU.to_vec();
+    reals.extend(named!(
         laws::FT_PER_MIN_PER_M_PER_S,
         laws::AGMA_LOW_A,
         laws::AGMA_LOW_B,
@@ -108,15 +140,26 @@ pub fn prelude() -> String {
         laws::AGMA_HIGH_E,
         laws::AGMA_HIGH_C,
     ));
-    f32s.push(("PI", std::f32::consts::PI));
-    f32s.extend([
-        ("STEP_UNDERFLOW", STEP_UNDERFLOW),
-        ("ROOT_THETA_TOL", ROOT_THETA_TOL),
-        ("P_ZERO_TOL", P_ZERO_TOL),
-    ]);
-    for (n, v) in f32s {
-        // Rust's shortest digits of an f32, read back as that f32 (`f`).
-        let _ = writeln!(s, "const {n}: f32 = {v:?}f;");
+    reals.push(("PI", std::f64::consts::PI));
+    reals.extend(match real {
+        ShaderReal::F32 => [
+            ("STEP_UNDERFLOW", STEP_UNDERFLOW as f64),
+            ("ROOT_THETA_TOL", ROOT_THETA_TOL as f64),
+            ("P_ZERO_TOL", P_ZERO_TOL as f64),
+        ],
+        ShaderReal::F64 => [
+            ("STEP_UNDERFLOW", crate::integrator::control::STEP_UNDERFLOW),
+            ("ROOT_THETA_TOL", ROOT_THETA_TOL_F64),
+            ("P_ZERO_TOL", crate::integrator::flow::P_ZERO_TOL),
+        ],
+    });
+    for (n, v) in reals {
+        // Rust's shortest digits of the value in the shader's type, read
+        // back as that value.
+        let _ = match real {
+            ShaderReal::F32 => writeln!(s, "const {n}: real = {:?}{suffix};", v as f32),
+            ShaderReal::F64 => writeln!(s, "const {n}: real = {v:?}{suffix};"),
+        };
     }
     s
 }
@@ -205,6 +248,12 @@ pub const STEP_UNDERFLOW: f32 = 1e-7;
 /// (`ROOT_THETA_TOL` in the shader); the f64 path locates it to
 /// [`T_ROOT_TOL`](crate::integrator::events::T_ROOT_TOL) seconds.
 pub const ROOT_THETA_TOL: f32 = 1e-6;
+
+/// An event's root is located to this fraction of its step in f64: the
+/// f64 path's [`T_ROOT_TOL`](crate::integrator::events::T_ROOT_TOL) of
+/// 1e-13 s on a step of 0.1 s, within 100 Illinois iterations from any
+/// step.
+pub const ROOT_THETA_TOL_F64: f64 = 1e-12;
 
 /// The bisection for a mesh power's zero inside a step ends when its
 /// bracket is this fraction of the step (`P_ZERO_TOL` in the shader):

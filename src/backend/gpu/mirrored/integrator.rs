@@ -68,7 +68,7 @@ fn mirrored_steps(@builtin(global_invocation_id) id: vec3<u32>) {
     let rt = retry_size(h, abs(k5), abs(k6));
     d_out[o + 17u] = rt.h;
     d_out[o + 18u] = select(0.0, 1.0, rt.underflow);
-    let r = array<f32, 5>(v0, k1, k2, k3, k4);
+    let r = array<real, 5>(v0, k1, k2, k3, k4);
     let th = fract(abs(k5));
     d_out[o + 19u] = dense_v(r, th);
     d_out[o + 20u] = dense_slope(r, th);

@@ -76,7 +76,7 @@ fn mirrored(@builtin(global_invocation_id) id: vec3<u32>) {
         d_out[o + 29u + e] = event_value(l, m, e, v);
     }
     // A step from v to -v/2 (its dense output): where it comes to rest.
-    let r = array<f32, 5>(v, -1.5 * v, 0.1 * v, 0.05 * v, 0.0);
+    let r = array<real, 5>(v, -1.5 * v, 0.1 * v, 0.05 * v, 0.0);
     d_out[o + 33u] = locate_root(l, m, EV_REST, r, event_value(l, m, EV_REST, -0.5 * v));
 }
 "#;
@@ -120,7 +120,7 @@ const NAMES: [&str; 34] = [
 ];
 
 /// Lanes of every friction law and motor, with random designs.
-fn lanes(tables: &[FrictionTable]) -> Vec<Lane> {
+pub(super) fn lanes(tables: &[FrictionTable]) -> Vec<Lane> {
     let names = [TableName::new("bronze").unwrap()];
     let mut u = Uniforms::new(77);
     let mut out = Vec::new();
