@@ -36,7 +36,7 @@ pub fn compare(plan: &Plan, disagreements: Option<&Path>, show: &Show) -> Result
     // error estimate of its own to refine by): the reference runs at the
     // same, so that what is compared is the path, not two tolerances.
     let reference = match real {
-        ShaderReal::F64 => plan.settings.tighter(),
+        ShaderReal::F64 => crate::backend::gpu::layout::f64_settings(&plan.settings),
         ShaderReal::F32 => plan.settings,
     };
     let cpu = CpuBackend::new(plan.threads, reference)?;

@@ -53,7 +53,7 @@ impl Settings {
     /// The tolerance of component `i`: x1 and ẋ1 may be held tighter than
     /// the works ([`Settings::traj_weight`]).
     #[inline(always)]
-    pub fn tol_of(&self, i: usize) -> f64 {
+    pub(crate) fn tol_of(&self, i: usize) -> f64 {
         if i < 2 {
             self.tol * self.traj_weight
         } else {

@@ -226,7 +226,7 @@ fn a_flank_angle_with_the_paper_law_is_refused() {
 /// and one over the load; each lane uses its own table (the same on the
 /// GPU, `tswm check`), lanes.csv names it, and the report gives each
 /// material its panel.
-const TWO_MATERIALS: &str = "\
+pub(crate) const TWO_MATERIALS: &str = "\
 [base]
 friction = \"table\"
 alpha_n_deg = 20

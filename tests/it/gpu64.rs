@@ -6,6 +6,7 @@
 //! TSWM_REQUIRE_GPU=1 (as in CI).
 
 use crate::common::*;
+use tswm::backend::gpu::layout::f64_settings;
 use tswm::backend::gpu::{Gpu, GpuBackend, ShaderReal};
 use tswm::backend::{Backend, CpuBackend};
 use tswm::integrator::{LaneResult, RowPath, Settings};
@@ -84,7 +85,7 @@ fn f64_lanes_hold_the_cpu_bound_on_every_lane() {
     let params = every_kind_of_lane();
     let rg = run(&mut g, &params);
     let rc = run(
-        &mut CpuBackend::new(0, settings.tighter()).unwrap(),
+        &mut CpuBackend::new(0, f64_settings(&settings)).unwrap(),
         &params,
     );
     let mut report = Report {
@@ -114,8 +115,8 @@ fn f64_lanes_hold_the_cpu_bound_on_every_lane() {
     );
 }
 
-/// A sweep over every friction law, a friction table's included, and
-/// loads both ways.
+/// A sweep over every friction law but the table (whose sweep is
+/// `friction_laws::TWO_MATERIALS`), and loads both ways.
 const EVERY_LAW: &str = "[base]
 mu = 0.04
 mu_static = 0.10
@@ -140,27 +141,6 @@ to = 6000
 n = 5
 ";
 
-const TABLES: &str = "[base]
-friction = \"table\"
-alpha_n_deg = 20.0
-t_end = 2.0
-t_max = 20
-[[grid]]
-param = \"friction_table\"
-values = [\"bronze\", \"cast_iron\"]
-[[grid]]
-param = \"f2\"
-from = -6000
-to = 6000
-n = 13
-[friction_table.bronze]
-vs = [0.0, 0.1, 1.0, 5.0]
-mu = [0.10, 0.07, 0.045, 0.025]
-[friction_table.cast_iron]
-vs = [0.0, 0.1, 1.0, 5.0]
-mu = [0.16, 0.12, 0.08, 0.05]
-";
-
 /// `tswm check --precision f64` passes on every law with 0 rows beyond
 /// 1e-6, and says so.
 #[test]
@@ -169,7 +149,8 @@ fn check_precision_f64_reports_no_row_beyond_the_cpu_bound() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    for (name, text) in [("laws.toml", EVERY_LAW), ("tables.toml", TABLES)] {
+    let tables = crate::friction_laws::TWO_MATERIALS;
+    for (name, text) in [("laws.toml", EVERY_LAW), ("tables.toml", tables)] {
         file(dir.path(), name, text);
         let out = tswm(&["check", name, "--precision", "f64"], dir.path());
         let stdout = String::from_utf8_lossy(&out.stdout);

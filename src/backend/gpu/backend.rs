@@ -94,8 +94,7 @@ impl Backend for GpuBackend {
     fn tolerance(&self) -> f64 {
         match self.gpu.real {
             ShaderReal::F32 => GPU_TOL_F64,
-            // The f64 path runs at the tighter settings (`GpuGlobals64::new`).
-            ShaderReal::F64 => self.settings.tighter().tol,
+            ShaderReal::F64 => super::layout::f64_settings(&self.settings).tol,
         }
     }
     fn chunk_lanes(&self) -> usize {

@@ -366,12 +366,19 @@ impl GpuGlobals {
     }
 }
 
+/// The settings the f64 GPU path runs a run of `settings` at: the CPU
+/// path's [`Settings::tighter`], since an f64 lane on the GPU has no error
+/// estimate to call for a tighter run of its own (see `accuracy`). Its
+/// globals, its provenance and `tswm check`'s reference all take them
+/// from here.
+pub fn f64_settings(settings: &Settings) -> Settings {
+    settings.tighter()
+}
+
 impl GpuGlobals64 {
-    /// Globals for a run in f64: the CPU path's tolerances of
-    /// [`Settings::tighter`], since an f64 lane on the GPU has no error
-    /// estimate to call for a tighter run of its own (see `accuracy`).
+    /// Globals for a run in f64, at [`f64_settings`] of `settings`.
     pub fn new(settings: &Settings, tables: &[FrictionTable]) -> GpuGlobals64 {
-        let t = settings.tighter();
+        let t = f64_settings(settings);
         GpuGlobals64::with_tol(settings, tables, t.tol_of(2), t.tol_of(0))
     }
 }

@@ -191,7 +191,7 @@ fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
             _ => {}
         }
     }
-    let set = Settings::default().tighter();
+    let set = super::super::layout::f64_settings(&Settings::default());
     let inputs = states(&lanes, &tables, &set);
     let mut cases = Vec::new();
     for (k, (li, _)) in inputs.iter().enumerate() {
