@@ -220,20 +220,22 @@ impl Summary {
         if cpu == self.lanes {
             return refined_note;
         }
+        let why = if redone.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", redone.join(", "))
+        };
         let gpu64 = count(RowPath::Gpu64);
         if gpu64 > 0 {
             let n = self.lanes - cpu - gpu64;
-            return format!("; gpu rows in f64: {gpu64}, {n} recomputed on the cpu{refined_note}");
+            return format!(
+                "; gpu rows in f64: {gpu64}, {n} recomputed on the cpu{why}{refined_note}"
+            );
         }
         let n: u64 = self.lanes - cpu - count(RowPath::Gpu);
         format!(
-            "; gpu rows: {} trusted, {n} recomputed in f64{}{refined_note}",
+            "; gpu rows: {} trusted, {n} recomputed in f64{why}{refined_note}",
             count(RowPath::Gpu),
-            if redone.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", redone.join(", "))
-            }
         )
     }
 
