@@ -92,6 +92,36 @@ fn main() {
             terms.iter().filter(|l| worst(l) > BOUND).count(),
             terms.len()
         );
+        let mut ratios: Vec<f64> = terms
+            .iter()
+            .flat_map(|l| {
+                l.iter()
+                    .filter(|t| t.2 > 0.05 * BOUND)
+                    .map(|t| t.2 / (t.0 + t.1))
+            })
+            .collect();
+        ratios.sort_by(f64::total_cmp);
+        if !ratios.is_empty() {
+            let q = |p: f64| ratios[((ratios.len() - 1) as f64 * p) as usize];
+            println!(
+                "  actual/estimate where actual > 5 % of the bound: {} results, median {:.3}, p99 {:.3}, max {:.3}",
+                ratios.len(), q(0.5), q(0.99), q(1.0)
+            );
+        }
+        {
+            let mut by = [[0usize; 2]; RESULTS];
+            for l in &terms {
+                if est(l, 1.0, 1.0) > LIMIT * BOUND && worst(l) < 0.3 * BOUND {
+                    let (i, t) = l
+                        .iter()
+                        .enumerate()
+                        .max_by(|a, b| (a.1 .0 + a.1 .1).total_cmp(&(b.1 .0 + b.1 .1)))
+                        .unwrap();
+                    by[i][usize::from(t.1 > t.0)] += 1;
+                }
+            }
+            println!("  needless refinements by result [phase-dominated, local-dominated]: {by:?}");
+        }
         for (wp, wl) in [(1.0, 1.0), (1.0, 0.1), (0.1, 1.0), (0.3, 0.3), (3.0, 0.1)] {
             let refined = terms
                 .iter()

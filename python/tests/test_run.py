@@ -161,7 +161,9 @@ def test_bench_check_and_devices(root):
 
 
 def test_precision_f64_on_an_adapter_with_it(root):
-    """`precision="f64"`: rows say `gpu64`, and `tswm.check` holds them to
+    """`precision="f64"`: rows say `gpu64` (or `cpu:refined`, where the
+    lane's error estimate sent it to the CPU at the tighter settings, as
+    the CPU path refines the same lanes), and `tswm.check` holds them to
     the CPU path's bound (1e-6) on every lane; an adapter without 64-bit
     floats raises InputError naming it."""
     d = tswm.devices()
@@ -173,7 +175,10 @@ def test_precision_f64_on_an_adapter_with_it(root):
         assert d["adapters"][0]["name"] in msg and "no 64-bit floats" in msg, msg
         return
     t = tswm.run(sweep, backend="gpu", precision="f64", progress=False)
-    assert set(t.column("path").to_pylist()) == {"gpu64"}
+    cpu = tswm.run(sweep, backend="cpu", progress=False)
+    paths = t.column("path").to_pylist()
+    assert set(paths) == {"gpu64", "cpu:refined"}
+    assert [p == "cpu:refined" for p in paths] == [p == "cpu:refined" for p in cpu.column("path").to_pylist()]
     c = tswm.check(sweep, precision="f64", progress=False)
     assert c.passed and c.disagreeing == 0 and c.lanes == t.num_rows, str(c)
     assert "gpu f64" in c.gpu

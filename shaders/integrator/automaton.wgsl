@@ -11,7 +11,12 @@ struct State {
     y: array<real, NY>,
     yc: array<real, NY>,
     k1: array<real, NY>,
-    pad_r0: real, pad_r1: real,
+    // The error budget (src/integrator/accuracy.rs), kept in f64 only
+    // (KEEP_BUDGET).
+    lag: real,
+    phase: array<real, RESULTS>,
+    local: array<real, RESULTS>,
+    pad_r: array<real, 3>,
     side: i32, dir: i32, flags: u32, status: u32,
     switches: u32, reversals: u32, sticks: u32, steps: u32,
     events: u32, pad: array<u32, 7>,

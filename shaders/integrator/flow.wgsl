@@ -11,10 +11,11 @@ fn dense_slope(r: array<real, 5>, th: real) -> real {
 }
 
 // [in, out] parts of a step's increment r[1] of the integral of p, from
-// its dense output r (r0 = 0) and p at the step's start and end.
-fn split(r: array<real, 5>, p0: real, p_end: real) -> vec2<real> {
+// its dense output r (r0 = 0) and p at the step's start and end, and how
+// far they may be off (z: `split_error`, 0 where p keeps its sign).
+fn split(r: array<real, 5>, p0: real, p_end: real) -> vec3<real> {
     if (crosses(p0, p_end)) { return split_crossing(r, p0); }
-    return split_whole(r[1], p0, p_end);
+    return vec3<real>(split_whole(r[1], p0, p_end), 0.0);
 }
 
 // Whether p changes sign inside a step (a zero at an end is no crossing).
@@ -29,7 +30,7 @@ fn split_whole(total: real, p0: real, p_end: real) -> vec2<real> {
 }
 
 // `split` where p changes sign inside the step: the zero by bisection.
-fn split_crossing(r: array<real, 5>, p0: real) -> vec2<real> {
+fn split_crossing(r: array<real, 5>, p0: real) -> vec3<real> {
     let total = r[1];
     let sign = select(real(-1.0), real(1.0), p0 > 0.0);
     var a: real = 0.0;
@@ -42,9 +43,18 @@ fn split_crossing(r: array<real, 5>, p0: real) -> vec2<real> {
         let c = 0.5 * (a + b);
         if (sign * dense_slope(r, c) > 0.0) { a = c; } else { b = c; }
     }
-    let first = dense_v(r, 0.5 * (a + b));
+    let th = 0.5 * (a + b);
+    let first = dense_v(r, th);
     let rest = total - first;
-    return select(vec2<real>(rest, -first), vec2<real>(first, -rest), sign > 0.0);
+    let parts = select(vec2<real>(rest, -first), vec2<real>(first, -rest), sign > 0.0);
+    return vec3<real>(parts, split_error(r, th));
+}
+
+// How far `split`'s parts may be off where p changes sign at th inside
+// the step: th^2 (1 - th)^2 |r4| (see src/integrator/flow.rs).
+fn split_error(r: array<real, 5>, th: real) -> real {
+    let w = th * (1.0 - th);
+    return w * w * abs(r[4]);
 }
 
 fn dense_w(dw: real, h: real, q0: real, q_end: real, r4: real) -> array<real, 5> {
@@ -70,13 +80,17 @@ fn flow_turns(k1: array<real, NY>, tr: Trial, h: real) -> bool {
         || turns_inside(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
 }
 
-// Increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step.
-fn step_flow(k1: array<real, NY>, tr: Trial, h: real) -> vec4<real> {
+// A step's energy flow: the increments of (w1_in, w1_out, w2_in,
+// w2_out), and how far the split of the integrals of p1 and p2 may be off.
+struct Flow { d: vec4<real>, err: vec2<real> }
+
+// The flow of an accepted step.
+fn step_flow(k1: array<real, NY>, tr: Trial, h: real) -> Flow {
     let p1_0 = k1[5];
     let p1_end = tr.k7[5];
     let p2_0 = k1[4] - k1[5];
     let p2_end = tr.k7[4] - tr.k7[5];
     let f1 = split(dense_w(tr.dw.x, h, p1_0, p1_end, tr.dw_r4.x), p1_0, p1_end);
     let f2 = split(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
-    return vec4<real>(f1, f2);
+    return Flow(vec4<real>(f1.xy, f2.xy), vec2<real>(f1.z, f2.z));
 }

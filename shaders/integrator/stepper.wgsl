@@ -53,6 +53,9 @@ struct Trial {
     // of their dense outputs, for `step_flow`
     dw: vec2<real>,
     dw_r4: vec2<real>,
+    // the embedded error estimate of each component and, last, of the
+    // integral of p2 (absolute; the error budget adds them up)
+    est: array<real, NY + 1u>,
 }
 
 // Compensated (Kahan) y1 = y + dy of component i; the value is y1 - y1c.
@@ -82,12 +85,18 @@ fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array
     step_component(&tr, 5u, increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), y[5], yc[5]);
     tr.k7 = rhs(l, m, tr.y1[1]).k;
     var err: real = 0.0;
-    err = max(err, abs(error_term(h, k1[0], k3[0], k4[0], k5[0], k6[0], tr.k7[0])) / error_scale(tol_traj, y[0], tr.y1[0]));
-    err = max(err, abs(error_term(h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1])) / error_scale(tol_traj, y[1], tr.y1[1]));
-    err = max(err, abs(error_term(h, k1[2], k3[2], k4[2], k5[2], k6[2], tr.k7[2])) / error_scale(tol, y[2], tr.y1[2]));
-    err = max(err, abs(error_term(h, k1[3], k3[3], k4[3], k5[3], k6[3], tr.k7[3])) / error_scale(tol, y[3], tr.y1[3]));
-    err = max(err, abs(error_term(h, k1[4], k3[4], k4[4], k5[4], k6[4], tr.k7[4])) / error_scale(tol, y[4], tr.y1[4]));
-    err = max(err, abs(error_term(h, k1[5], k3[5], k4[5], k5[5], k6[5], tr.k7[5])) / error_scale(tol, y[5], tr.y1[5]));
+    tr.est[0] = abs(error_term(h, k1[0], k3[0], k4[0], k5[0], k6[0], tr.k7[0]));
+    err = max(err, tr.est[0] / error_scale(tol_traj, y[0], tr.y1[0]));
+    tr.est[1] = abs(error_term(h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1]));
+    err = max(err, tr.est[1] / error_scale(tol_traj, y[1], tr.y1[1]));
+    tr.est[2] = abs(error_term(h, k1[2], k3[2], k4[2], k5[2], k6[2], tr.k7[2]));
+    err = max(err, tr.est[2] / error_scale(tol, y[2], tr.y1[2]));
+    tr.est[3] = abs(error_term(h, k1[3], k3[3], k4[3], k5[3], k6[3], tr.k7[3]));
+    err = max(err, tr.est[3] / error_scale(tol, y[3], tr.y1[3]));
+    tr.est[4] = abs(error_term(h, k1[4], k3[4], k4[4], k5[4], k6[4], tr.k7[4]));
+    err = max(err, tr.est[4] / error_scale(tol, y[4], tr.y1[4]));
+    tr.est[5] = abs(error_term(h, k1[5], k3[5], k4[5], k5[5], k6[5], tr.k7[5]));
+    err = max(err, tr.est[5] / error_scale(tol, y[5], tr.y1[5]));
     // NaN and infinity fail this test: the step is rejected.
     if (!(err <= 3.0e38)) { err = 3.0e38; }
     tr.err = err;
@@ -102,5 +111,8 @@ fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array
     tr.dw = vec2<real>(increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), increment(h, q1, q3, q4, q5, q6));
     tr.dw_r4 = vec2<real>(dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
         dense_r5(h, q1, q3, q4, q5, q6, k7[4] - k7[5]));
+    if (KEEP_BUDGET) {
+        tr.est[NY] = abs(error_term(h, q1, q3, q4, q5, q6, k7[4] - k7[5]));
+    }
     return tr;
 }

@@ -69,7 +69,7 @@ crate::lanewise_struct! {
 /// F2ẋ2, p1 + p2, and the in and out parts of p1 and p2; component-major,
 /// so each is a loop over the lanes.
 #[inline(always)]
-fn rates<const N: usize>(k: &[[f64; N]; NY]) -> [[f64; N]; RESULTS] {
+pub(crate) fn rates<const N: usize>(k: &[[f64; N]; NY]) -> [[f64; N]; RESULTS] {
     let mut r = [[0.0; N]; RESULTS];
     r[..5].copy_from_slice(&k[..5]);
     for j in 0..N {
@@ -112,6 +112,12 @@ impl ErrorBudget {
     /// the estimate: `examples/estimate_scan.rs`).
     pub fn terms(&self) -> ([f64; RESULTS], [f64; RESULTS]) {
         (self.phase, self.local)
+    }
+
+    /// A budget from its terms, as the f64 shader keeps them (`State`'s
+    /// `lag`, `phase` and `local`).
+    pub(crate) fn from_terms(lag: f64, phase: [f64; RESULTS], local: [f64; RESULTS]) -> Self {
+        ErrorBudget { lag, phase, local }
     }
 
     /// Whether every result of `r` is within [`LIMIT`] × [`BOUND`] by the

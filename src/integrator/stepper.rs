@@ -5,9 +5,8 @@
 //! `stage*_v`, `increment`, `error_term`, `error_scale` and `dense_coeffs`
 //! functions; `try_steps` runs them for N interleaved lanes. The shader's
 //! `try_step` (`shaders/integrator/stepper.wgsl`) has the same tableau,
-//! stages and dense output for one lane in f32; its error norm holds
-//! every component to one tolerance, as the CPU's does unless a lane is
-//! refined (`Settings::traj_weight`), which the GPU does not do.
+//! stages, dense output, error norm (x1 and ẋ1 at their own tolerance,
+//! `Settings::traj_weight`) and error estimates for one lane in `real`.
 
 use super::components::{powers, NY};
 use super::control::step_factor;

@@ -93,8 +93,8 @@ macro_rules! host_layouts {
             ),
             (
                 "State",
-                rust_layout!($state; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, pad_r0, pad_r1,
-                    side, dir, flags, status, switches, reversals, sticks, steps, events, pad),
+                rust_layout!($state; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, lag, phase,
+                    local, pad_r, side, dir, flags, status, switches, reversals, sticks, steps, events, pad),
             ),
             (
                 "Globals",
@@ -192,6 +192,19 @@ fn shared_constants_are_generated_from_the_rust() {
         tswm::integrator::NY as u32,
         "the state's components"
     );
+    assert_eq!(
+        u32_const(&m, "RESULTS"),
+        tswm::integrator::accuracy::RESULTS as u32
+    );
+    // The error budget is kept in f64 only.
+    assert!(matches!(
+        shader_const(&m, "KEEP_BUDGET"),
+        naga::Literal::Bool(false)
+    ));
+    assert!(matches!(
+        shader_const(&m64, "KEEP_BUDGET"),
+        naga::Literal::Bool(true)
+    ));
     // No hand-kept copy: a shader file's constant named as one of `src/`.
     let rust = rust_const_names();
     let files = tswm::backend::gpu::SHADER
@@ -233,6 +246,7 @@ fn generated_constants(m: &naga::Module, prelude: &str) -> Vec<String> {
                 let printed: f32 = value.strip_suffix('f').unwrap().parse().unwrap();
                 assert_eq!(v.to_bits(), printed.to_bits(), "`const {name}`");
             }
+            ("bool", naga::Literal::Bool(v)) => assert_eq!(v.to_string(), value, "`const {name}`"),
             (ty, l) => panic!("`const {name}: {ty}` reads as {l:?}"),
         }
         names.push(name.to_string());

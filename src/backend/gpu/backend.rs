@@ -9,9 +9,14 @@ use super::real::Real;
 use super::{verify, Gpu, ShaderReal};
 use crate::backend::{Backend, CpuBackend};
 use crate::error::Result;
+use crate::integrator::accuracy::{needs_refining, ErrorBudget};
 use crate::integrator::{EndState, LaneResult, Recheck, RowPath, Settings};
 use crate::model::{FrictionTable, Lane};
 use crate::params::{LaneParams, ParamColumns};
+
+/// A lane's end on the device: its state, its flag bits and its error
+/// estimate (zero in f32, which keeps none).
+type End = (EndState, u32, ErrorBudget);
 
 /// The GPU as a [`Backend`] of the runner.
 pub struct GpuBackend {
@@ -34,11 +39,15 @@ pub struct GpuBackend {
     keys: Vec<f64>,
     keyed: Vec<(f64, usize)>,
     steps: Vec<u32>,
-    /// The end state and flag bits of each lane of `on_gpu`, one for one.
-    ends: Vec<(EndState, u32)>,
+    /// The end state, flag bits and error estimate of each lane of
+    /// `on_gpu`, one for one.
+    ends: Vec<End>,
     f32_bufs: Buffers<f32>,
     f64_bufs: Buffers<f64>,
-    redo: Vec<(usize, Recheck)>,
+    /// Rows to compute on the CPU, and the path each will say: a
+    /// [`RowPath::Recomputed`] row at the run's settings, a
+    /// [`RowPath::Refined`] one at the tighter settings.
+    redo: Vec<(usize, RowPath)>,
     redo_params: ParamColumns,
     redo_out: Vec<LaneResult>,
 }
@@ -121,7 +130,7 @@ impl Backend for GpuBackend {
             if !self.self_check || f64 || verify::representable(l) {
                 self.on_gpu.push(i);
             } else {
-                self.redo.push((i, Recheck::F32Range));
+                self.redo.push((i, RowPath::Recomputed(Recheck::F32Range)));
             }
         }
         // Until the cost model has learnt, a pilot of the first lanes runs
@@ -139,7 +148,7 @@ impl Backend for GpuBackend {
             }
         }
         self.run_ordered(chunk, done..self.on_gpu.len(), tables)?;
-        for (&i, (end, bits)) in self.on_gpu.iter().zip(&self.ends) {
+        for (&i, (end, bits, budget)) in self.on_gpu.iter().zip(&self.ends) {
             let mut r = end.result(&self.lanes64[i], tables);
             r.path = if f64 { RowPath::Gpu64 } else { RowPath::Gpu };
             let finished = bits & flags::DONE != 0;
@@ -149,9 +158,16 @@ impl Backend for GpuBackend {
             } else {
                 verify::recheck(&self.lanes64[i], &r, finished)
             }
-            .or(turned.then_some(crate::integrator::path::Recheck::FlowTurn));
-            match why {
-                Some(why) if self.self_check => self.redo.push((i, why)),
+            .or(turned.then_some(Recheck::FlowTurn));
+            // An f64 lane whose estimate is over the bound is run again at
+            // the tighter settings, as the CPU path runs its own.
+            let redo = match why {
+                Some(why) => Some(RowPath::Recomputed(why)),
+                None if f64 && needs_refining(&self.settings, &r, budget) => Some(RowPath::Refined),
+                None => None,
+            };
+            match redo {
+                Some(path) if self.self_check => self.redo.push((i, path)),
                 _ => out[i] = r.with_shaft_speeds(&self.lanes64[i], lanes.row(i).radii()),
             }
         }
@@ -199,13 +215,16 @@ impl GpuBackend {
         }
         self.steps.clear();
         self.steps
-            .extend(self.ends[first..].iter().map(|(e, _)| e.steps));
+            .extend(self.ends[first..].iter().map(|(e, _, _)| e.steps));
         self.cost
             .learn(&self.lanes64, &self.on_gpu[range], &self.steps);
         Ok(())
     }
 
-    /// Recomputes the untrusted rows of a chunk on the f64 path.
+    /// Computes the rows of a chunk the GPU's do not stand for on the f64
+    /// CPU path: the untrusted ones at the run's settings, the f64 lanes
+    /// whose estimate is over the bound at the tighter ones (not refined
+    /// again, as on the CPU path).
     fn recompute(
         &mut self,
         first: u64,
@@ -213,17 +232,31 @@ impl GpuBackend {
         tables: &[FrictionTable],
         out: &mut [LaneResult],
     ) -> Result<()> {
-        if self.redo.is_empty() {
-            return Ok(());
-        }
-        self.redo_params = lanes.gather(self.redo.iter().map(|&(i, _)| i));
-        self.cpu
-            .run_chunk(first, &self.redo_params, tables, &mut self.redo_out)?;
-        for (&(i, why), r) in self.redo.iter().zip(&self.redo_out) {
-            out[i] = LaneResult {
-                path: RowPath::Recomputed(why),
-                ..*r
-            };
+        let own = self.cpu.settings;
+        let tighter = Settings {
+            refine: false,
+            ..self.settings.tighter()
+        };
+        for (refined, set) in [(false, own), (true, tighter)] {
+            let which: Vec<(usize, RowPath)> = self
+                .redo
+                .iter()
+                .filter(|(_, p)| (*p == RowPath::Refined) == refined)
+                .copied()
+                .collect();
+            if which.is_empty() {
+                continue;
+            }
+            self.redo_params = lanes.gather(which.iter().map(|&(i, _)| i));
+            self.cpu.settings = set;
+            let ran = self
+                .cpu
+                .run_chunk(first, &self.redo_params, tables, &mut self.redo_out);
+            self.cpu.settings = own;
+            ran?;
+            for (&(i, path), r) in which.iter().zip(&self.redo_out) {
+                out[i] = LaneResult { path, ..*r };
+            }
         }
         Ok(())
     }
@@ -259,8 +292,8 @@ struct Run<'a> {
 impl Run<'_> {
     /// Converts the lanes `which` to `R`, runs them in parts of like cost
     /// (the lanes are sorted), in flight together, and appends each
-    /// lane's end state and flag bits to `ends`.
-    fn go<R: Real>(&self, bufs: &mut Buffers<R>, ends: &mut Vec<(EndState, u32)>) -> Result<()> {
+    /// lane's end state, flag bits and error estimate to `ends`.
+    fn go<R: Real>(&self, bufs: &mut Buffers<R>, ends: &mut Vec<End>) -> Result<()> {
         bufs.lanes.clear();
         bufs.lanes
             .extend(self.which.iter().map(|&i| R::Lane::from(&self.lanes[i])));
@@ -277,7 +310,7 @@ impl Run<'_> {
             self.which
                 .iter()
                 .zip(states)
-                .map(|(&i, s)| (R::end_state(s, &self.lanes[i]), R::flags(s))),
+                .map(|(&i, s)| (R::end_state(s, &self.lanes[i]), R::flags(s), R::budget(s))),
         );
         Ok(())
     }

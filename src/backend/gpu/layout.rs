@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::real::{Real, ShaderReal, Sizes};
 
+use crate::integrator::accuracy::{ErrorBudget, RESULTS};
 use crate::integrator::{EndState, Settings, Status, NY};
 use crate::model::laws::LAW_SLOTS;
 use crate::model::{FrictionTable, Lane, MAX_TABLES, MAX_TABLE_POINTS};
@@ -144,7 +145,7 @@ macro_rules! gpu_layout {
         }
 
         #[doc = concat!("A lane's integration state between dispatches, in ", stringify!($r), ": `State` in")]
-        /// shaders/integrator/automaton.wgsl. 32 reals and 16 words: no
+        /// shaders/integrator/automaton.wgsl. 52 reals and 16 words: no
         /// hidden padding in f32 or f64.
         #[repr(C)]
         #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -167,10 +168,14 @@ macro_rules! gpu_layout {
             pub yc: [$r; NY],
             /// The derivative at the current state, when [`flags::K1_VALID`] is set.
             pub k1: [$r; NY],
+            /// The error budget's lag ([`ErrorBudget`]; kept in f64 only).
+            pub lag: $r,
+            /// The error budget's phase term of each result (f64 only).
+            pub phase: [$r; RESULTS],
+            /// The error budget's local term of each result (f64 only).
+            pub local: [$r; RESULTS],
             /// Padding (see the struct's text).
-            pub pad_r0: $r,
-            /// Padding (see the struct's text).
-            pub pad_r1: $r,
+            pub pad_r: [$r; 3],
             /// The contact side: 1 (a-a) or −1 (b-b).
             pub side: i32,
             /// The direction of motion: 1, −1, or 0 before the first start.
@@ -223,6 +228,12 @@ macro_rules! gpu_layout {
                     t: self.stop_time(lane),
                     speeding: self.flags & flags::SPEEDING != 0,
                 }
+            }
+
+            /// The lane's error estimate (zero in f32, which keeps none).
+            pub fn budget(&self) -> ErrorBudget {
+                let f = |v: $r| v as f64;
+                ErrorBudget::from_terms(f(self.lag), self.phase.map(f), self.local.map(f))
             }
 
             /// Where the lane stopped: its own t_end or t_max exactly when it
@@ -333,6 +344,9 @@ macro_rules! gpu_layout {
             fn flags(s: &$state) -> u32 {
                 s.flags
             }
+            fn budget(s: &$state) -> ErrorBudget {
+                s.budget()
+            }
         }
     };
 }
@@ -367,12 +381,12 @@ impl GpuGlobals {
 }
 
 /// The settings the f64 GPU path runs a run of `settings` at: the CPU
-/// path's [`Settings::tighter`], since an f64 lane on the GPU has no error
-/// estimate to call for a tighter run of its own (see `accuracy`). Its
-/// globals, its provenance and `tswm check`'s reference all take them
-/// from here.
+/// path's own. An f64 lane keeps the CPU path's error budget
+/// (`accuracy`), and a lane whose estimate is over the bound is run again
+/// on the CPU at [`Settings::tighter`], as a CPU lane is. Its globals, its
+/// provenance and `tswm check`'s reference all take them from here.
 pub fn f64_settings(settings: &Settings) -> Settings {
-    settings.tighter()
+    *settings
 }
 
 impl GpuGlobals64 {

@@ -5,6 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use crate::integrator::accuracy::ErrorBudget;
 use crate::integrator::{EndState, Settings};
 use crate::model::{FrictionTable, Lane};
 
@@ -57,4 +58,6 @@ pub trait Real: Pod + Send + Sync {
     fn end_state(s: &Self::State, lane: &Lane) -> EndState;
     /// The state's flag bits ([`flags`](super::layout::flags)).
     fn flags(s: &Self::State) -> u32;
+    /// The lane's error estimate (kept by the f64 shader only).
+    fn budget(s: &Self::State) -> ErrorBudget;
 }

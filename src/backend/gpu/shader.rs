@@ -24,9 +24,10 @@
 //! below [`STEP_UNDERFLOW`]·max(t, 1) s, not 1e-15·max(t, 1), is an
 //! underflow; `tan_small`'s series stops at x^9, exact in f32; "never" is
 //! 3e38 rather than infinity. In f64 the limits are the CPU path's (roots
-//! to a step fraction of [`ROOT_THETA_TOL_F64`]), the tolerances those of
-//! [`Settings::tighter`](crate::integrator::Settings::tighter), and the
-//! sums keep their compensation, which f64 does not need. The f64 path
+//! to a step fraction of [`ROOT_THETA_TOL_F64`]), the tolerances the CPU
+//! path's, the error budget (`accuracy.wgsl`, `KEEP_BUDGET`) kept as the
+//! CPU path keeps it, and the sums keep their compensation, which f64
+//! does not need. The f64 path
 //! computes x^y and the step factor's err^(−1/5) with its own
 //! straight-line kernels (so that they run as vector code); here `pow_r`
 //! does. Where a mesh power changes sign inside a step, the f64 path
@@ -106,6 +107,9 @@ pub fn prelude_of(real: ShaderReal) -> String {
     );
     let _ = writeln!(s, "fn exp_r(x: real) -> real {{ return exp{f}(x); }}");
     let _ = writeln!(s, "fn tan_r(x: real) -> real {{ return tan{f}(x); }}");
+    // The error budget (`integrator::accuracy`) is kept in f64 only: an
+    // f32 row is vouched for by the host's checks, not by an estimate.
+    let _ = writeln!(s, "const KEEP_BUDGET: bool = {};", real == ShaderReal::F64);
     let mut u32s: Vec<(String, u32)> = Vec::new();
     u32s.extend(MotorKind::ALL.map(|m| (format!("MOTOR_{}", m.name().to_uppercase()), m.code())));
     u32s.extend(
@@ -122,6 +126,10 @@ pub fn prelude_of(real: ShaderReal) -> String {
         EventFn::ALL.map(|e| (format!("EV_{}", format!("{e:?}").to_uppercase()), e as u32)),
     );
     u32s.push(("NY".into(), NY as u32));
+    u32s.push((
+        "RESULTS".into(),
+        crate::integrator::accuracy::RESULTS as u32,
+    ));
     u32s.push((
         "TABLE_VEC4S".into(),
         (crate::model::MAX_TABLE_POINTS / 4) as u32,
@@ -176,6 +184,7 @@ shader_files!(
     "integrator/control.wgsl",
     "integrator/events.wgsl",
     "integrator/flow.wgsl",
+    "integrator/accuracy.wgsl",
     "integrator/automaton.wgsl",
     "integrator/step.wgsl",
     "integrator/batch.wgsl",
@@ -222,6 +231,10 @@ pub const MIRRORED: &[&str] = &[
     "split_crossing",
     "dense_w",
     "step_flow",
+    "split_error",
+    "rates",
+    "add_step",
+    "add_split",
     "init",
     "set_side",
     "check_mode",

@@ -115,8 +115,10 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
 
 /// Why an f64 GPU row cannot be trusted, if it cannot: only a lane the
 /// dispatch budget cut short. An f64 lane runs the CPU path's algorithm at
-/// its tighter tolerances (`layout::GpuGlobals64::new`), so its row is
-/// held to the CPU path's bound; no f32 limit applies.
+/// its settings (`layout::f64_settings`), error budget included, so its
+/// row is held to the CPU path's bound; no f32 limit applies. (A lane
+/// whose estimate is over the bound is run again at the tighter settings
+/// by the backend, as on the CPU path.)
 pub fn recheck_f64(finished: bool) -> Option<Recheck> {
     (!finished).then_some(Recheck::Unfinished)
 }

@@ -14,6 +14,7 @@
 use super::{values, Run, Tally, BOUND};
 use crate::backend::gpu::shader::STEP_UNDERFLOW;
 use crate::input::sampling::Uniforms;
+use crate::integrator::accuracy::rates;
 use crate::integrator::control::{retry_size, step_factor, step_size, H_INITIAL};
 use crate::integrator::events::dense_v;
 use crate::integrator::flow::{crosses, dense_slope, dense_w, split, split_whole};
@@ -27,7 +28,7 @@ use crate::integrator::stepper::{
 const A: usize = 11;
 
 /// Values a case: see `ENTRY`.
-const K: usize = 32;
+const K: usize = 41;
 
 pub(super) const ENTRY: &str = r#"
 @compute @workgroup_size(64)
@@ -47,7 +48,7 @@ fn mirrored_steps(@builtin(global_invocation_id) id: vec3<u32>) {
     let k6 = d_args[b + 7u];
     let k7 = d_args[b + 8u];
     let steep = (d_cases[i].x & 1u) != 0u;
-    let o = i * 32u;
+    let o = i * 41u;
     d_out[o] = stage2_v(v0, h, k1);
     d_out[o + 1u] = stage3_v(v0, h, k1, k2);
     d_out[o + 2u] = stage4_v(v0, h, k1, k2, k3);
@@ -83,10 +84,15 @@ fn mirrored_steps(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var j = 0u; j < 5u; j++) {
         d_out[o + 26u + j] = dw[j];
     }
+    d_out[o + 31u] = sp.z;
+    let rr = rates(array<real, NY>(k1, k2, k3, k4, k5, k6));
+    for (var j = 0u; j < RESULTS; j++) {
+        d_out[o + 32u + j] = rr[j];
+    }
 }
 "#;
 
-const NAMES: [&str; 31] = [
+const NAMES: [&str; K] = [
     "stage2_v",
     "stage3_v",
     "stage4_v",
@@ -118,6 +124,16 @@ const NAMES: [&str; 31] = [
     "dense_w[2]",
     "dense_w[3]",
     "dense_w[4]",
+    "split_error",
+    "rates[0]",
+    "rates[1]",
+    "rates[2]",
+    "rates[3]",
+    "rates[4]",
+    "rates[5]",
+    "rates[6]",
+    "rates[7]",
+    "rates[8]",
 ];
 
 /// A derivative: 1e-3 to 1e3 of either sign, 0 one time in 16.
@@ -183,7 +199,7 @@ fn cpu(a: &[f64; A], steep: bool) -> Vec<(f64, f64, f64)> {
     // A split of ∫p over a step where p goes from k6 to k7, as a lane's
     // dense output of it (dense_w) gives it: the parts to f32's bound of
     // what flowed, h (|p0| + |p_end|).
-    let (sp, _) = split(&dense_w(dw, h, k6, k7, r4), k6, k7);
+    let (sp, sp_err) = split(&dense_w(dw, h, k6, k7, r4), k6, k7);
     let flowed = h * (k6.abs() + k7.abs());
     out.push((sp[0], flowed, 0.0));
     out.push((sp[1], flowed, 0.0));
@@ -197,6 +213,14 @@ fn cpu(a: &[f64; A], steep: bool) -> Vec<(f64, f64, f64)> {
     out.push((sw[1], k1.abs(), 0.0));
     let w = k1.abs() + h * (k2.abs() + k3.abs()) + k4.abs();
     out.extend(dense_w(k1, h, k2, k3, k4).map(|c| (c, w, 0.0)));
+    // The split's error bound, θ²(1−θ)²|r4| at the zero θ: to f32's
+    // bound of |r4| (the zero is bisected in f32, found by Illinois here).
+    out.push((sp_err, r4.abs(), 0.0));
+    let rs = rates(&[k1, k2, k3, k4, k5, k6].map(|v| [v]));
+    let pk = k5.abs() + k6.abs();
+    for (i, r) in rs.iter().enumerate() {
+        out.push((r[0], if i < 5 { r[0].abs() } else { pk }, 0.0));
+    }
     out
 }
 

@@ -1,0 +1,46 @@
+// Mirrors src/integrator/accuracy.rs: a lane's own estimate of the error
+// in its results, kept in f64 only (KEEP_BUDGET), so that an f64 lane
+// whose estimate is over the bound is run again on the CPU at tighter
+// settings, as a CPU lane is.
+
+// Rates of the results at derivative k: x1, v1, w_motor, w_load,
+// w_friction, and the in and out parts of p1 and p2.
+fn rates(k: array<real, NY>) -> array<real, RESULTS> {
+    let p1 = k[5];
+    let p2 = k[4] - k[5];
+    return array<real, RESULTS>(k[0], k[1], k[2], k[3], k[4],
+        max(p1, 0.0), max(-p1, 0.0), max(p2, 0.0), max(-p2, 0.0));
+}
+
+// Adds an accepted step from derivative k0 to tr (its k7 the derivative
+// at the end, its est the error estimates) whose flow `d` says which
+// parts of p1 and p2 it fed: each result's phase term grows by the
+// change of its rate times the lag so far, its local term by its own
+// estimate, and the lag by v1's estimate over the acceleration.
+fn add_step(st: ptr<function, State>, k0: array<real, NY>, tr: Trial, d: vec4<real>) {
+    let r0 = rates(k0);
+    let r1 = rates(tr.k7);
+    let lag = (*st).lag;
+    for (var i = 0u; i < RESULTS; i++) {
+        (*st).phase[i] += abs(r1[i] - r0[i]) * lag;
+    }
+    for (var i = 0u; i < 5u; i++) {
+        (*st).local[i] += tr.est[i];
+    }
+    // The integral of p1's estimate to the p1 parts the step fed, p2's to p2's.
+    if (d.x != 0.0) { (*st).local[5] += tr.est[5]; }
+    if (d.y != 0.0) { (*st).local[6] += tr.est[5]; }
+    if (d.z != 0.0) { (*st).local[7] += tr.est[NY]; }
+    if (d.w != 0.0) { (*st).local[8] += tr.est[NY]; }
+    let a = max(abs(k0[1]), abs(tr.k7[1]));
+    if (a > 0.0) { (*st).lag = lag + tr.est[1] / a; }
+}
+
+// Adds a step's split errors of the integrals of p1 and p2 to the local
+// terms of their in and out parts.
+fn add_split(st: ptr<function, State>, err: vec2<real>) {
+    (*st).local[5] += err.x;
+    (*st).local[6] += err.x;
+    (*st).local[7] += err.y;
+    (*st).local[8] += err.y;
+}
