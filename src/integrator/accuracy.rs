@@ -114,6 +114,12 @@ impl ErrorBudget {
         (self.phase, self.local)
     }
 
+    /// The lag so far, s (see the module's text).
+    #[cfg(test)]
+    pub(crate) fn lag(&self) -> f64 {
+        self.lag
+    }
+
     /// A budget from its terms, as the f64 shader keeps them (`State`'s
     /// `lag`, `phase` and `local`).
     pub(crate) fn from_terms(lag: f64, phase: [f64; RESULTS], local: [f64; RESULTS]) -> Self {

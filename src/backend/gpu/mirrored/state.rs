@@ -38,10 +38,8 @@ const OUTS: usize = 4;
 
 /// The entry point: case (lane, function, input state, word) runs the
 /// function on the input state and writes the state after it and what it
-/// returns. The functions of a trial step and a step attempt are not
-/// here: an entry point that called `try_step` did not come back from
-/// lavapipe within minutes, though the shader's own entry point runs the
-/// same calls (`mod.rs`, `NOT_YET`).
+/// returns. The functions of a trial step and a step attempt have an
+/// entry point of their own (`attempt::ATTEMPT`).
 pub(super) const ENTRY: &str = r#"
 @group(1) @binding(0) var<storage, read> s_lanes: array<Lane>;
 @group(1) @binding(1) var<storage, read> s_states: array<State>;
@@ -76,9 +74,13 @@ fn mirrored_state(@builtin(global_invocation_id) id: vec3<u32>) {
 "#;
 
 /// A CPU state as the shader holds it (no compensation to carry).
-fn to_gpu(st: &LaneState) -> GpuState64 {
+pub(super) fn to_gpu(st: &LaneState) -> GpuState64 {
     let bit = |on: bool, f: u32| if on { f } else { 0 };
+    let (phase, local) = st.budget.terms();
     GpuState64 {
+        lag: st.budget.lag(),
+        phase,
+        local,
         t_hi: st.t,
         h: st.h,
         t_first_switch: if st.t_first_switch.is_nan() {
@@ -135,7 +137,11 @@ fn cpu(lane: &Lane, tables: &[FrictionTable], f: usize, w: u32, st: &mut LaneSta
 
 /// Input states: every third state along the CPU path's integration of
 /// each lane, from its start to its end or 150 attempts.
-fn states(lanes: &[Lane], tables: &[FrictionTable], set: &Settings) -> Vec<(usize, LaneState)> {
+pub(super) fn states(
+    lanes: &[Lane],
+    tables: &[FrictionTable],
+    set: &Settings,
+) -> Vec<(usize, LaneState)> {
     let mut out = Vec::new();
     for (i, l) in lanes.iter().enumerate() {
         let mut st = init(l, tables);
@@ -154,7 +160,7 @@ fn states(lanes: &[Lane], tables: &[FrictionTable], set: &Settings) -> Vec<(usiz
 
 /// The values of a state compared, as (name, value); the discrete ones
 /// as words.
-fn state_values(s: &GpuState64) -> (Vec<(String, f64)>, String) {
+pub(super) fn state_values(s: &GpuState64) -> (Vec<(String, f64)>, String) {
     let mut v = vec![("t".to_string(), s.t_hi - s.t_lo), ("h".into(), s.h)];
     v.push(("first switch".into(), s.t_first_switch.max(-1.0)));
     for i in 0..6 {
@@ -178,12 +184,12 @@ fn state_values(s: &GpuState64) -> (Vec<(String, f64)>, String) {
     (v, words)
 }
 
-#[test]
-fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
+/// The lanes the states are taken from: every law and motor, with a
+/// friction table, motors cut inside the run, and runs on past t_end.
+pub(super) fn test_lanes() -> (Vec<Lane>, Vec<FrictionTable>) {
     let tables =
         vec![FrictionTable::new(&[0.0, 0.1, 1.0, 5.0], &[0.08, 0.05, 0.04, 0.035]).unwrap()];
     let mut lanes = super::model::lanes(&tables);
-    // Motors cut inside the run, and runs on past t_end.
     for (i, l) in lanes.iter_mut().enumerate() {
         match i % 3 {
             0 => l.motor_off = 0.3 * l.t_end,
@@ -191,6 +197,12 @@ fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
             _ => {}
         }
     }
+    (lanes, tables)
+}
+
+#[test]
+fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
+    let (lanes, tables) = test_lanes();
     let set = super::super::layout::f64_settings(&Settings::default());
     let inputs = states(&lanes, &tables, &set);
     let mut cases = Vec::new();
@@ -199,7 +211,8 @@ fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
             cases.push([*li as u32, f, k as u32, (k % 2) as u32]);
         }
     }
-    let Some((after, outs)) = run(&lanes, &tables, &inputs, &cases) else {
+    let Some((after, outs)) = run(("mirrored_state", ENTRY), &lanes, &tables, &inputs, &cases)
+    else {
         return;
     };
     let mut worst = vec![0.0f64; FUNCTIONS.len()];
@@ -254,9 +267,10 @@ fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
 }
 
 /// The states after each case and the numbers it returns, from the f64
-/// shader on the first adapter with 64-bit floats; None (said as a skip)
-/// when there is none.
-fn run(
+/// shader with `entry` (its name, its source) on the first adapter with
+/// 64-bit floats; None (said as a skip) when there is none.
+pub(super) fn run(
+    entry: (&str, &str),
     lanes: &[Lane],
     tables: &[FrictionTable],
     inputs: &[(usize, LaneState)],
@@ -270,20 +284,20 @@ fn run(
                 "TSWM_REQUIRE_GPU=1 but {e}"
             );
             use std::io::Write;
-            let _ = writeln!(std::io::stderr(), "skipped mirrored_state: {e}");
+            let _ = writeln!(std::io::stderr(), "skipped {}: {e}", entry.0);
             return None;
         }
     };
     let d = &dev.device;
     let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("mirrored_state"),
-        source: wgpu::ShaderSource::Wgsl(format!("{}{ENTRY}", SHADER_F64.as_str()).into()),
+        label: Some(entry.0),
+        source: wgpu::ShaderSource::Wgsl(format!("{}{}", SHADER_F64.as_str(), entry.1).into()),
     });
     let pipe = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("mirrored_state"),
+        label: Some(entry.0),
         layout: None,
         module: &module,
-        entry_point: Some("mirrored_state"),
+        entry_point: Some(entry.0),
         compilation_options: Default::default(),
         cache: None,
     });
