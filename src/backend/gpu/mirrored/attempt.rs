@@ -25,13 +25,9 @@ use crate::integrator::{attempt, Settings};
 /// its attempts: called once in straight-line code, lavapipe's LLVM
 /// spends tens of minutes in its loop analysis (ScalarEvolution) before
 /// the first dispatch.
-pub(super) const ATTEMPT: &str = r#"
-@group(1) @binding(0) var<storage, read> s_lanes: array<Lane>;
-@group(1) @binding(1) var<storage, read> s_states: array<State>;
-@group(1) @binding(2) var<storage, read> s_cases: array<vec4<u32>>;
-struct StateOut { st: State, out: array<f64, 4> }
-@group(1) @binding(3) var<storage, read_write> s_res: array<StateOut>;
-
+pub(super) const ATTEMPT: &str = concat!(
+    state_bindings!(),
+    r#"
 @compute @workgroup_size(64)
 fn mirrored_attempt(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= arrayLength(&s_cases)) { return; }
@@ -50,7 +46,8 @@ fn mirrored_attempt(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     s_res[id.x].st = st;
 }
-"#;
+"#
+);
 
 /// The error budget's terms of a state, by name.
 fn budget_values(s: &GpuState64) -> Vec<(String, f64)> {

@@ -8,6 +8,22 @@
 //! adapter a test says why it is skipped, unless TSWM_REQUIRE_GPU=1 (as
 //! in CI), where it fails.
 
+/// The buffers the f64 state tests' entry points read (lanes, input
+/// states, cases) and write (the state after each case and the numbers
+/// it returns), as WGSL: `state::ENTRY` and `attempt::ATTEMPT` start
+/// with it.
+macro_rules! state_bindings {
+    () => {
+        r#"
+@group(1) @binding(0) var<storage, read> s_lanes: array<Lane>;
+@group(1) @binding(1) var<storage, read> s_states: array<State>;
+@group(1) @binding(2) var<storage, read> s_cases: array<vec4<u32>>;
+struct StateOut { st: State, out: array<f64, 4> }
+@group(1) @binding(3) var<storage, read_write> s_res: array<StateOut>;
+"#
+    };
+}
+
 mod attempt;
 mod integrator;
 mod model;

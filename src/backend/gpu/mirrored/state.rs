@@ -40,13 +40,9 @@ const OUTS: usize = 4;
 /// function on the input state and writes the state after it and what it
 /// returns. The functions of a trial step and a step attempt have an
 /// entry point of their own (`attempt::ATTEMPT`).
-pub(super) const ENTRY: &str = r#"
-@group(1) @binding(0) var<storage, read> s_lanes: array<Lane>;
-@group(1) @binding(1) var<storage, read> s_states: array<State>;
-@group(1) @binding(2) var<storage, read> s_cases: array<vec4<u32>>;
-struct StateOut { st: State, out: array<f64, 4> }
-@group(1) @binding(3) var<storage, read_write> s_res: array<StateOut>;
-
+pub(super) const ENTRY: &str = concat!(
+    state_bindings!(),
+    r#"
 fn put(n: u32, i: u32, v: f64) { s_res[n].out[i] = v; }
 
 @compute @workgroup_size(64)
@@ -71,7 +67,8 @@ fn mirrored_state(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     s_res[n].st = st;
 }
-"#;
+"#
+);
 
 /// A CPU state as the shader holds it (no compensation to carry).
 pub(super) fn to_gpu(st: &LaneState) -> GpuState64 {
