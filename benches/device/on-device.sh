@@ -48,7 +48,7 @@ for s in ${CHECK:-sweeps/efficiency_map.toml sweeps/heterogeneous.toml}; do
 done >"$OUT/check.txt" 2>&1
 cat "$OUT/check.txt"
 # 1b. the shader's functions by what they compute on this GPU: its f64
-# ln, exp, pow and tan (tests/it/math64.rs) and the mirrored functions
+# exp, pow and tan (tests/it/math64.rs) and the mirrored functions
 # against the Rust ones (src/backend/gpu/mirrored/), from the test
 # binaries prepare.sh strips beside the binary
 {

@@ -1,17 +1,18 @@
-// Mirrors src/model/vmath.rs: ln, exp and pow of the f64 path, from
+// Mirrors src/model/vmath: exp of the f64 path and pow_carried, from
 // arithmetic only, plus tan. WGSL's own exp, log, pow and tan become
 // GLSL.std.450 instructions that SPIR-V defines for 16- and 32-bit floats
 // only: for f64 a driver may return anything (gfx-rs/wgpu#6087; Mesa's
-// RADV returns NaN for f64 exp). The bit tricks of vmath.rs (exponent
+// RADV returns NaN for f64 exp). The bit tricks of vmath (exponent
 // fields read and written) are frexp and ldexp here, which SPIR-V does
-// define for f64, and vmath.rs's rounding by adding and subtracting
+// define for f64, and vmath's rounding by adding and subtracting
 // 1.5 * 2^52 is WGSL's round (ties to even, the same integer): a driver
 // may simplify (a + b) - b to a (Mesa does: SPIR-V arithmetic is not
 // exact unless marked so, and naga does not mark it). The rest is the
-// same arithmetic, line for line; a driver may still fuse or reorder it,
-// so the bits may differ from the CPU's by an ulp or two.
+// same arithmetic, line for line; a driver may still fuse multiply-adds
+// (NVIDIA's does) or reorder sums, which moves exp by an ulp at most, and
+// pow is written so that neither moves it by more (see pow_64).
 // Needs wgpu's SHADER_F64; tests/it/math64.rs holds each function within
-// 4 ulp of the Rust one over 10^6 arguments of its used range.
+// 4 ulp of Rust's std over 10^6 arguments of its used range.
 
 // ln 2 split for Cody and Waite's reduction (vmath.rs LN2_HI, LN2_LO).
 const LN2_HI_64: f64 = 6.93147180369123816490e-01lf;
@@ -59,36 +60,6 @@ fn split_exponent_64(x: f64) -> Split64 {
     return Split64(k, m);
 }
 
-// ln x for x > 0; NaN below 0, -inf at 0 (vmath.rs ln: fdlibm's
-// __ieee754_log, within 1 ulp).
-fn ln_64(x: f64) -> f64 {
-    let LG1 = 6.666666666666735130e-01lf;
-    let LG2 = 3.999999999940941908e-01lf;
-    let LG3 = 2.857142874366239149e-01lf;
-    let LG4 = 2.222219843214978396e-01lf;
-    let LG5 = 1.818357216161805012e-01lf;
-    let LG6 = 1.531383769920937332e-01lf;
-    let LG7 = 1.479819860511658591e-01lf;
-    let sp = split_exponent_64(x);
-    let f = sp.m - 1.0lf;
-    let s = f / (2.0lf + f);
-    let z = s * s;
-    let w = z * z;
-    let t1 = w * (LG2 + w * (LG4 + w * LG6));
-    let t2 = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7)));
-    let r = t2 + t1;
-    let hfsq = 0.5lf * f * f;
-    let kf = f64(sp.k);
-    let v = kf * LN2_HI_64 - ((hfsq - (s * (hfsq + r) + kf * LN2_LO_64)) - f);
-    if (x > 0.0lf) {
-        return v;
-    }
-    if (x == 0.0lf) {
-        return -bitcast_inf_64();
-    }
-    return nan_64();
-}
-
 // +inf and NaN, made at run time (a WGSL constant may not overflow).
 fn bitcast_inf_64() -> f64 {
     return ldexp(1.0lf, 1023i) * 2.0lf;
@@ -101,44 +72,106 @@ fn nan_64() -> f64 {
 // e^x; 0 below -745, +inf above 709.78 (vmath.rs exp: fdlibm's
 // __ieee754_exp, within 1 ulp).
 fn exp_64(x: f64) -> f64 {
-    let P1 = 1.66666666666666019037e-01lf;
-    let P2 = -2.77777777770155933842e-03lf;
-    let P3 = 6.61375632143793436117e-05lf;
-    let P4 = -1.65339022054652515390e-06lf;
-    let P5 = 4.13813679705723846039e-08lf;
     let xc = clamp(x, -746.0lf, 710.0lf);
     // x = k ln 2 + r, |r| <= ln 2 / 2, r = hi - lo.
     let kf = round(xc * LOG2_E_64);
-    let k = i32(kf);
     let hi = xc - kf * LN2_HI_64;
     let lo = kf * LN2_LO_64;
-    let r = hi - lo;
-    let t = r * r;
-    let c = r - t * (P1 + t * (P2 + t * (P3 + t * (P4 + t * P5))));
-    let e = 1.0lf - ((lo - (r * c) / (2.0lf - c)) - hi);
-    // 2^k in two factors: k down to -1075 and up to 1024.
-    let k1 = k / 2;
-    let k2 = k - k1;
-    let v = ldexp(ldexp(e, k1), k2);
+    let v = scale_64(exp_reduced_64(hi, lo), i32(kf));
     if (x != x) {
         return x;
     }
     return v;
 }
 
-// x^y for x >= 0: exp(y ln x), 0^y = 0 for y > 0, 1 for y = 0, +inf for
-// y < 0 (vmath.rs pow).
+// e^(hi - lo) for |hi - lo| <= ln 2 / 2 and a small tail lo (vmath.rs
+// exp_reduced): fdlibm's 1 + 2r / (2 - c), c = r - r^2 P(r^2).
+fn exp_reduced_64(hi: f64, lo: f64) -> f64 {
+    let P1 = 1.66666666666666019037e-01lf;
+    let P2 = -2.77777777770155933842e-03lf;
+    let P3 = 6.61375632143793436117e-05lf;
+    let P4 = -1.65339022054652515390e-06lf;
+    let P5 = 4.13813679705723846039e-08lf;
+    let r = hi - lo;
+    let t = r * r;
+    let c = r - t * (P1 + t * (P2 + t * (P3 + t * (P4 + t * P5))));
+    return 1.0lf - ((lo - (r * c) / (2.0lf - c)) - hi);
+}
+
+// e 2^k for k from -2044 to 2044, in two factors (vmath.rs scale).
+fn scale_64(e: f64, k: i32) -> f64 {
+    let k1 = k / 2i;
+    return ldexp(ldexp(e, k1), k - k1);
+}
+
+// x rounded to a multiple of 2^-bits (vmath.rs grid).
+fn grid_64(x: f64, bits: i32) -> f64 {
+    return ldexp(round(ldexp(x, bits)), -bits);
+}
+
+// x^y for x >= 0 and |y| <= 8: 0^y = 0 for y > 0, 1 for y = 0, +inf for
+// y < 0, inf^y the inverse, NaN for x < 0 or NaN (vmath pow_carried, line
+// for line, within 1 ulp of std's powf). y ln x is carried beyond double
+// precision: its head is a sum of products of numbers on coarse grids,
+// exact in f64 whether the driver fuses them into the sums or drops
+// (a + b) - a to b, and its tail is small enough that its roundings do not
+// matter. (A rounded ln x, multiplied by y, was 112 ulp off on an NVIDIA
+// H100, whose compiler fuses multiply-adds; the CPU path's pow, cheaper,
+// is that and within 1 + 2 |y ln x| ulp.)
 fn pow_64(x: f64, y: f64) -> f64 {
-    if (x == 0.0lf) {
-        if (y > 0.0lf) {
-            return 0.0lf;
-        }
-        if (y == 0.0lf) {
-            return 1.0lf;
-        }
-        return bitcast_inf_64();
+    // ln 2 to 28 bits, and the rest.
+    let LN2_28 = 6.93147178739309310913e-01lf;
+    let LN2_28_TAIL = 1.82063599850414622404e-09lf;
+    let LN_2 = 6.93147180559945286227e-01lf;
+    let LG1 = 6.666666666666735130e-01lf;
+    let LG2 = 3.999999999940941908e-01lf;
+    let LG3 = 2.857142874366239149e-01lf;
+    let LG4 = 2.222219843214978396e-01lf;
+    let LG5 = 1.818357216161805012e-01lf;
+    let LG6 = 1.531383769920937332e-01lf;
+    let LG7 = 1.479819860511658591e-01lf;
+    let sp = split_exponent_64(x);
+    let kf = f64(sp.k);
+    // ln m = 2s + s R(s^2), s = f / (2 + f) = s_h + d.
+    let f = sp.m - 1.0lf;
+    let inv = 1.0lf / (2.0lf + f);
+    let s_h = grid_64(f * inv, 24i);
+    let f_h = grid_64(f, 24i);
+    let f_l = f - f_h;
+    let num = f_l * (1.0lf - s_h) + ((f_h - 2.0lf * s_h) - s_h * f_h);
+    let d = num * inv;
+    let s = num * inv + s_h;
+    let z = s * s;
+    let w = z * z;
+    let t1 = w * (LG2 + w * (LG4 + w * LG6));
+    let r = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7))) + t1;
+    // y ln x = n ln 2 + head + tail.
+    let y_h = grid_64(y, 20i);
+    let y_l = y - y_h;
+    let nf = round(y_h * kf);
+    let g = y_h * kf - nf;
+    let head = g * LN2_28 + 2.0lf * y_h * s_h;
+    let tail = (y * s) * r + (g * LN2_28_TAIL + (y_l * (kf * LN_2 + 2.0lf * s) + 2.0lf * y_h * d));
+    let jf = round((head + tail) * LOG2_E_64);
+    let hi = head - jf * LN2_HI_64;
+    let lo = jf * LN2_LO_64 - tail;
+    let v = scale_64(exp_reduced_64(hi, lo), clamp(i32(nf) + i32(jf), -2044i, 2044i));
+    var at_zero = bitcast_inf_64();
+    if (y > 0.0lf) {
+        at_zero = 0.0lf;
+    } else if (y == 0.0lf) {
+        at_zero = 1.0lf;
     }
-    return exp_64(y * ln_64(x));
+    if (x > 0.0lf && x < bitcast_inf_64()) {
+        return v;
+    }
+    if (x == 0.0lf) {
+        return at_zero;
+    }
+    if (x == bitcast_inf_64()) {
+        return 1.0lf / at_zero;
+    }
+    return nan_64();
 }
 
 // tan x for the friction angles of the laws (|x| < pi/2, and a few

@@ -2,8 +2,8 @@
 //! no table, no branch the compiler cannot turn into a select, so a loop
 //! over the lanes of a vector compiles to vector instructions, and one
 //! lane's value is the same bits whatever the width or instruction set
-//! (Rust never contracts `a * b + c` on its own, and there is no fused
-//! multiply-add here).
+//! (Rust never contracts `a * b + c` on its own, and the CPU path fuses no
+//! multiply-add here: [`Fused`] is for a test).
 //!
 //! Accuracy, measured against `std` (`tests` below): `ln` and `exp`
 //! within 1 ulp (fdlibm's algorithms); `pow(x, y)` within
@@ -11,8 +11,13 @@
 //! law's sliding speeds and exponents b): at most 12 ulp for the default
 //! b = 0.612 at sliding speeds from 0.1 mm/s to 100 m/s, and below 7e-14
 //! relative anywhere in that range. Far below what the step tolerance
-//! resolves (1e-8), and it saves the double-length product that 1 ulp
-//! would take.
+//! resolves (1e-8), and cheaper than [`pow_carried`], which is within
+//! 1 ulp by carrying y ln x beyond double precision: the f64 shader's
+//! `pow`, whose agreement with `std` must not depend on how a GPU
+//! compiler rounds.
+
+mod carried;
+pub use carried::{pow_carried, Fused, MulAdd, Separate};
 
 /// ln 2 split for Cody and Waite's reduction: `LN2_HI` has 21 trailing
 /// zero bits, so k · LN2_HI is exact for |k| < 2^21.
@@ -101,32 +106,44 @@ pub fn ln(x: f64) -> f64 {
 /// `__ieee754_exp`, its branches made selects.
 #[inline(always)]
 pub fn exp(x: f64) -> f64 {
-    // fdlibm's minimax coefficients of the rational form below.
-    const P1: f64 = f64::from_bits(0x3fc5_5555_5555_553e); // 0.16666666666666602
-    const P2: f64 = f64::from_bits(0xbf66_c16c_16be_bd93); // -0.0027777777777015593
-    const P3: f64 = f64::from_bits(0x3f11_566a_af25_de2c); // 6.613756321437934e-05
-    const P4: f64 = f64::from_bits(0xbebb_bd41_c5d2_6bf1); // -1.6533902205465252e-06
-    const P5: f64 = f64::from_bits(0x3e66_3769_72be_a4d0); // 4.1381367970572385e-08
     let xc = x.clamp(-746.0, 710.0);
     // x = k ln 2 + r, |r| <= ln 2 / 2, r = hi − lo.
     let (kf, k) = round_int(xc * std::f64::consts::LOG2_E);
     let hi = xc - kf * LN2_HI;
     let lo = kf * LN2_LO;
-    let r = hi - lo;
-    // e^r = 1 + 2r / (2 − c), c = r − r² P(r²).
-    let t = r * r;
-    let c = r - t * (P1 + t * (P2 + t * (P3 + t * (P4 + t * P5))));
-    let e = 1.0 - ((lo - (r * c) / (2.0 - c)) - hi);
-    // 2^k in two factors, so k down to −1075 and up to 1024 is reached
-    // without an out-of-range exponent field.
-    let k1 = k / 2;
-    let k2 = k - k1;
-    let v = e * pow2i(k1) * pow2i(k2);
+    let v = scale(exp_reduced::<Separate>(hi, lo), k);
     if x.is_nan() {
         x
     } else {
         v
     }
+}
+
+/// e^(hi − lo) for |hi − lo| <= ln 2 / 2 and a small tail lo: fdlibm's
+/// e^r = 1 + 2r / (2 − c), c = r − r² P(r²), written as
+/// 1 − ((lo − r c / (2 − c)) − hi) so that the rounding of r = hi − lo
+/// reaches only the correction r c / (2 − c).
+#[inline(always)]
+fn exp_reduced<M: MulAdd>(hi: f64, lo: f64) -> f64 {
+    // fdlibm's minimax coefficients of P.
+    const P1: f64 = f64::from_bits(0x3fc5_5555_5555_553e); // 0.16666666666666602
+    const P2: f64 = f64::from_bits(0xbf66_c16c_16be_bd93); // -0.0027777777777015593
+    const P3: f64 = f64::from_bits(0x3f11_566a_af25_de2c); // 6.613756321437934e-05
+    const P4: f64 = f64::from_bits(0xbebb_bd41_c5d2_6bf1); // -1.6533902205465252e-06
+    const P5: f64 = f64::from_bits(0x3e66_3769_72be_a4d0); // 4.1381367970572385e-08
+    let r = hi - lo;
+    let t = r * r;
+    let p = M::mad(t, M::mad(t, M::mad(t, M::mad(t, P5, P4), P3), P2), P1);
+    let c = M::msub(t, p, r);
+    1.0 - ((lo - (r * c) / (2.0 - c)) - hi)
+}
+
+/// e · 2^k for k from −2044 to 2044, in two factors so that no exponent
+/// field leaves its range (e · 2^k is then 0 or ∞ where it should be).
+#[inline(always)]
+fn scale(e: f64, k: i64) -> f64 {
+    let k1 = k / 2;
+    e * pow2i(k1) * pow2i(k - k1)
 }
 
 /// x^y for x >= 0 (the powers of a sliding speed): exp(y ln x), with
