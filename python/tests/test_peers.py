@@ -57,6 +57,38 @@ def test_the_pairs_comparison_runs_on_the_peers_lanes(root, tmp_path):
     assert rows[("RK45", 1e-8)][0] < rows[("DOP853", 1e-8)][0], p.stdout
 
 
+def test_the_multistep_residual_overstates_the_local_error_far_more_than_the_embedded_estimate(
+    root, tmp_path
+):
+    """benches/peers/estimate_multistep.py (docs/performance.md): on the
+    peer's lanes at tol 1e-6, the embedded estimates summed are 5 to 15
+    times the actual local errors summed for every component, and the
+    multistep residual's median ratio to the local error is over 100 times
+    the embedded estimate's."""
+    lanes = tmp_path / "lanes.csv"
+    subprocess.run(
+        [sys.executable, root / "benches/peers/heyoka_peer.py", "--make-lanes", lanes,
+         "--distinct", "20", "--copies", "1"],
+        check=True,
+    )
+    p = subprocess.run(
+        [sys.executable, root / "benches/peers/estimate_multistep.py", lanes, "--lanes", "20"],
+        capture_output=True, text=True, check=True,
+    )
+    median = {}
+    sums = {}
+    for line in p.stdout.splitlines():
+        cells = [c.strip() for c in line.split("|")[1:-1]]
+        if len(cells) == 4 and cells[0] in ("embedded 4th-order", "multistep, 6 points"):
+            median[cells[0]] = float(cells[2])
+        if len(cells) == 3 and cells[0] in ("x1", "v1", "w_motor", "w_load", "w_friction"):
+            sums[cells[0]] = (float(cells[1]), float(cells[2]))
+    assert len(median) == 2 and len(sums) == 5, p.stdout
+    assert median["multistep, 6 points"] > 100 * median["embedded 4th-order"], p.stdout
+    for name, (actual, embedded) in sums.items():
+        assert 5 * actual < embedded < 15 * actual, (name, p.stdout)
+
+
 def test_the_cost_split_files_each_location_under_its_part(root):
     """benches/cost_split.py files callgrind's file:function locations
     under the parts docs/performance.md names; standard-library code under
