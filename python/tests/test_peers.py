@@ -32,17 +32,23 @@ def test_the_heyoka_peer_agrees_with_tswm(root, cli, tmp_path):
         assert "150 lanes" in p.stdout, p.stdout
 
 
-def test_the_pairs_comparison_runs_on_the_peers_lanes(root, tmp_path):
-    """benches/peers/pairs_scipy.py (docs/performance.md): each pair's
-    accuracy follows its tolerance, and the figure's claim holds on a few
-    lanes: at a tolerance where both pairs are within 1e-7, Dormand-Prince
-    5(4) takes fewer evaluations than DOP853."""
+def twenty_peer_lanes(root, tmp_path):
+    """The first 20 distinct lanes of the heyoka peer's table, once each."""
     lanes = tmp_path / "lanes.csv"
     subprocess.run(
         [sys.executable, root / "benches/peers/heyoka_peer.py", "--make-lanes", lanes,
          "--distinct", "20", "--copies", "1"],
         check=True,
     )
+    return lanes
+
+
+def test_the_pairs_comparison_runs_on_the_peers_lanes(root, tmp_path):
+    """benches/peers/pairs_scipy.py (docs/performance.md): each pair's
+    accuracy follows its tolerance, and the figure's claim holds on a few
+    lanes: at a tolerance where both pairs are within 1e-7, Dormand-Prince
+    5(4) takes fewer evaluations than DOP853."""
+    lanes = twenty_peer_lanes(root, tmp_path)
     p = subprocess.run(
         [sys.executable, root / "benches/peers/pairs_scipy.py", lanes, "--lanes", "20"],
         capture_output=True, text=True, check=True,
@@ -65,12 +71,7 @@ def test_the_multistep_residual_overstates_the_local_error_far_more_than_the_emb
     times the actual local errors summed for every component, and the
     multistep residual's median ratio to the local error is over 100 times
     the embedded estimate's."""
-    lanes = tmp_path / "lanes.csv"
-    subprocess.run(
-        [sys.executable, root / "benches/peers/heyoka_peer.py", "--make-lanes", lanes,
-         "--distinct", "20", "--copies", "1"],
-        check=True,
-    )
+    lanes = twenty_peer_lanes(root, tmp_path)
     p = subprocess.run(
         [sys.executable, root / "benches/peers/estimate_multistep.py", lanes, "--lanes", "20"],
         capture_output=True, text=True, check=True,

@@ -174,17 +174,9 @@ fn grid(x: f64, bits: i64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::ulps;
     use super::*;
     use crate::input::sampling::Uniforms;
-
-    /// Distance in units in the last place.
-    fn ulps(a: f64, b: f64) -> u64 {
-        if a == b {
-            return 0;
-        }
-        let (a, b) = (a.to_bits() as i64, b.to_bits() as i64);
-        (a - b).unsigned_abs()
-    }
 
     /// x^y's arguments over the model's range: sliding speeds 1e-12 to
     /// 1e4 m/s (log-uniform) to exponents in [−5, 5].

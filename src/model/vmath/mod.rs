@@ -173,7 +173,7 @@ mod tests {
     use crate::input::sampling::Uniforms;
 
     /// Distance in units in the last place.
-    fn ulps(a: f64, b: f64) -> u64 {
+    pub(super) fn ulps(a: f64, b: f64) -> u64 {
         if a == b {
             return 0;
         }
