@@ -3,7 +3,10 @@
 //! with its multiply-adds written out so that a test can run it as a
 //! compiler that fuses them would.
 
-use super::{exp_reduced, int_to_f64, pow2i, round_int, scale, split_exponent, LN2_HI, LN2_LO};
+use super::{
+    exp_reduced, int_to_f64, pow2i, round_int, scale, split_exponent, LG1, LG2, LG3, LG4, LG5, LG6,
+    LG7, LN2_HI, LN2_LO,
+};
 
 /// One multiply-add `a · b + c` of the algorithms below, written out so
 /// that a test can run them as a compiler that fuses multiply-adds would
@@ -137,16 +140,6 @@ struct Series {
 
 #[inline(always)]
 fn series<M: MulAdd>(m: f64) -> Series {
-    // fdlibm's minimax coefficients of R(z) = (ln((1+s)/(1−s)) − 2s) / s,
-    // z = s², within 2^−58.45.
-    const LG1: f64 = f64::from_bits(0x3fe5_5555_5555_5593); // 0.6666666666666735
-    const LG2: f64 = f64::from_bits(0x3fd9_9999_9997_fa04); // 0.3999999999940942
-    const LG3: f64 = f64::from_bits(0x3fd2_4924_9422_9359); // 0.2857142874366239
-    const LG4: f64 = f64::from_bits(0x3fcc_71c5_1d8e_78af); // 0.22222198432149784
-    const LG5: f64 = f64::from_bits(0x3fc7_4664_96cb_03de); // 0.1818357216161805
-    const LG6: f64 = f64::from_bits(0x3fc3_9a09_d078_c69f); // 0.15313837699209373
-    const LG7: f64 = f64::from_bits(0x3fc2_f112_df3e_5244); // 0.14798198605116586
-
     let f = m - 1.0;
     let inv = 1.0 / (2.0 + f);
     // s = s_h + δ: s_h on a 2^−24 grid (22 bits), δ from the exact

@@ -60,19 +60,21 @@ pub(crate) fn pow2i(k: i64) -> f64 {
     f64::from_bits(((k + 1023) as u64) << 52)
 }
 
+// fdlibm's minimax coefficients of R(z) = (ln((1+s)/(1−s)) − 2s) / s,
+// z = s², within 2^−58.45 (`ln` and `carried::series`).
+const LG1: f64 = f64::from_bits(0x3fe5_5555_5555_5593); // 0.6666666666666735
+const LG2: f64 = f64::from_bits(0x3fd9_9999_9997_fa04); // 0.3999999999940942
+const LG3: f64 = f64::from_bits(0x3fd2_4924_9422_9359); // 0.2857142874366239
+const LG4: f64 = f64::from_bits(0x3fcc_71c5_1d8e_78af); // 0.22222198432149784
+const LG5: f64 = f64::from_bits(0x3fc7_4664_96cb_03de); // 0.1818357216161805
+const LG6: f64 = f64::from_bits(0x3fc3_9a09_d078_c69f); // 0.15313837699209373
+const LG7: f64 = f64::from_bits(0x3fc2_f112_df3e_5244); // 0.14798198605116586
+
 /// ln x for x > 0 (subnormals included); NaN below 0, −∞ at 0. Within
 /// 1 ulp: fdlibm's `__ieee754_log`, its branches made selects.
 #[inline(always)]
 pub fn ln(x: f64) -> f64 {
-    // fdlibm's minimax coefficients: R(z) below, within 2^-58.45.
-    const LG1: f64 = f64::from_bits(0x3fe5_5555_5555_5593); // 0.6666666666666735
-    const LG2: f64 = f64::from_bits(0x3fd9_9999_9997_fa04); // 0.3999999999940942
-    const LG3: f64 = f64::from_bits(0x3fd2_4924_9422_9359); // 0.2857142874366239
-    const LG4: f64 = f64::from_bits(0x3fcc_71c5_1d8e_78af); // 0.22222198432149784
-    const LG5: f64 = f64::from_bits(0x3fc7_4664_96cb_03de); // 0.1818357216161805
-    const LG6: f64 = f64::from_bits(0x3fc3_9a09_d078_c69f); // 0.15313837699209373
-    const LG7: f64 = f64::from_bits(0x3fc2_f112_df3e_5244); // 0.14798198605116586
-                                                            // Subnormals: scale into the normal range first.
+    // Subnormals: scale into the normal range first.
     let tiny = x < f64::MIN_POSITIVE;
     let xs = if tiny {
         x * 18_014_398_509_481_984.0
