@@ -109,6 +109,39 @@ fn grid_64(x: f64, bits: i32) -> f64 {
     return ldexp(round(ldexp(x, bits)), -bits);
 }
 
+// ln m = 2s + s R(s^2) for m in [sqrt(1/2), sqrt(2)), s = f / (2 + f),
+// f = m - 1, with s as a head on a 2^-24 grid and a tail (vmath
+// carried.rs series).
+struct Series64 {
+    s_h: f64,
+    d: f64,
+    s: f64,
+    r: f64,
+}
+
+fn series_64(m: f64) -> Series64 {
+    let LG1 = 6.666666666666735130e-01lf;
+    let LG2 = 3.999999999940941908e-01lf;
+    let LG3 = 2.857142874366239149e-01lf;
+    let LG4 = 2.222219843214978396e-01lf;
+    let LG5 = 1.818357216161805012e-01lf;
+    let LG6 = 1.531383769920937332e-01lf;
+    let LG7 = 1.479819860511658591e-01lf;
+    let f = m - 1.0lf;
+    let inv = 1.0lf / (2.0lf + f);
+    let s_h = grid_64(f * inv, 24i);
+    let f_h = grid_64(f, 24i);
+    let f_l = f - f_h;
+    let num = f_l * (1.0lf - s_h) + ((f_h - 2.0lf * s_h) - s_h * f_h);
+    let d = num * inv;
+    let s = num * inv + s_h;
+    let z = s * s;
+    let w = z * z;
+    let t1 = w * (LG2 + w * (LG4 + w * LG6));
+    let r = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7))) + t1;
+    return Series64(s_h, d, s, r);
+}
+
 // x^y for x >= 0 and |y| <= 8: 0^y = 0 for y > 0, 1 for y = 0, +inf for
 // y < 0, inf^y the inverse, NaN for x < 0 or NaN (vmath pow_carried, line
 // for line, within 1 ulp of std's powf). y ln x is carried beyond double
@@ -123,28 +156,13 @@ fn pow_64(x: f64, y: f64) -> f64 {
     let LN2_28 = 6.93147178739309310913e-01lf;
     let LN2_28_TAIL = 1.82063599850414622404e-09lf;
     let LN_2 = 6.93147180559945286227e-01lf;
-    let LG1 = 6.666666666666735130e-01lf;
-    let LG2 = 3.999999999940941908e-01lf;
-    let LG3 = 2.857142874366239149e-01lf;
-    let LG4 = 2.222219843214978396e-01lf;
-    let LG5 = 1.818357216161805012e-01lf;
-    let LG6 = 1.531383769920937332e-01lf;
-    let LG7 = 1.479819860511658591e-01lf;
     let sp = split_exponent_64(x);
     let kf = f64(sp.k);
-    // ln m = 2s + s R(s^2), s = f / (2 + f) = s_h + d.
-    let f = sp.m - 1.0lf;
-    let inv = 1.0lf / (2.0lf + f);
-    let s_h = grid_64(f * inv, 24i);
-    let f_h = grid_64(f, 24i);
-    let f_l = f - f_h;
-    let num = f_l * (1.0lf - s_h) + ((f_h - 2.0lf * s_h) - s_h * f_h);
-    let d = num * inv;
-    let s = num * inv + s_h;
-    let z = s * s;
-    let w = z * z;
-    let t1 = w * (LG2 + w * (LG4 + w * LG6));
-    let r = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7))) + t1;
+    let se = series_64(sp.m);
+    let s_h = se.s_h;
+    let d = se.d;
+    let s = se.s;
+    let r = se.r;
     // y ln x = n ln 2 + head + tail.
     let y_h = grid_64(y, 20i);
     let y_l = y - y_h;

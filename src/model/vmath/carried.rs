@@ -4,8 +4,8 @@
 //! compiler that fuses them would.
 
 use super::{
-    exp_reduced, int_to_f64, pow2i, round_int, scale, split_exponent, LG1, LG2, LG3, LG4, LG5, LG6,
-    LG7, LN2_HI, LN2_LO,
+    exp_reduced, pow2i, round_int, scale, split_any, LG1, LG2, LG3, LG4, LG5, LG6, LG7, LN2_HI,
+    LN2_LO,
 };
 
 /// One multiply-add `a · b + c` of the algorithms below, written out so
@@ -69,15 +69,7 @@ pub fn pow_carried<M: MulAdd>(x: f64, y: f64) -> f64 {
     // ln 2 to 28 bits (g · LN2_28 exact for g on a 2^−20 grid), and the rest.
     const LN2_28: f64 = f64::from_bits(0x3fe6_2e42_fe00_0000);
     const LN2_28_TAIL: f64 = f64::from_bits(0x3e1f_473d_e6af_278f);
-    // Subnormals: scaled into the normal range first (by 2^54).
-    let tiny = x < f64::MIN_POSITIVE;
-    let xs = if tiny {
-        x * 18_014_398_509_481_984.0
-    } else {
-        x
-    };
-    let (k, m) = split_exponent(xs);
-    let kf = int_to_f64(k - if tiny { 54 } else { 0 });
+    let (kf, m) = split_any(x);
     let Series { s_h, d, s, r } = series::<M>(m);
     // y ln x = n ln 2 + head + tail, y = y_h + y_l with y_h on a 2^−20
     // grid, y_h k = n + g (n an integer, g exact), head = g LN2_28 +

@@ -54,6 +54,20 @@ pub(crate) fn int_to_f64(k: i64) -> f64 {
     f64::from_bits((ROUND.to_bits() as i64 + k) as u64) - ROUND
 }
 
+/// (k as an f64, m) with x = 2^k · m and m in [√½, √2), for any x > 0,
+/// subnormals scaled into the normal range first (by 2^54).
+#[inline(always)]
+fn split_any(x: f64) -> (f64, f64) {
+    let tiny = x < f64::MIN_POSITIVE;
+    let xs = if tiny {
+        x * 18_014_398_509_481_984.0
+    } else {
+        x
+    };
+    let (k, m) = split_exponent(xs);
+    (int_to_f64(k - if tiny { 54 } else { 0 }), m)
+}
+
 /// 2^k for k in the normal range [−1022, 1023], from its exponent field.
 #[inline(always)]
 pub(crate) fn pow2i(k: i64) -> f64 {
@@ -74,15 +88,7 @@ const LG7: f64 = f64::from_bits(0x3fc2_f112_df3e_5244); // 0.14798198605116586
 /// 1 ulp: fdlibm's `__ieee754_log`, its branches made selects.
 #[inline(always)]
 pub fn ln(x: f64) -> f64 {
-    // Subnormals: scale into the normal range first.
-    let tiny = x < f64::MIN_POSITIVE;
-    let xs = if tiny {
-        x * 18_014_398_509_481_984.0
-    } else {
-        x
-    }; // 2^54
-    let (k, m) = split_exponent(xs);
-    let k = k - if tiny { 54 } else { 0 };
+    let (kf, m) = split_any(x);
     // m in [√½, √2): ln m = 2 atanh(s), s = f / (2 + f), |s| < 0.1716,
     // = f − hf² + s (hf² + R(s²)), hf² = f²/2.
     let f = m - 1.0;
@@ -93,7 +99,6 @@ pub fn ln(x: f64) -> f64 {
     let t2 = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7)));
     let r = t2 + t1;
     let hfsq = 0.5 * f * f;
-    let kf = int_to_f64(k);
     let v = kf * LN2_HI - ((hfsq - (s * (hfsq + r) + kf * LN2_LO)) - f);
     if x > 0.0 {
         v
