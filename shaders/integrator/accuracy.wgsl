@@ -44,3 +44,44 @@ fn add_split(st: ptr<function, State>, err: vec2<real>) {
     (*st).local[7] += err.y;
     (*st).local[8] += err.y;
 }
+
+// The room a result's estimate has left below BUDGET_AIM of its size, at
+// value v, rate `rate` and estimate so far `used`: its size is the
+// largest of 1, |v| and the value it would reach going on at its rate
+// for the `left` seconds to t_end.
+fn room(v: real, rate: real, used: real, left: real) -> real {
+    let ahead = abs(v + rate * left);
+    let aim = BUDGET_AIM * max(max(abs(v), ahead), 1.0);
+    return max(aim - used, 0.0);
+}
+
+fn used(st: ptr<function, State>, r: u32) -> real { return (*st).phase[r] + (*st).local[r]; }
+
+// The largest error estimate a step of size h may make in each component
+// (absolute): each result's room shared over the rest of the horizon in
+// proportion to the step. The integral of p1's cap is that of the part
+// of p1 the step starts feeding; w_friction's also that of p2's part.
+// Without the budget (f32), or at a tolerance the budget does not steer
+// (STEER_ABOVE), no cap.
+fn caps(l: Lane, st: ptr<function, State>, h: real) -> array<real, NY> {
+    if (!KEEP_BUDGET || !(g.tol > STEER_ABOVE)) {
+        return array<real, NY>(3.0e38, 3.0e38, 3.0e38, 3.0e38, 3.0e38, 3.0e38);
+    }
+    let left = max(l.t_end - time_of(st), 0.0);
+    let share = h / max(left, h);
+    let y = (*st).y;
+    let k = (*st).k1;
+    let f = (*st).flow;
+    let p1 = k[5];
+    let p2 = k[4] - k[5];
+    // The part of p1 (of p2) the step starts feeding, in or out.
+    let part1 = select(room(f.x, p1, used(st, 5u), left), room(f.y, -p1, used(st, 6u), left), p1 < 0.0);
+    let part2 = select(room(f.z, p2, used(st, 7u), left), room(f.w, -p2, used(st, 8u), left), p2 < 0.0);
+    return array<real, NY>(
+        room(y[0], k[0], used(st, 0u), left) * share,
+        room(y[1], k[1], used(st, 1u), left) * share,
+        room(y[2], k[2], used(st, 2u), left) * share,
+        room(y[3], k[3], used(st, 3u), left) * share,
+        min(room(y[4], k[4], used(st, 4u), left), part2) * share,
+        part1 * share);
+}

@@ -84,7 +84,7 @@ fn add_flow(st: ptr<function, State>, tr: Trial, h: real) {
 
 fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: real, which: u32, h_next: real) {
     let h_ev = theta * plan.h;
-    let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol, g.tol_traj);
+    let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol, g.tol_traj, caps(l, st, h_ev));
     add_flow(st, ev, h_ev);
     time_add(st, h_ev);
     (*st).y = ev.y1;
@@ -112,7 +112,7 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: real,
 fn attempt(l: Lane, st: ptr<function, State>) {
     let plan = prepare(l, st);
     if (plan.ok) {
-        let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol, g.tol_traj);
+        let tr = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, plan.h, g.tol, g.tol_traj, caps(l, st, plan.h));
         finish_step(l, st, plan, tr);
     }
 }

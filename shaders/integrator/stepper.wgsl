@@ -66,7 +66,11 @@ fn step_component(tr: ptr<function, Trial>, i: u32, dy: real, y: real, yc: real)
     (*tr).y1[i] = s;
 }
 
-fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array<real, NY>, h: real, tol: real, tol_traj: real) -> Trial {
+// The error scale s held within the error budget's cap c (`caps`), but
+// never below a tenth of s: the tolerance a lane is run again at.
+fn capped(s: real, c: real) -> real { return min(s, max(c, 0.1 * s)); }
+
+fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array<real, NY>, h: real, tol: real, tol_traj: real, cap: array<real, NY>) -> Trial {
     let v0 = y[1];
     let k2 = rhs(l, m, stage2_v(v0, h, k1[1])).k;
     let k3 = rhs(l, m, stage3_v(v0, h, k1[1], k2[1])).k;
@@ -86,17 +90,17 @@ fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array
     tr.k7 = rhs(l, m, tr.y1[1]).k;
     var err: real = 0.0;
     tr.est[0] = abs(error_term(h, k1[0], k3[0], k4[0], k5[0], k6[0], tr.k7[0]));
-    err = max(err, tr.est[0] / error_scale(tol_traj, y[0], tr.y1[0]));
+    err = max(err, tr.est[0] / capped(error_scale(tol_traj, y[0], tr.y1[0]), cap[0]));
     tr.est[1] = abs(error_term(h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1]));
-    err = max(err, tr.est[1] / error_scale(tol_traj, y[1], tr.y1[1]));
+    err = max(err, tr.est[1] / capped(error_scale(tol_traj, y[1], tr.y1[1]), cap[1]));
     tr.est[2] = abs(error_term(h, k1[2], k3[2], k4[2], k5[2], k6[2], tr.k7[2]));
-    err = max(err, tr.est[2] / error_scale(tol, y[2], tr.y1[2]));
+    err = max(err, tr.est[2] / capped(error_scale(tol, y[2], tr.y1[2]), cap[2]));
     tr.est[3] = abs(error_term(h, k1[3], k3[3], k4[3], k5[3], k6[3], tr.k7[3]));
-    err = max(err, tr.est[3] / error_scale(tol, y[3], tr.y1[3]));
+    err = max(err, tr.est[3] / capped(error_scale(tol, y[3], tr.y1[3]), cap[3]));
     tr.est[4] = abs(error_term(h, k1[4], k3[4], k4[4], k5[4], k6[4], tr.k7[4]));
-    err = max(err, tr.est[4] / error_scale(tol, y[4], tr.y1[4]));
+    err = max(err, tr.est[4] / capped(error_scale(tol, y[4], tr.y1[4]), cap[4]));
     tr.est[5] = abs(error_term(h, k1[5], k3[5], k4[5], k5[5], k6[5], tr.k7[5]));
-    err = max(err, tr.est[5] / error_scale(tol, y[5], tr.y1[5]));
+    err = max(err, tr.est[5] / capped(error_scale(tol, y[5], tr.y1[5]), cap[5]));
     // NaN and infinity fail this test: the step is rejected.
     if (!(err <= 3.0e38)) { err = 3.0e38; }
     tr.err = err;

@@ -31,12 +31,21 @@
 //! bound). A lane whose estimate is over [`LIMIT`] times the bound for any
 //! result is run again at [`Settings::tighter`]; its row says
 //! `cpu:refined` and the run's summary counts it.
+//!
+//! At a tolerance looser than the default the estimate is also a limit the
+//! step control works to (`Budgets::caps`, `Settings::steers`): a step's
+//! error in each component is held within the room its result has left
+//! below [`BUDGET_AIM`], shared over the rest of the horizon. Otherwise
+//! the sum of a lane's step estimates, some steps × tol, would be over the
+//! limit for most lanes at a loose tolerance, and most lanes would be run
+//! twice (a looser tolerance was slower than the default).
 
 use super::components::{powers, NY};
 use super::result::{LaneResult, Status};
 use super::settings::Settings;
 use super::stepper::Trial;
 use crate::lanewise::Lanewise;
+use crate::model::vmath::{larger, smaller};
 
 /// Results the budget covers: x1, ẋ1, w_motor, w_load, w_friction, w1_in,
 /// w1_out, w2_in, w2_out (lanes.csv's order).
@@ -48,6 +57,15 @@ pub const BOUND: f64 = 1e-6;
 /// A lane is run again when a result's estimate is over this many times
 /// [`BOUND`] (the estimate overstates the error; see the module's text).
 pub const LIMIT: f64 = 3.0;
+
+/// The share of [`LIMIT`] × [`BOUND`] the step control aims a result's
+/// estimate at by the lane's end, where the budget steers the steps
+/// (`Budgets::caps`, `Settings::steers`).
+pub const AIM: f64 = 0.3;
+
+/// [`AIM`] × [`LIMIT`] × [`BOUND`]: what a result's estimate is aimed at,
+/// relative to max(1, |its size|) (the shader's `BUDGET_AIM`).
+pub const BUDGET_AIM: f64 = AIM * LIMIT * BOUND;
 
 crate::lanewise_struct! {
     /// The running error estimate of one lane's results; [`Budgets`]
@@ -80,6 +98,65 @@ pub(crate) fn rates<const N: usize>(k: &[[f64; N]; NY]) -> [[f64; N]; RESULTS] {
         r[8][j] = (-p2).max(0.0);
     }
     r
+}
+
+impl<const N: usize> Budgets<N> {
+    /// The largest error estimate a step of size `h` from time `t` may
+    /// make in each component (absolute), into `cap`: the room each
+    /// result's estimate has left below [`BUDGET_AIM`] of its size, shared
+    /// over the rest of the horizon `t_end` in proportion to the step. A
+    /// result's size is max(1, |its value|, |the value it would reach at
+    /// `t_end` going on at its present rate|): its final size is not
+    /// known yet, and where it ends smaller (a work that cancels) the
+    /// lane may still be refined. So a lane's estimate is held within the
+    /// limit where its step tolerance alone would not hold it there, and
+    /// the lane is not run again. ∫p1's cap is that of the part of p1 the
+    /// step starts feeding (its sign in `k1`); w_friction's also that of
+    /// p2's part.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn caps(
+        &self,
+        y: &[[f64; N]; NY],
+        k1: &[[f64; N]; NY],
+        flow: &[[f64; N]; 4],
+        t: &[f64; N],
+        t_end: &[f64; N],
+        h: &[f64; N],
+        cap: &mut [[f64; N]; NY],
+    ) {
+        for j in 0..N {
+            let left = larger(t_end[j] - t[j], 0.0);
+            let share = h[j] / larger(left, h[j]);
+            // The room of a result at value v, rate `rate` and estimate
+            // so far `used`.
+            let room = |v: f64, rate: f64, used: f64| {
+                // The result's size at t_end if it went on at its rate.
+                let ahead = (v + rate * left).abs();
+                let aim = BUDGET_AIM * larger(larger(v.abs(), ahead), 1.0);
+                larger(aim - used, 0.0)
+            };
+            let used = |r: usize| self.phase[r][j] + self.local[r][j];
+            for i in 0..4 {
+                cap[i][j] = room(y[i][j], k1[i][j], used(i)) * share;
+            }
+            // The part of p1 (of p2) the step starts feeding, in or out:
+            // both rooms computed and one selected, as vector code.
+            let (p1, p2) = powers(k1[4][j], k1[5][j]);
+            let (in1, out1) = (
+                room(flow[0][j], p1, used(5)),
+                room(flow[1][j], -p1, used(6)),
+            );
+            let (in2, out2) = (
+                room(flow[2][j], p2, used(7)),
+                room(flow[3][j], -p2, used(8)),
+            );
+            let part1 = if p1 < 0.0 { out1 } else { in1 };
+            let part2 = if p2 < 0.0 { out2 } else { in2 };
+            cap[4][j] = smaller(room(y[4][j], k1[4][j], used(4)), part2) * share;
+            cap[5][j] = part1 * share;
+        }
+    }
 }
 
 impl ErrorBudget {

@@ -12,6 +12,7 @@
 //! `simulate`'s whichever path each of its steps took.
 
 use super::automaton::{init, LaneState, LaneStates};
+use super::components::NY;
 use super::control::step_size;
 use super::events::{Watch, Watches};
 use super::settings::Settings;
@@ -32,6 +33,8 @@ struct Lanes<const N: usize> {
     ready: [bool; N],
     /// The next time event.
     t_stop: [f64; N],
+    /// The lane's horizon (`Lane::t_end`).
+    t_end: [f64; N],
     /// The friction law is steep at rest.
     steep: [bool; N],
     /// What each lane's steps watch for.
@@ -48,6 +51,7 @@ impl<const N: usize> Lanes<N> {
             st,
             ready: [false; N],
             t_stop: [0.0; N],
+            t_end: [0.0; N],
             steep: [false; N],
             watch: Watches::zero(),
         }
@@ -58,6 +62,7 @@ impl<const N: usize> Lanes<N> {
     fn load(&mut self, j: usize, lane: &Lane, st: &LaneState) {
         self.st.set_lane(j, *st);
         self.ready[j] = !st.stuck && st.k1_valid && !st.done;
+        self.t_end[j] = lane.t_end;
         self.t_stop[j] = time_stop(lane, st);
         self.steep[j] = lane.steep;
         self.watch
@@ -93,6 +98,8 @@ pub(crate) struct Slots<const N: usize> {
     slot: [Option<usize>; N],
     hot: Lanes<N>,
     trials: Trials<N>,
+    /// Each component's cap on a trial's error (`Budgets::caps`).
+    cap: [[f64; N]; NY],
     mode: [Mode; N],
     /// The constants, kept while a slot's lane and mode stay: `fresh[j]`
     /// until the automaton runs on slot j or it takes a new lane.
@@ -109,6 +116,7 @@ impl<const N: usize> Slots<N> {
             slot: [None; N],
             hot: Lanes::empty(),
             trials: Trials::zero(),
+            cap: [[f64::INFINITY; N]; NY],
             mode,
             coefs: Coefs::of(&[any; N], &mode),
             fresh: [false; N],
@@ -189,6 +197,14 @@ impl<const N: usize> Slots<N> {
             }
         }
         let st = &mut self.hot.st;
+        // Without steering the caps stay infinite (`Slots::new`), and
+        // `capped` leaves every error scale as it is.
+        let cap = &mut self.cap;
+        if set.steers() {
+            let t_end = &self.hot.t_end;
+            st.budget
+                .caps(&st.y, &st.k1, &st.flow, &st.t, t_end, &h, cap);
+        }
         try_steps::<N>(
             &self.coefs,
             lane,
@@ -196,6 +212,7 @@ impl<const N: usize> Slots<N> {
             &st.y,
             &st.k1,
             h,
+            cap,
             set,
             &mut self.trials,
         );

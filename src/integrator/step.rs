@@ -7,6 +7,7 @@
 //! budget is spent.
 
 use super::automaton::{check_mode, come_to_rest, horizon, reach_time_event, set_side, LaneState};
+use super::components::NY;
 use super::control::step_size;
 use super::events::{earliest_event, EventFn, Watch};
 use super::flow::step_flow;
@@ -223,7 +224,7 @@ pub(crate) fn step_to_event(
     h_next: f64,
 ) {
     let h_ev = theta * plan.h;
-    let ev = try_step(lane, tables, plan.mode, &st.y, &st.k1, h_ev, set);
+    let ev = trial(lane, tables, plan.mode, st, h_ev, set);
     add_flow(st, &ev, h_ev);
     st.t += h_ev;
     st.y = ev.y1;
@@ -273,7 +274,39 @@ pub fn advance(
 /// over it as [`advance`] does, taking a new lane when one finishes.
 pub fn attempt(lane: &Lane, tables: &[FrictionTable], set: &Settings, st: &mut LaneState) {
     if let Some(plan) = prepare(lane, tables, st) {
-        let trial = try_step(lane, tables, plan.mode, &st.y, &st.k1, plan.h, set);
+        let trial = trial(lane, tables, plan.mode, st, plan.h, set);
         finish_step(lane, tables, set, st, &plan, &trial);
     }
+}
+
+/// A trial step of size `h` from the lane's state, its error held within
+/// the budget's caps (`Budgets::caps` of one lane) where the budget steers
+/// (`Settings::steers`).
+#[inline]
+pub(crate) fn trial(
+    lane: &Lane,
+    tables: &[FrictionTable],
+    mode: Mode,
+    st: &LaneState,
+    h: f64,
+    set: &Settings,
+) -> Trial {
+    let mut cap = [[f64::INFINITY]; NY];
+    if set.steers() {
+        let col = |a: &[f64; NY]| a.map(|v| [v]);
+        let flow = st.flow.map(|v| [v]);
+        let (y, k1) = (col(&st.y), col(&st.k1));
+        let b = st.budget.one();
+        b.caps(&y, &k1, &flow, &[st.t], &[lane.t_end], &[h], &mut cap);
+    }
+    try_step(
+        lane,
+        tables,
+        mode,
+        &st.y,
+        &st.k1,
+        h,
+        &cap.map(|v| v[0]),
+        set,
+    )
 }

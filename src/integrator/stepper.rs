@@ -13,6 +13,7 @@ use super::control::step_factor;
 use super::rhs::rhs_lanes;
 use super::settings::Settings;
 use crate::lanewise::by_lane;
+use crate::model::vmath::{larger, smaller};
 use crate::model::{Coefs, FrictionTable, Lane, Mode};
 
 /// Declares the tableau's coefficients, each with its value as its doc.
@@ -109,6 +110,14 @@ pub(crate) fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
     tol * (1.0 + y0.abs().max(y1.abs()))
 }
 
+/// The error scale `s` held within the error budget's cap `c`
+/// (`Budgets::caps`), but never below a tenth of `s`: the tolerance a
+/// lane is run again at, where the budget's limit is left to refinement.
+#[inline(always)]
+pub(crate) fn capped(s: f64, c: f64) -> f64 {
+    smaller(s, larger(c, 0.1 * s))
+}
+
 /// Dense-output coefficients of a component over the step from its value
 /// `v0` to `v1` (see `events::dense_v`).
 #[inline]
@@ -165,11 +174,15 @@ crate::lanewise_struct! {
         /// ∫p2 dt (absolute; the accuracy budget adds them up, see
         /// `accuracy`).
         pub(crate) est: [f64; NY + 1],
+        /// The derivatives at stages 2 to 6 (`try_steps`' scratch).
+        pub(crate) stages: [[f64; NY]; 5],
     }
 }
 
-/// One trial step of size h from (y, k1): [`try_steps`] of one lane.
+/// One trial step of size h from (y, k1), each component's error held
+/// within `cap` ([`capped`]): [`try_steps`] of one lane.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn try_step(
     lane: &Lane,
     tables: &[FrictionTable],
@@ -177,6 +190,7 @@ pub(crate) fn try_step(
     y: &[f64; NY],
     k1: &[f64; NY],
     h: f64,
+    cap: &[f64; NY],
     set: &Settings,
 ) -> Trial {
     let mut tr = Trials::<1>::zero();
@@ -188,6 +202,7 @@ pub(crate) fn try_step(
         &col(y),
         &col(k1),
         [h],
+        &col(cap),
         set,
         &mut tr,
     );
@@ -210,25 +225,27 @@ pub(crate) fn try_steps<const N: usize>(
     y0: &[[f64; N]; NY],
     k1: &[[f64; N]; NY],
     h: [f64; N],
+    cap: &[[f64; N]; NY],
     set: &Settings,
     tr: &mut Trials<N>,
 ) {
-    let z = [[0.0; N]; NY];
-    let (mut k2, mut k3, mut k4, mut k5, mut k6) = (z, z, z, z, z);
+    // The stages' derivatives in `tr`, written before they are read:
+    // locals would be zeroed at every attempt.
+    let [k2, k3, k4, k5, k6] = &mut tr.stages;
     let k7 = &mut tr.k7;
     let v0 = &y0[1];
     let a1 = &k1[1];
     let v: [f64; N] = by_lane(|j| stage2_v(v0[j], h[j], a1[j]));
-    rhs_lanes(c, &lane, tables, &v, &mut k2, |_, _| {});
+    rhs_lanes(c, &lane, tables, &v, k2, |_, _| {});
     let v: [f64; N] = by_lane(|j| stage3_v(v0[j], h[j], a1[j], k2[1][j]));
-    rhs_lanes(c, &lane, tables, &v, &mut k3, |_, _| {});
+    rhs_lanes(c, &lane, tables, &v, k3, |_, _| {});
     let v: [f64; N] = by_lane(|j| stage4_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j]));
-    rhs_lanes(c, &lane, tables, &v, &mut k4, |_, _| {});
+    rhs_lanes(c, &lane, tables, &v, k4, |_, _| {});
     let v: [f64; N] = by_lane(|j| stage5_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j]));
-    rhs_lanes(c, &lane, tables, &v, &mut k5, |_, _| {});
+    rhs_lanes(c, &lane, tables, &v, k5, |_, _| {});
     let v: [f64; N] =
         by_lane(|j| stage6_v(v0[j], h[j], a1[j], k2[1][j], k3[1][j], k4[1][j], k5[1][j]));
-    rhs_lanes(c, &lane, tables, &v, &mut k6, |_, _| {});
+    rhs_lanes(c, &lane, tables, &v, k6, |_, _| {});
     let y1 = &mut tr.y1;
     for i in 0..NY {
         for j in 0..N {
@@ -248,7 +265,8 @@ pub(crate) fn try_steps<const N: usize>(
                 h[j], k1[i][j], k3[i][j], k4[i][j], k5[i][j], k6[i][j], k7[i][j],
             );
             est[i][j] = et.abs();
-            err[j] = err[j].max(est[i][j] / error_scale(tol, y0[i][j], y1[i][j]));
+            let s = capped(error_scale(tol, y0[i][j], y1[i][j]), cap[i][j]);
+            err[j] = err[j].max(est[i][j] / s);
         }
     }
     tr.g_switch = c.switch_values(&f1_end);
@@ -266,10 +284,10 @@ pub(crate) fn try_steps<const N: usize>(
         // The quadratures of p1 and p2.
         let w = |k: &[[f64; N]; NY]| powers(k[4][j], k[5][j]).0;
         let p2 = |k: &[[f64; N]; NY]| powers(k[4][j], k[5][j]).1;
-        let (a, b, c3, d, e, f) = (w(k1), w(&k3), w(&k4), w(&k5), w(&k6), w(k7));
+        let (a, b, c3, d, e, f) = (w(k1), w(k3), w(k4), w(k5), w(k6), w(k7));
         tr.dw[0][j] = increment(h[j], a, b, c3, d, e);
         tr.dw_r4[0][j] = dense_r5(h[j], a, b, c3, d, e, f);
-        let (a, b, c3, d, e, f) = (p2(k1), p2(&k3), p2(&k4), p2(&k5), p2(&k6), p2(k7));
+        let (a, b, c3, d, e, f) = (p2(k1), p2(k3), p2(k4), p2(k5), p2(k6), p2(k7));
         tr.dw[1][j] = increment(h[j], a, b, c3, d, e);
         tr.dw_r4[1][j] = dense_r5(h[j], a, b, c3, d, e, f);
         est[NY][j] = error_term(h[j], a, b, c3, d, e, f).abs();

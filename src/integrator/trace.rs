@@ -11,8 +11,7 @@ use super::automaton::{init, LaneState};
 use super::events::dense_v;
 use super::result::{Contact, LaneResult};
 use super::settings::Settings;
-use super::step::{finish_step, prepare};
-use super::stepper::try_step;
+use super::step::{finish_step, prepare, trial};
 use crate::model::{motion, motor_force, phi, FrictionTable, Lane};
 
 /// One row of a trace (docs/model.md section 11).
@@ -126,7 +125,7 @@ pub fn simulate_traced(
                 }
             }
             Some(plan) => {
-                let trial = try_step(lane, tables, plan.mode, &st.y, &st.k1, plan.h, set);
+                let trial = trial(lane, tables, plan.mode, &st, plan.h, set);
                 let from = st;
                 finish_step(lane, tables, set, &mut st, &plan, &trial);
                 if st.t > from.t {

@@ -93,7 +93,7 @@ pub fn prelude() -> String {
 /// type, and the limits of that type's path.
 pub fn prelude_of(real: ShaderReal) -> String {
     use crate::integrator::events::EventFn;
-    use crate::integrator::{Status, NY};
+    use crate::integrator::{accuracy, Status, NY};
     use crate::model::laws;
     let mut s = String::from("// Generated from the Rust declarations (backend/gpu/shader.rs).\n");
     let (ty, suffix, f) = match real {
@@ -126,10 +126,7 @@ pub fn prelude_of(real: ShaderReal) -> String {
         EventFn::ALL.map(|e| (format!("EV_{}", format!("{e:?}").to_uppercase()), e as u32)),
     );
     u32s.push(("NY".into(), NY as u32));
-    u32s.push((
-        "RESULTS".into(),
-        crate::integrator::accuracy::RESULTS as u32,
-    ));
+    u32s.push(("RESULTS".into(), accuracy::RESULTS as u32));
     u32s.push((
         "TABLE_VEC4S".into(),
         (crate::model::MAX_TABLE_POINTS / 4) as u32,
@@ -149,6 +146,8 @@ pub fn prelude_of(real: ShaderReal) -> String {
         laws::AGMA_HIGH_C,
     ));
     reals.push(("PI", std::f64::consts::PI));
+    reals.push(("BUDGET_AIM", accuracy::BUDGET_AIM));
+    reals.push(("STEER_ABOVE", crate::integrator::settings::STEER_ABOVE));
     reals.extend(match real {
         ShaderReal::F32 => [
             ("STEP_UNDERFLOW", STEP_UNDERFLOW as f64),
@@ -214,6 +213,7 @@ pub const MIRRORED: &[&str] = &[
     "increment",
     "error_term",
     "error_scale",
+    "capped",
     "dense_coeffs",
     "dense_r5",
     "try_step",
@@ -235,6 +235,7 @@ pub const MIRRORED: &[&str] = &[
     "rates",
     "add_step",
     "add_split",
+    "caps",
     "init",
     "set_side",
     "check_mode",

@@ -26,6 +26,28 @@ const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
 /// Round to nearest (even) by adding and subtracting 1.5 · 2^52.
 const ROUND: f64 = 6_755_399_441_055_744.0;
 
+/// The larger of a and b as one select (`maxpd`): `f64::max` also
+/// orders NaN, which costs two more instructions in a vector loop. A NaN
+/// in either gives b.
+#[inline(always)]
+pub(crate) fn larger(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The smaller of a and b as one select (`minpd`; see [`larger`]).
+#[inline(always)]
+pub(crate) fn smaller(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
 /// (k, m) with x = 2^k · m and m in [√½, √2), for a normal x > 0: the
 /// reduction every logarithm here starts from.
 #[inline(always)]

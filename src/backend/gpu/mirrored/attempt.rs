@@ -15,7 +15,10 @@
 use super::super::layout::GpuState64;
 use super::state::{run, state_values, states, test_lanes, to_gpu};
 use crate::integrator::accuracy::{BOUND, LIMIT};
-use crate::integrator::{attempt, Settings};
+use crate::integrator::stepper::error_scale;
+use crate::integrator::{attempt, LaneState, Settings, NY};
+use crate::lanewise::Lanewise;
+use crate::model::Lane;
 
 /// A step attempt (`attempt`, and through it the trial step, its
 /// verdict, the event it finds, the step to that event, the energy flow
@@ -85,17 +88,45 @@ fn off(name: &str, a: f64, b: f64) -> (usize, f64) {
 /// The bounds of [`off`]'s kinds.
 const BOUNDS: [f64; 4] = [1e-9, 1e-4, 1e-6, 1e-4];
 
+/// At the default tolerance, and at a looser one where the error budget
+/// steers the steps (`caps`): there the test also counts the states
+/// whose caps are below their tolerance's error scale, and some must be.
 #[test]
 fn the_shaders_step_attempt_computes_what_the_rust_one_does_in_f64() {
+    let loose = Settings {
+        tol: 1e-6,
+        ..Settings::default()
+    };
+    for set in [Settings::default(), loose] {
+        compare_attempts(&super::super::layout::f64_settings(&set));
+    }
+}
+
+/// How many of `inputs` have a component whose cap for the next step is
+/// below its tolerance's error scale (where steering changes the step).
+fn capped_states(lanes: &[Lane], inputs: &[(usize, LaneState)], set: &Settings) -> usize {
+    let binds = |(li, st): &(usize, LaneState)| {
+        let col = |a: &[f64; NY]| a.map(|v| [v]);
+        let mut cap = [[0.0]; NY];
+        let (y, k1, flow) = (col(&st.y), col(&st.k1), st.flow.map(|v| [v]));
+        let (t, t_end) = ([st.t], [lanes[*li].t_end]);
+        let b = st.budget.one();
+        b.caps(&y, &k1, &flow, &t, &t_end, &[st.h], &mut cap);
+        (0..NY).any(|i| cap[i][0] < error_scale(set.tol_of(i), st.y[i], st.y[i]))
+    };
+    inputs.iter().filter(|s| !s.1.done && binds(s)).count()
+}
+
+fn compare_attempts(set: &Settings) {
     let (lanes, tables) = test_lanes();
-    let set = super::super::layout::f64_settings(&Settings::default());
-    let inputs = states(&lanes, &tables, &set);
+    let inputs = states(&lanes, &tables, set);
     let cases: Vec<[u32; 4]> = (0u32..)
         .zip(&inputs)
         .map(|(k, (li, _))| [*li as u32, 0, k, 1])
         .collect();
     let Some((after, _)) = run(
         ("mirrored_attempt", ATTEMPT),
+        set,
         &lanes,
         &tables,
         &inputs,
@@ -111,7 +142,7 @@ fn the_shaders_step_attempt_computes_what_the_rust_one_does_in_f64() {
         let (li, k) = (c[0] as usize, c[2] as usize);
         let before = inputs[k].1;
         let mut st = before;
-        attempt(&lanes[li], &tables, &set, &mut st);
+        attempt(&lanes[li], &tables, set, &mut st);
         let kind = if st.done && !before.done {
             3
         } else if st.events > before.events {
@@ -141,12 +172,23 @@ fn the_shaders_step_attempt_computes_what_the_rust_one_does_in_f64() {
             }
         }
     }
+    let capped = if set.steers() {
+        capped_states(&lanes, &inputs, set)
+    } else {
+        0
+    };
     eprintln!(
-        "attempt: {} cases (rejected, accepted, an event, finished: {kinds:?}); worst (values, \
-         h, budget terms, lag): {worst:?}",
+        "attempt at tol {:e}: {} cases (rejected, accepted, an event, finished: {kinds:?}; \
+         capped: {capped}); worst (values, h, budget terms, lag): {worst:?}",
+        set.tol,
         cases.len()
     );
     bad.truncate(20);
     assert!(bad.is_empty(), "{bad:#?}");
     assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
+    assert_eq!(
+        capped > 0,
+        set.steers(),
+        "{capped} capped states at {set:?}"
+    );
 }

@@ -46,6 +46,8 @@ const THROUGH: &[(&str, &str)] = &[
     ("step_to_event", "attempt"),
     ("add_step", "attempt"),
     ("add_split", "attempt"),
+    ("caps", "attempt"),
+    ("capped", "attempt"),
 ];
 
 /// Mirrored functions not yet compared by what they compute, and why:

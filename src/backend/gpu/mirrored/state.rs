@@ -208,8 +208,14 @@ fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
             cases.push([*li as u32, f, k as u32, (k % 2) as u32]);
         }
     }
-    let Some((after, outs)) = run(("mirrored_state", ENTRY), &lanes, &tables, &inputs, &cases)
-    else {
+    let Some((after, outs)) = run(
+        ("mirrored_state", ENTRY),
+        &Settings::default(),
+        &lanes,
+        &tables,
+        &inputs,
+        &cases,
+    ) else {
         return;
     };
     let mut worst = vec![0.0f64; FUNCTIONS.len()];
@@ -264,10 +270,12 @@ fn the_shaders_state_functions_compute_what_the_rust_ones_do_in_f64() {
 }
 
 /// The states after each case and the numbers it returns, from the f64
-/// shader with `entry` (its name, its source) on the first adapter with
-/// 64-bit floats; None (said as a skip) when there is none.
+/// shader with `entry` (its name, its source) at settings `set` on the
+/// first adapter with 64-bit floats; None (said as a skip) when there is
+/// none.
 pub(super) fn run(
     entry: (&str, &str),
+    set: &Settings,
     lanes: &[Lane],
     tables: &[FrictionTable],
     inputs: &[(usize, LaneState)],
@@ -306,7 +314,7 @@ pub(super) fn run(
         })
     };
     use wgpu::BufferUsages as U;
-    let globals = GpuGlobals64::new(&Settings::default(), tables);
+    let globals = GpuGlobals64::new(set, tables);
     let l64: Vec<GpuLane64> = lanes.iter().map(GpuLane64::from).collect();
     let s64: Vec<GpuState64> = inputs.iter().map(|(_, s)| to_gpu(s)).collect();
     // A case's record: its state after, then its OUTS numbers.
