@@ -11,6 +11,11 @@ pub const DEFAULT_TOL: f64 = 1e-8;
 /// bound on one lane of the tests' sweeps, and every lane paid for them).
 pub const STEER_ABOVE: f64 = DEFAULT_TOL;
 
+/// A lane run again ([`Settings::tighter`]) is run at this fraction of
+/// the tolerance; where the budget steers, no step's error scale drops
+/// below it either (`stepper::capped`, the shader's `REFINE_FACTOR`).
+pub const REFINE_FACTOR: f64 = 0.1;
+
 /// Integration settings shared by every lane of a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
@@ -51,8 +56,8 @@ impl Settings {
     /// the bound). Not refined again.
     pub fn tighter(&self) -> Settings {
         Settings {
-            tol: 0.1 * self.tol,
-            traj_weight: 0.1 * self.traj_weight,
+            tol: REFINE_FACTOR * self.tol,
+            traj_weight: REFINE_FACTOR * self.traj_weight,
             refine: true,
             ..*self
         }

@@ -291,22 +291,20 @@ pub(crate) fn trial(
     h: f64,
     set: &Settings,
 ) -> Trial {
-    let mut cap = [[f64::INFINITY]; NY];
-    if set.steers() {
-        let col = |a: &[f64; NY]| a.map(|v| [v]);
-        let flow = st.flow.map(|v| [v]);
-        let (y, k1) = (col(&st.y), col(&st.k1));
-        let b = st.budget.one();
-        b.caps(&y, &k1, &flow, &[st.t], &[lane.t_end], &[h], &mut cap);
-    }
-    try_step(
-        lane,
-        tables,
-        mode,
-        &st.y,
-        &st.k1,
-        h,
-        &cap.map(|v| v[0]),
-        set,
-    )
+    let cap = if set.steers() {
+        lane_caps(lane, st, h)
+    } else {
+        [f64::INFINITY; NY]
+    };
+    try_step(lane, tables, mode, &st.y, &st.k1, h, &cap, set)
+}
+
+/// `Budgets::caps` of one lane in state `st`, for a step of size `h`.
+pub(crate) fn lane_caps(lane: &Lane, st: &LaneState, h: f64) -> [f64; NY] {
+    let col = |a: &[f64; NY]| a.map(|v| [v]);
+    let mut cap = [[0.0]; NY];
+    let (y, k1, flow) = (col(&st.y), col(&st.k1), st.flow.map(|v| [v]));
+    let b = st.budget.one();
+    b.caps(&y, &k1, &flow, &[st.t], &[lane.t_end], &[h], &mut cap);
+    cap.map(|v| v[0])
 }

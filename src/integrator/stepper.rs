@@ -11,7 +11,7 @@
 use super::components::{powers, NY};
 use super::control::step_factor;
 use super::rhs::rhs_lanes;
-use super::settings::Settings;
+use super::settings::{Settings, REFINE_FACTOR};
 use crate::lanewise::by_lane;
 use crate::model::vmath::{larger, smaller};
 use crate::model::{Coefs, FrictionTable, Lane, Mode};
@@ -115,7 +115,7 @@ pub(crate) fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
 /// lane is run again at, where the budget's limit is left to refinement.
 #[inline(always)]
 pub(crate) fn capped(s: f64, c: f64) -> f64 {
-    smaller(s, larger(c, 0.1 * s))
+    smaller(s, larger(c, REFINE_FACTOR * s))
 }
 
 /// Dense-output coefficients of a component over the step from its value

@@ -86,6 +86,15 @@ pub fn prelude() -> String {
     prelude_of(ShaderReal::F32)
 }
 
+/// The error budget's constants the f64 shader's step control reads
+/// (`caps`, `capped`): its aim, the tolerances it steers at, and the
+/// floor of a capped error scale.
+const BUDGET_REALS: [(&str, f64); 3] = [
+    ("BUDGET_AIM", crate::integrator::accuracy::BUDGET_AIM),
+    ("STEER_ABOVE", crate::integrator::settings::STEER_ABOVE),
+    ("REFINE_FACTOR", crate::integrator::settings::REFINE_FACTOR),
+];
+
 /// The prelude with `real` as `real`: the alias, the transcendental
 /// functions the files call (`pow_r`, `exp_r`, `tan_r`: WGSL's built-ins
 /// in f32, the ones of `shaders/f64/math.wgsl` in f64, since the
@@ -146,8 +155,7 @@ pub fn prelude_of(real: ShaderReal) -> String {
         laws::AGMA_HIGH_C,
     ));
     reals.push(("PI", std::f64::consts::PI));
-    reals.push(("BUDGET_AIM", accuracy::BUDGET_AIM));
-    reals.push(("STEER_ABOVE", crate::integrator::settings::STEER_ABOVE));
+    reals.extend(BUDGET_REALS);
     reals.extend(match real {
         ShaderReal::F32 => [
             ("STEP_UNDERFLOW", STEP_UNDERFLOW as f64),

@@ -15,9 +15,9 @@
 use super::super::layout::GpuState64;
 use super::state::{run, state_values, states, test_lanes, to_gpu};
 use crate::integrator::accuracy::{BOUND, LIMIT};
+use crate::integrator::step::lane_caps;
 use crate::integrator::stepper::error_scale;
 use crate::integrator::{attempt, LaneState, Settings, NY};
-use crate::lanewise::Lanewise;
 use crate::model::Lane;
 
 /// A step attempt (`attempt`, and through it the trial step, its
@@ -106,13 +106,8 @@ fn the_shaders_step_attempt_computes_what_the_rust_one_does_in_f64() {
 /// below its tolerance's error scale (where steering changes the step).
 fn capped_states(lanes: &[Lane], inputs: &[(usize, LaneState)], set: &Settings) -> usize {
     let binds = |(li, st): &(usize, LaneState)| {
-        let col = |a: &[f64; NY]| a.map(|v| [v]);
-        let mut cap = [[0.0]; NY];
-        let (y, k1, flow) = (col(&st.y), col(&st.k1), st.flow.map(|v| [v]));
-        let (t, t_end) = ([st.t], [lanes[*li].t_end]);
-        let b = st.budget.one();
-        b.caps(&y, &k1, &flow, &t, &t_end, &[st.h], &mut cap);
-        (0..NY).any(|i| cap[i][0] < error_scale(set.tol_of(i), st.y[i], st.y[i]))
+        let cap = lane_caps(&lanes[*li], st, st.h);
+        (0..NY).any(|i| cap[i] < error_scale(set.tol_of(i), st.y[i], st.y[i]))
     };
     inputs.iter().filter(|s| !s.1.done && binds(s)).count()
 }
