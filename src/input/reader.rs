@@ -40,8 +40,9 @@ pub enum LaneReader<'a> {
         cols: Vec<Param>,
         /// The CSV reader.
         rd: csv::Reader<File>,
-        /// Reused record.
-        rec: csv::StringRecord,
+        /// Reused record (bytes: each cell is checked as UTF-8 and trimmed
+        /// on its own, cheaper than the reader's whole-record passes).
+        rec: csv::ByteRecord,
         /// Rows read so far.
         row: u64,
         /// One past the last row to read.
@@ -80,15 +81,14 @@ impl<'a> LaneReader<'a> {
         let f = File::open(path).map_err(|e| {
             Error::input(path, None, None, format!("cannot read the lane table: {e}"))
         })?;
-        let mut rd = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .from_reader(f);
+        let mut rd = csv::ReaderBuilder::new().from_reader(f);
         let header = rd
             .headers()
             .map_err(|e| Error::input(path, Some("line 1".into()), None, e.to_string()))?
             .clone();
         let mut cols = Vec::with_capacity(header.len());
         for name in header.iter() {
+            let name = name.trim();
             let p = Param::from_name(name).ok_or_else(|| {
                 Error::input(
                     path,
@@ -111,12 +111,12 @@ impl<'a> LaneReader<'a> {
             }
             cols.push(p);
         }
-        let mut rec = csv::StringRecord::new();
+        let mut rec = csv::ByteRecord::new();
         // Rows before the range: read past (they were validated
         // when the source was opened).
         for row in 0..start {
             if !rd
-                .read_record(&mut rec)
+                .read_byte_record(&mut rec)
                 .map_err(|e| csv_error(path, row + 1, e))?
             {
                 break;
@@ -191,16 +191,20 @@ impl<'a> LaneReader<'a> {
             } => {
                 while out.len() < max && *row < *end {
                     let more = rd
-                        .read_record(rec)
+                        .read_byte_record(rec)
                         .map_err(|e| csv_error(path, *row + 1, e))?;
                     if !more {
                         break;
                     }
                     *row += 1;
-                    let line = rec.position().map_or(0, |p| p.line());
-                    let at = || Some(format!("row {} (line {line})", *row));
+                    let line = || rec.position().map_or(0, |p| p.line());
+                    let at = || Some(format!("row {} (line {})", *row, line()));
                     Spec::clone_from(spec, base);
                     for (p, cell) in cols.iter().zip(rec.iter()) {
+                        // set_text trims the cell (a cell may be padded).
+                        let cell = std::str::from_utf8(cell).map_err(|_| {
+                            Error::input(path, at(), None, "is not valid UTF-8 text")
+                        })?;
                         spec.set_text(*p, cell)
                             .map_err(|m| Error::input(path, at(), Some(p.name()), m))?;
                     }

@@ -85,19 +85,29 @@ crate::lanewise_struct! {
 /// Rates of the results at derivatives k of W lanes (the state's
 /// components x1, ẋ1, w_motor, w_load, w_friction, ∫p1): ẋ1, a, F1ẋ1,
 /// F2ẋ2, p1 + p2, and the in and out parts of p1 and p2; component-major,
-/// so each is a loop over the lanes.
+/// so each is a loop over the lanes. The shader's `rates` mirrors it;
+/// [`Budgets::add_steps`] reads the same rates in place (the first five
+/// are k's own components, the rest [`parts`]), so that no step copies
+/// them into an array: only the mirrored tests call it.
 #[inline(always)]
+#[cfg_attr(not(test), allow(dead_code))]
 pub(crate) fn rates<const N: usize>(k: &[[f64; N]; NY]) -> [[f64; N]; RESULTS] {
     let mut r = [[0.0; N]; RESULTS];
     r[..5].copy_from_slice(&k[..5]);
     for j in 0..N {
-        let (p1, p2) = powers(k[4][j], k[5][j]);
-        r[5][j] = p1.max(0.0);
-        r[6][j] = (-p1).max(0.0);
-        r[7][j] = p2.max(0.0);
-        r[8][j] = (-p2).max(0.0);
+        for (q, part) in parts(k[4][j], k[5][j]).into_iter().enumerate() {
+            r[5 + q][j] = part;
+        }
     }
     r
+}
+
+/// The in and out parts of p1 and p2 (w1_in, w1_out, w2_in, w2_out's
+/// rates) from one lane's rates of w_friction (`k4`) and ∫p1 (`k5`).
+#[inline(always)]
+fn parts(k4: f64, k5: f64) -> [f64; 4] {
+    let (p1, p2) = powers(k4, k5);
+    [p1.max(0.0), (-p1).max(0.0), p2.max(0.0), (-p2).max(0.0)]
 }
 
 impl<const N: usize> Budgets<N> {
@@ -230,11 +240,25 @@ impl<const N: usize> Budgets<N> {
         est: &[[f64; N]; NY + 1],
         flow: &[[f64; N]; 4],
     ) {
-        let (r0, r1) = (rates(k0), rates(k7));
-        for i in 0..RESULTS {
+        // |Δṙ| over the step of each result, as [`rates`] gives ṙ; the
+        // first five rates are k's own components, read in place (a copy
+        // of them into an array of rates was a memcpy every step).
+        let mut change = [[0.0; N]; RESULTS];
+        for i in 0..5 {
             for j in 0..N {
-                let p = self.phase[i][j] + (r1[i][j] - r0[i][j]).abs() * self.lag[j];
-                self.phase[i][j] = if take[j] { p } else { self.phase[i][j] };
+                change[i][j] = (k7[i][j] - k0[i][j]).abs();
+            }
+        }
+        for j in 0..N {
+            let (a, b) = (parts(k0[4][j], k0[5][j]), parts(k7[4][j], k7[5][j]));
+            for q in 0..4 {
+                change[5 + q][j] = (b[q] - a[q]).abs();
+            }
+        }
+        for (phase, change) in self.phase.iter_mut().zip(&change) {
+            for j in 0..N {
+                let p = phase[j] + change[j] * self.lag[j];
+                phase[j] = if take[j] { p } else { phase[j] };
             }
         }
         for (local, e) in self.local[..5].iter_mut().zip(&est[..5]) {
@@ -244,12 +268,14 @@ impl<const N: usize> Budgets<N> {
             }
         }
         // ∫p1's estimate goes to the p1 parts the step fed, ∫p2's to p2's.
-        for (q, e) in [(0, &est[5]), (1, &est[5]), (2, &est[NY]), (3, &est[NY])] {
+        for q in 0..4 {
+            let e = &est[if q < 2 { 5 } else { NY }];
+            let (local, flow) = (&mut self.local[5 + q], &flow[q]);
             for j in 0..N {
-                let l = self.local[5 + q][j] + e[j];
+                let l = local[j] + e[j];
                 // `&`, not `&&`: no branch, so the loop stays vector code.
-                let fed = take[j] & (flow[q][j] != 0.0);
-                self.local[5 + q][j] = if fed { l } else { self.local[5 + q][j] };
+                let fed = take[j] & (flow[j] != 0.0);
+                local[j] = if fed { l } else { local[j] };
             }
         }
         for j in 0..N {

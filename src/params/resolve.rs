@@ -51,12 +51,23 @@ impl Spec {
         if text.is_empty() {
             return Ok(());
         }
-        if text.contains(['\n', '\r']) {
-            return Err(format!(
-                "`{}` holds a line break; a cell is one number or law name (is a quote left open?)",
-                crate::error::shown(text, 40)
-            ));
-        }
+        // No number, law or table name holds a line break, so only a cell
+        // that is refused is looked at for one (this runs for every cell).
+        self.set_trimmed(p, text).map_err(|refused| {
+            if text.contains(['\n', '\r']) {
+                format!(
+                    "`{}` holds a line break; a cell is one number or law name (is a quote left \
+                     open?)",
+                    crate::error::shown(text, 40)
+                )
+            } else {
+                refused
+            }
+        })
+    }
+
+    /// [`Spec::set_text`] of a trimmed, non-empty cell.
+    fn set_trimmed(&mut self, p: Param, text: &str) -> Result<(), String> {
         // Only an error needs the cell's words (this runs for every cell).
         let quoted = || crate::error::shown(text, 40);
         match p {
