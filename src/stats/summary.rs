@@ -318,8 +318,7 @@ fn number_cells(c: &Column, kept: &[f64]) -> Cells {
         let qs: Vec<f64> = match &c.sketch {
             Some(s) => PROBS.iter().map(|&q| s.quantile(q)).collect(),
             None => {
-                let mut v: Vec<f64> = kept.iter().copied().filter(|x| x.is_finite()).collect();
-                v.sort_by(f64::total_cmp);
+                let v = quantile::sorted_finite(kept);
                 PROBS.iter().map(|&q| quantile::exact(&v, q)).collect()
             }
         };
