@@ -290,7 +290,6 @@ fn csv_error(path: &Path, row: u64, e: csv::Error) -> Error {
 /// well-formed table pair up (`""` inside a quoted cell is one quote), so
 /// their count is even; the last one opened names the line.
 pub(super) fn check_quotes(path: &Path) -> Result<()> {
-    use std::io::Read;
     if path.is_dir() {
         return Err(Error::input(
             path,
@@ -299,35 +298,46 @@ pub(super) fn check_quotes(path: &Path) -> Result<()> {
             "is a folder; allowed: a lane table, a CSV file with one lane a row",
         ));
     }
-    let mut f = File::open(path)
-        .map_err(|e| Error::input(path, None, None, format!("cannot read the lane table: {e}")))?;
-    let mut buf = vec![0u8; 1 << 16];
-    let (mut quotes, mut line, mut last_line) = (0u64, 1u64, 0u64);
-    loop {
-        let n = f.read(&mut buf).map_err(|e| {
-            Error::input(path, None, None, format!("cannot read the lane table: {e}"))
-        })?;
-        if n == 0 {
-            break;
-        }
-        for &b in &buf[..n] {
-            match b {
-                b'"' => {
-                    quotes += 1;
-                    last_line = line;
-                }
+    // Counting the quotes is a vector loop; only a table whose count is
+    // odd is read again for the line of its last quote.
+    let mut quotes = 0u64;
+    read_all(path, |b| {
+        quotes += b.iter().map(|&c| u64::from(c == b'"')).sum::<u64>();
+    })?;
+    if quotes.is_multiple_of(2) {
+        return Ok(());
+    }
+    let (mut line, mut last_line) = (1u64, 0u64);
+    read_all(path, |b| {
+        for &c in b {
+            match c {
+                b'"' => last_line = line,
                 b'\n' => line += 1,
                 _ => {}
             }
         }
+    })?;
+    Err(Error::input(
+        path,
+        Some(format!("line {last_line}")),
+        None,
+        "a quote (\") is opened and never closed; close it or remove it",
+    ))
+}
+
+/// Hands the bytes of the lane table `path` to `each`, a block at a time.
+fn read_all(path: &Path, mut each: impl FnMut(&[u8])) -> Result<()> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| {
+        Error::input(path, None, None, format!("cannot read the lane table: {e}"))
+    };
+    let mut f = File::open(path).map_err(cannot)?;
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = f.read(&mut buf).map_err(cannot)?;
+        if n == 0 {
+            return Ok(());
+        }
+        each(&buf[..n]);
     }
-    if quotes % 2 == 1 {
-        return Err(Error::input(
-            path,
-            Some(format!("line {last_line}")),
-            None,
-            "a quote (\") is opened and never closed; close it or remove it",
-        ));
-    }
-    Ok(())
 }
