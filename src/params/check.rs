@@ -24,6 +24,9 @@ impl fmt::Display for ParamError {
 
 /// One parameter's value (NaN when its law does not use it) from the
 /// value `set` (None: unset), given the ones before it in table order.
+/// Inlined: a lane checks every parameter, and the call cost as much as
+/// the checks of a parameter its law leaves out.
+#[inline(always)]
 pub fn check(
     p: Num,
     set: Option<f64>,
