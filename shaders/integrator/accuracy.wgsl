@@ -4,12 +4,20 @@
 // settings, as a CPU lane is.
 
 // Rates of the results at derivative k: x1, v1, w_motor, w_load,
-// w_friction, and the in and out parts of p1 and p2.
+// w_friction, and the in and out parts of p1 and p2 (`parts`). add_step
+// reads the same rates in place, as the CPU's does; only the mirrored
+// tests call it.
 fn rates(k: array<real, NY>) -> array<real, RESULTS> {
-    let p1 = k[5];
-    let p2 = k[4] - k[5];
-    return array<real, RESULTS>(k[0], k[1], k[2], k[3], k[4],
-        max(p1, 0.0), max(-p1, 0.0), max(p2, 0.0), max(-p2, 0.0));
+    let q = parts(k[4], k[5]);
+    return array<real, RESULTS>(k[0], k[1], k[2], k[3], k[4], q.x, q.y, q.z, q.w);
+}
+
+// The in and out parts of p1 and p2 (the rates of w1_in, w1_out, w2_in,
+// w2_out) from one lane's rates of w_friction (k4) and the integral of
+// p1 (k5).
+fn parts(k4: real, k5: real) -> vec4<real> {
+    let p = powers(k4, k5);
+    return vec4<real>(max(p.x, 0.0), max(-p.x, 0.0), max(p.y, 0.0), max(-p.y, 0.0));
 }
 
 // Adds an accepted step from derivative k0 to tr (its k7 the derivative
@@ -18,11 +26,15 @@ fn rates(k: array<real, NY>) -> array<real, RESULTS> {
 // change of its rate times the lag so far, its local term by its own
 // estimate, and the lag by v1's estimate over the acceleration.
 fn add_step(st: ptr<function, State>, k0: array<real, NY>, tr: Trial, d: vec4<real>) {
-    let r0 = rates(k0);
-    let r1 = rates(tr.k7);
     let lag = (*st).lag;
-    for (var i = 0u; i < RESULTS; i++) {
-        (*st).phase[i] += abs(r1[i] - r0[i]) * lag;
+    // The change of each rate over the step, as `rates` gives them: the
+    // first five are k's own components, the rest `parts`.
+    for (var i = 0u; i < 5u; i++) {
+        (*st).phase[i] += abs(tr.k7[i] - k0[i]) * lag;
+    }
+    let change = abs(parts(tr.k7[4], tr.k7[5]) - parts(k0[4], k0[5]));
+    for (var q = 0u; q < 4u; q++) {
+        (*st).phase[5u + q] += change[q] * lag;
     }
     for (var i = 0u; i < 5u; i++) {
         (*st).local[i] += tr.est[i];
@@ -72,11 +84,10 @@ fn caps(l: Lane, st: ptr<function, State>, h: real) -> array<real, NY> {
     let y = (*st).y;
     let k = (*st).k1;
     let f = (*st).flow;
-    let p1 = k[5];
-    let p2 = k[4] - k[5];
+    let p = powers(k[4], k[5]);
     // The part of p1 (of p2) the step starts feeding, in or out.
-    let part1 = select(room(f.x, p1, used(st, 5u), left), room(f.y, -p1, used(st, 6u), left), p1 < 0.0);
-    let part2 = select(room(f.z, p2, used(st, 7u), left), room(f.w, -p2, used(st, 8u), left), p2 < 0.0);
+    let part1 = select(room(f.x, p.x, used(st, 5u), left), room(f.y, -p.x, used(st, 6u), left), p.x < 0.0);
+    let part2 = select(room(f.z, p.y, used(st, 7u), left), room(f.w, -p.y, used(st, 8u), left), p.y < 0.0);
     return array<real, NY>(
         room(y[0], k[0], used(st, 0u), left) * share,
         room(y[1], k[1], used(st, 1u), left) * share,

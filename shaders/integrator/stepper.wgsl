@@ -105,18 +105,19 @@ fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array
     if (!(err <= 3.0e38)) { err = 3.0e38; }
     tr.err = err;
     tr.dense = dense_coeffs(v0, tr.y1[1], h, k1[1], k3[1], k4[1], k5[1], k6[1], tr.k7[1]);
-    // The integral of p1 is component 5; that of p2 the difference of 4 and 5.
+    // The quadratures of p1 and p2 (`powers`).
     let k7 = tr.k7;
-    let q1 = k1[4] - k1[5];
-    let q3 = k3[4] - k3[5];
-    let q4 = k4[4] - k4[5];
-    let q5 = k5[4] - k5[5];
-    let q6 = k6[4] - k6[5];
+    let q1 = powers(k1[4], k1[5]).y;
+    let q3 = powers(k3[4], k3[5]).y;
+    let q4 = powers(k4[4], k4[5]).y;
+    let q5 = powers(k5[4], k5[5]).y;
+    let q6 = powers(k6[4], k6[5]).y;
+    let q7 = powers(k7[4], k7[5]).y;
     tr.dw = vec2<real>(increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), increment(h, q1, q3, q4, q5, q6));
     tr.dw_r4 = vec2<real>(dense_r5(h, k1[5], k3[5], k4[5], k5[5], k6[5], k7[5]),
-        dense_r5(h, q1, q3, q4, q5, q6, k7[4] - k7[5]));
+        dense_r5(h, q1, q3, q4, q5, q6, q7));
     if (KEEP_BUDGET) {
-        tr.est[NY] = abs(error_term(h, q1, q3, q4, q5, q6, k7[4] - k7[5]));
+        tr.est[NY] = abs(error_term(h, q1, q3, q4, q5, q6, q7));
     }
     return tr;
 }

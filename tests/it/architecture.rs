@@ -393,6 +393,35 @@ fn kernel_expressions_appear_only_in_the_kernel() {
     assert!(bad.is_empty(), "{bad:#?}");
 }
 
+/// Which components of a derivative the mesh powers are (p1 = k5,
+/// p2 = k4 − k5) is said in one function, `powers`, in `src/` and in the
+/// shader: no other line subtracts component 5 from component 4.
+#[test]
+fn the_mesh_powers_are_read_off_a_derivative_in_one_place() {
+    use tswm::backend::gpu::shader::SHADER;
+    let p2 = |l: &str| {
+        let l: String = l.split_whitespace().collect();
+        l.contains("[4]-") && l.contains("[5]") || l.contains("k4-k5")
+    };
+    let mut bad = Vec::new();
+    for (path, _) in sources() {
+        let name = path.strip_prefix(root()).unwrap().display().to_string();
+        for (n, line) in without_comments(&code(&path)).lines().enumerate() {
+            if p2(line) && !name.ends_with("integrator/components.rs") {
+                bad.push(format!("{name}:{}: {}", n + 1, line.trim()));
+            }
+        }
+    }
+    let wgsl = without_comments(&SHADER);
+    let in_shader: Vec<&str> = wgsl.lines().filter(|l| p2(l)).map(str::trim).collect();
+    assert_eq!(
+        in_shader,
+        ["return vec2<real>(k5, k4 - k5);"],
+        "the shader says p2 outside `powers`"
+    );
+    assert!(bad.is_empty(), "{bad:#?}");
+}
+
 /// Each shader file is listed once, exists, and names the Rust file it
 /// mirrors, which exists.
 #[test]

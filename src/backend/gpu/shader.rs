@@ -240,6 +240,8 @@ pub const MIRRORED: &[&str] = &[
     "dense_w",
     "step_flow",
     "split_error",
+    "powers",
+    "parts",
     "rates",
     "add_step",
     "add_split",

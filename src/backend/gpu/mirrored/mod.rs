@@ -48,6 +48,8 @@ const THROUGH: &[(&str, &str)] = &[
     ("add_split", "attempt"),
     ("caps", "attempt"),
     ("capped", "attempt"),
+    ("powers", "rates"),
+    ("parts", "rates"),
 ];
 
 /// Mirrored functions not yet compared by what they compute, and why:
