@@ -88,11 +88,16 @@ fn caps(l: Lane, st: ptr<function, State>, h: real) -> array<real, NY> {
     // The part of p1 (of p2) the step starts feeding, in or out.
     let part1 = select(room(f.x, p.x, used(st, 5u), left), room(f.y, -p.x, used(st, 6u), left), p.x < 0.0);
     let part2 = select(room(f.z, p.y, used(st, 7u), left), room(f.w, -p.y, used(st, 8u), left), p.y < 0.0);
+    // No cap below REFINE_FACTOR times the component's error scale at its
+    // tolerance or CAP_FLOOR_TOL, whichever is tighter: finer than that,
+    // the budget's limit is left to refinement.
+    let lo = REFINE_FACTOR * min(g.tol, CAP_FLOOR_TOL);
+    let lo_traj = REFINE_FACTOR * min(g.tol_traj, CAP_FLOOR_TOL);
     return array<real, NY>(
-        room(y[0], k[0], used(st, 0u), left) * share,
-        room(y[1], k[1], used(st, 1u), left) * share,
-        room(y[2], k[2], used(st, 2u), left) * share,
-        room(y[3], k[3], used(st, 3u), left) * share,
-        min(room(y[4], k[4], used(st, 4u), left), part2) * share,
-        part1 * share);
+        max(room(y[0], k[0], used(st, 0u), left) * share, error_scale(lo_traj, y[0], y[0])),
+        max(room(y[1], k[1], used(st, 1u), left) * share, error_scale(lo_traj, y[1], y[1])),
+        max(room(y[2], k[2], used(st, 2u), left) * share, error_scale(lo, y[2], y[2])),
+        max(room(y[3], k[3], used(st, 3u), left) * share, error_scale(lo, y[3], y[3])),
+        max(min(room(y[4], k[4], used(st, 4u), left), part2) * share, error_scale(lo, y[4], y[4])),
+        max(part1 * share, error_scale(lo, y[5], y[5])));
 }

@@ -66,9 +66,9 @@ fn step_component(tr: ptr<function, Trial>, i: u32, dy: real, y: real, yc: real)
     (*tr).y1[i] = s;
 }
 
-// The error scale s held within the error budget's cap c (`caps`), but
-// never below a tenth of s: the tolerance a lane is run again at.
-fn capped(s: real, c: real) -> real { return min(s, max(c, REFINE_FACTOR * s)); }
+// The error scale s held within the error budget's cap c (`caps`, which
+// floors it).
+fn capped(s: real, c: real) -> real { return min(s, c); }
 
 fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array<real, NY>, h: real, tol: real, tol_traj: real, cap: array<real, NY>) -> Trial {
     let v0 = y[1];

@@ -42,8 +42,8 @@
 
 use super::components::{powers, NY};
 use super::result::{LaneResult, Status};
-use super::settings::Settings;
-use super::stepper::Trial;
+use super::settings::{Settings, REFINE_FACTOR};
+use super::stepper::{error_scale, Trial};
 use crate::lanewise::Lanewise;
 use crate::model::vmath::{larger, smaller};
 
@@ -122,7 +122,9 @@ impl<const N: usize> Budgets<N> {
     /// limit where its step tolerance alone would not hold it there, and
     /// the lane is not run again. ∫p1's cap is that of the part of p1 the
     /// step starts feeding (its sign in `k1`); w_friction's also that of
-    /// p2's part.
+    /// p2's part. No cap is below [`REFINE_FACTOR`] times the component's
+    /// error scale at [`Settings::floor_tol_of`] (`set`): finer than that,
+    /// the budget's limit is left to refinement.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn caps(
@@ -133,8 +135,11 @@ impl<const N: usize> Budgets<N> {
         t: &[f64; N],
         t_end: &[f64; N],
         h: &[f64; N],
+        set: &Settings,
         cap: &mut [[f64; N]; NY],
     ) {
+        // The tolerance of each component's floor.
+        let floor: [f64; NY] = std::array::from_fn(|i| REFINE_FACTOR * set.floor_tol_of(i));
         for j in 0..N {
             let left = larger(t_end[j] - t[j], 0.0);
             let share = h[j] / larger(left, h[j]);
@@ -147,8 +152,10 @@ impl<const N: usize> Budgets<N> {
                 larger(aim - used, 0.0)
             };
             let used = |r: usize| self.phase[r][j] + self.local[r][j];
+            // The floor of component i's cap.
+            let lo = |i: usize| error_scale(floor[i], y[i][j], y[i][j]);
             for i in 0..4 {
-                cap[i][j] = room(y[i][j], k1[i][j], used(i)) * share;
+                cap[i][j] = larger(room(y[i][j], k1[i][j], used(i)) * share, lo(i));
             }
             // The part of p1 (of p2) the step starts feeding, in or out:
             // both rooms computed and one selected, as vector code.
@@ -163,8 +170,9 @@ impl<const N: usize> Budgets<N> {
             );
             let part1 = if p1 < 0.0 { out1 } else { in1 };
             let part2 = if p2 < 0.0 { out2 } else { in2 };
-            cap[4][j] = smaller(room(y[4][j], k1[4][j], used(4)), part2) * share;
-            cap[5][j] = part1 * share;
+            let cap4 = smaller(room(y[4][j], k1[4][j], used(4)), part2) * share;
+            cap[4][j] = larger(cap4, lo(4));
+            cap[5][j] = larger(part1 * share, lo(5));
         }
     }
 }

@@ -203,7 +203,7 @@ impl<const N: usize> Slots<N> {
         if set.steers() {
             let t_end = &self.hot.t_end;
             st.budget
-                .caps(&st.y, &st.k1, &st.flow, &st.t, t_end, &h, cap);
+                .caps(&st.y, &st.k1, &st.flow, &st.t, t_end, &h, set, cap);
         }
         try_steps::<N>(
             &self.coefs,

@@ -12,9 +12,21 @@ pub const DEFAULT_TOL: f64 = 1e-8;
 pub const STEER_ABOVE: f64 = DEFAULT_TOL;
 
 /// A lane run again ([`Settings::tighter`]) is run at this fraction of
-/// the tolerance; where the budget steers, no step's error scale drops
-/// below it either (`stepper::capped`, the shader's `REFINE_FACTOR`).
+/// the tolerance; where the budget steers, no step's cap drops below this
+/// fraction of the error scale at [`Settings::floor_tol_of`] either
+/// (`accuracy::Budgets::caps`, the shader's `REFINE_FACTOR`).
 pub const REFINE_FACTOR: f64 = 0.1;
+
+/// The loosest tolerance the floor of the budget's caps follows
+/// ([`Settings::floor_tol_of`]): at a looser one the floor stays at
+/// [`REFINE_FACTOR`] times this one's error scale. With the floor at a
+/// tenth of any tolerance, the steps of a loose one spent most lanes'
+/// budgets, most lanes were run a second time, and a tolerance looser
+/// than 3e-7 was slower (1e-5 by 44 %). 3e-7 is where the peer lane
+/// table, random user lanes and the heterogeneous sweep ran the fewest
+/// instructions with the floor at a tenth of the tolerance
+/// (docs/performance.md).
+pub const CAP_FLOOR_TOL: f64 = 3e-7;
 
 /// Integration settings shared by every lane of a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,6 +79,17 @@ impl Settings {
     #[inline(always)]
     pub(crate) fn steers(&self) -> bool {
         self.tol > STEER_ABOVE
+    }
+
+    /// The tolerance whose error scale, times [`REFINE_FACTOR`], is the
+    /// floor of component `i`'s cap (`accuracy::Budgets::caps`): its own
+    /// tolerance, or [`CAP_FLOOR_TOL`] where that is tighter. So a lane's
+    /// first run never works to a finer scale than its run again would
+    /// (a tenth of its tolerance), and at a loose tolerance its budget is
+    /// not spent by steps the loose tolerance alone would take.
+    #[inline(always)]
+    pub(crate) fn floor_tol_of(&self, i: usize) -> f64 {
+        crate::model::vmath::smaller(self.tol_of(i), CAP_FLOOR_TOL)
     }
 
     /// The tolerance of component `i`: x1 and ẋ1 may be held tighter than

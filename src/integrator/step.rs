@@ -292,19 +292,20 @@ pub(crate) fn trial(
     set: &Settings,
 ) -> Trial {
     let cap = if set.steers() {
-        lane_caps(lane, st, h)
+        lane_caps(lane, st, h, set)
     } else {
         [f64::INFINITY; NY]
     };
     try_step(lane, tables, mode, &st.y, &st.k1, h, &cap, set)
 }
 
-/// `Budgets::caps` of one lane in state `st`, for a step of size `h`.
-pub(crate) fn lane_caps(lane: &Lane, st: &LaneState, h: f64) -> [f64; NY] {
+/// `Budgets::caps` of one lane in state `st`, for a step of size `h`
+/// under `set`.
+pub(crate) fn lane_caps(lane: &Lane, st: &LaneState, h: f64, set: &Settings) -> [f64; NY] {
     let col = |a: &[f64; NY]| a.map(|v| [v]);
     let mut cap = [[0.0]; NY];
     let (y, k1, flow) = (col(&st.y), col(&st.k1), st.flow.map(|v| [v]));
     let b = st.budget.one();
-    b.caps(&y, &k1, &flow, &[st.t], &[lane.t_end], &[h], &mut cap);
+    b.caps(&y, &k1, &flow, &[st.t], &[lane.t_end], &[h], set, &mut cap);
     cap.map(|v| v[0])
 }

@@ -11,9 +11,9 @@
 use super::components::{powers, NY};
 use super::control::step_factor;
 use super::rhs::rhs_lanes;
-use super::settings::{Settings, REFINE_FACTOR};
+use super::settings::Settings;
 use crate::lanewise::by_lane;
-use crate::model::vmath::{larger, smaller};
+use crate::model::vmath::smaller;
 use crate::model::{Coefs, FrictionTable, Lane, Mode};
 
 /// Declares the tableau's coefficients, each with its value as its doc.
@@ -111,11 +111,10 @@ pub(crate) fn error_scale(tol: f64, y0: f64, y1: f64) -> f64 {
 }
 
 /// The error scale `s` held within the error budget's cap `c`
-/// (`Budgets::caps`), but never below a tenth of `s`: the tolerance a
-/// lane is run again at, where the budget's limit is left to refinement.
+/// (`Budgets::caps`, which floors it).
 #[inline(always)]
 pub(crate) fn capped(s: f64, c: f64) -> f64 {
-    smaller(s, larger(c, REFINE_FACTOR * s))
+    smaller(s, c)
 }
 
 /// Dense-output coefficients of a component over the step from its value

@@ -88,11 +88,12 @@ pub fn prelude() -> String {
 
 /// The error budget's constants the f64 shader's step control reads
 /// (`caps`, `capped`): its aim, the tolerances it steers at, and the
-/// floor of a capped error scale.
-const BUDGET_REALS: [(&str, f64); 3] = [
+/// floor of a capped error scale and the loosest tolerance it follows.
+const BUDGET_REALS: [(&str, f64); 4] = [
     ("BUDGET_AIM", crate::integrator::accuracy::BUDGET_AIM),
     ("STEER_ABOVE", crate::integrator::settings::STEER_ABOVE),
     ("REFINE_FACTOR", crate::integrator::settings::REFINE_FACTOR),
+    ("CAP_FLOOR_TOL", crate::integrator::settings::CAP_FLOOR_TOL),
 ];
 
 /// The prelude with `real` as `real`: the alias, the transcendental

@@ -4,7 +4,8 @@
 //! end in the same state: every value within 1e-9 of max(1, |value|),
 //! every decision (side, direction, flags, status, counts) the same, and
 //! the error budget's terms as the CPU's to the precision of their own
-//! arithmetic. Through it the functions an attempt calls are compared by
+//! arithmetic (an in or out part's local term unless which parts the step
+//! fed is such a decision: `fed_by_rounding`). Through it the functions an attempt calls are compared by
 //! what they compute together: the trial step, its verdict, the earliest
 //! event and the step to it, the energy flow and its split, and the
 //! error budget's sums. The cases are counted by what the attempt did
@@ -85,6 +86,30 @@ fn off(name: &str, a: f64, b: f64) -> (usize, f64) {
     (kind, if d.is_nan() { f64::INFINITY } else { d })
 }
 
+/// Whether `name` is the local term of an in or out part (w1_in, w1_out,
+/// w2_in, w2_out) that the attempt from `before` fed in one of the Rust
+/// (`want`) and shader (`got`) states and not in the other, by an amount
+/// within the bound of a state's value ([`BOUNDS`]`[0]` of max(1,
+/// |part|)). Which parts a step feeds is a decision (the sign of p at an
+/// end of the step, where a switch leaves p at zero up to rounding), and
+/// a part the step feeds takes the step's error estimate of its integral
+/// into its local term (`add_step`): a decision within the bound of its
+/// threshold may differ, as the module's text says of every decision.
+fn fed_by_rounding(name: &str, before: &LaneState, want: &GpuState64, got: &GpuState64) -> bool {
+    let Some(q) = name
+        .strip_prefix("local[")
+        .and_then(|r| r.strip_suffix(']'))
+        .and_then(|i| i.parse::<usize>().ok())
+        .and_then(|i| i.checked_sub(5))
+    else {
+        return false;
+    };
+    let fed = |s: &GpuState64| s.flow[q] - s.flow_c[q] - before.flow[q];
+    let (a, b) = (fed(want), fed(got));
+    let size = before.flow[q].abs().max(1.0);
+    (a == 0.0) != (b == 0.0) && a.abs().max(b.abs()) <= BOUNDS[0] * size
+}
+
 /// The bounds of [`off`]'s kinds.
 const BOUNDS: [f64; 4] = [1e-9, 1e-4, 1e-6, 1e-4];
 
@@ -106,7 +131,7 @@ fn the_shaders_step_attempt_computes_what_the_rust_one_does_in_f64() {
 /// below its tolerance's error scale (where steering changes the step).
 fn capped_states(lanes: &[Lane], inputs: &[(usize, LaneState)], set: &Settings) -> usize {
     let binds = |(li, st): &(usize, LaneState)| {
-        let cap = lane_caps(&lanes[*li], st, st.h);
+        let cap = lane_caps(&lanes[*li], st, st.h, set);
         (0..NY).any(|i| cap[i] < error_scale(set.tol_of(i), st.y[i], st.y[i]))
     };
     inputs.iter().filter(|s| !s.1.done && binds(s)).count()
@@ -162,7 +187,7 @@ fn compare_attempts(set: &Settings) {
         for ((name, a), (_, b)) in wv.into_iter().zip(gv).chain(budget) {
             let (kind, d) = off(&name, a, b);
             worst[kind] = worst[kind].max(d);
-            if d > BOUNDS[kind] {
+            if d > BOUNDS[kind] && !fed_by_rounding(&name, &before, &want, &after[n]) {
                 bad.push(format!("{what}: {name} rust {a:e}, shader {b:e}"));
             }
         }
