@@ -15,7 +15,24 @@ fn dense_slope(r: array<real, 5>, th: real) -> real {
 // far they may be off (z: `split_error`, 0 where p keeps its sign).
 fn split(r: array<real, 5>, p0: real, p_end: real) -> vec3<real> {
     if (crosses(p0, p_end)) { return split_crossing(r, p0); }
+    if (!agrees(r[1], p0, p_end)) { return split_against(r); }
     return vec3<real>(split_whole(r[1], p0, p_end), 0.0);
+}
+
+// Whether a step's increment of the integral of p has the sign of p at
+// the step's ends (either may be zero): else p took the other sign inside
+// the step, and the ends do not say which part the increment goes to.
+fn agrees(total: real, p0: real, p_end: real) -> bool {
+    return total * (p0 + p_end) >= 0.0;
+}
+
+// `split` where the increment has the other sign than p at the ends: it
+// goes to the part of its own sign, and either part may be off by the
+// area of p's other sign, within |r1| + |r2| + |r3| + |r4|.
+fn split_against(r: array<real, 5>) -> vec3<real> {
+    let total = r[1];
+    let parts = select(vec2<real>(0.0, -total), vec2<real>(total, 0.0), total > 0.0);
+    return vec3<real>(parts, abs(r[1]) + abs(r[2]) + abs(r[3]) + abs(r[4]));
 }
 
 // Whether p changes sign inside a step (a zero at an end is no crossing).

@@ -15,7 +15,7 @@ use super::automaton::LaneStates;
 use super::components::{powers, NY};
 use super::control::retry_size;
 use super::events::Watches;
-use super::flow::{crosses, split_whole};
+use super::flow::{agrees, crosses, split_whole};
 use super::settings::Settings;
 use super::stepper::Trials;
 
@@ -77,6 +77,8 @@ pub(crate) fn verdicts<const W: usize>(
             & !landing[j]
             & !crosses(p1_0, p1_end)
             & !crosses(p2_0, p2_end)
+            & agrees(tr.dw[0][j], p1_0, p1_end)
+            & agrees(tr.dw[1][j], p2_0, p2_end)
             & finite
             & (steps[j] < set.max_steps);
         v.plain[j] = active[j] & !rejected & common;

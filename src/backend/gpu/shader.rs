@@ -237,6 +237,8 @@ pub const MIRRORED: &[&str] = &[
     "split",
     "crosses",
     "split_whole",
+    "agrees",
+    "split_against",
     "split_crossing",
     "dense_w",
     "step_flow",

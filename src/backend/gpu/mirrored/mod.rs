@@ -37,6 +37,8 @@ mod state;
 const THROUGH: &[(&str, &str)] = &[
     ("split_crossing", "split"),
     ("split_error", "split"),
+    ("agrees", "split"),
+    ("split_against", "split"),
     ("motion_parts", "motion"),
     ("try_step", "attempt"),
     ("earliest_event", "attempt"),
