@@ -62,8 +62,9 @@ pub(crate) fn agrees(total: f64, p0: f64, p_end: f64) -> bool {
 /// ends ([`agrees`]): the increment goes to the part of its own sign (a
 /// part never falls), and either part may be off by the area of p's other
 /// sign, which is within the area of |p|: at most |r1| + |r2| + |r3| +
-/// |r4| (the slope of the dense output is r1 + (1 − 2θ) r2 + θ(2 − 3θ) r3
-/// + 2θ(1 − θ)(1 − 2θ) r4, each factor within 1 on [0, 1]). The error
+/// |r4| (the slope of the dense output is the sum of r1, (1 − 2θ) r2,
+/// θ(2 − 3θ) r3 and 2θ(1 − θ)(1 − 2θ) r4, each factor within 1 on
+/// [0, 1]). The error
 /// budget's local terms take that, so that a lane where it matters is
 /// refined. Rare: none on the tests' sweeps at the default tolerance; one
 /// step in 6,150 lanes at 1e-7 gave w1_in a negative increment, 7 times

@@ -13,12 +13,12 @@ pub const STEER_ABOVE: f64 = DEFAULT_TOL;
 
 /// A lane run again ([`Settings::tighter`]) is run at this fraction of
 /// the tolerance; where the budget steers, no step's cap drops below this
-/// fraction of the error scale at [`Settings::floor_tol_of`] either
+/// fraction of the error scale at `Settings::floor_tol_of` either
 /// (`accuracy::Budgets::caps`, the shader's `REFINE_FACTOR`).
 pub const REFINE_FACTOR: f64 = 0.1;
 
 /// The loosest tolerance the floor of the budget's caps follows
-/// ([`Settings::floor_tol_of`]): at a looser one the floor stays at
+/// (`Settings::floor_tol_of`): at a looser one the floor stays at
 /// [`REFINE_FACTOR`] times this one's error scale. With the floor at a
 /// tenth of any tolerance, the steps of a loose one spent most lanes'
 /// budgets, most lanes were run a second time, and a tolerance looser
