@@ -89,14 +89,11 @@ fn turns_inside(r: array<real, 5>, p0: real, p_end: real) -> bool {
 
 // Whether p1 or p2 turned and turned back inside an accepted step.
 fn flow_turns(k1: array<real, NY>, tr: Trial, h: real) -> bool {
-    let p_0 = powers(k1[4], k1[5]);
-    let p_end = powers(tr.k7[4], tr.k7[5]);
-    let p1_0 = p_0.x;
-    let p1_end = p_end.x;
-    let p2_0 = p_0.y;
-    let p2_end = p_end.y;
-    return turns_inside(dense_w(tr.dw.x, h, p1_0, p1_end, tr.dw_r4.x), p1_0, p1_end)
-        || turns_inside(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
+    // (p1, p2) at the step's start and end.
+    let a = powers(k1[4], k1[5]);
+    let b = powers(tr.k7[4], tr.k7[5]);
+    return turns_inside(dense_w(tr.dw.x, h, a.x, b.x, tr.dw_r4.x), a.x, b.x)
+        || turns_inside(dense_w(tr.dw.y, h, a.y, b.y, tr.dw_r4.y), a.y, b.y);
 }
 
 // A step's energy flow: the increments of (w1_in, w1_out, w2_in,
@@ -105,13 +102,9 @@ struct Flow { d: vec4<real>, err: vec2<real> }
 
 // The flow of an accepted step.
 fn step_flow(k1: array<real, NY>, tr: Trial, h: real) -> Flow {
-    let p_0 = powers(k1[4], k1[5]);
-    let p_end = powers(tr.k7[4], tr.k7[5]);
-    let p1_0 = p_0.x;
-    let p1_end = p_end.x;
-    let p2_0 = p_0.y;
-    let p2_end = p_end.y;
-    let f1 = split(dense_w(tr.dw.x, h, p1_0, p1_end, tr.dw_r4.x), p1_0, p1_end);
-    let f2 = split(dense_w(tr.dw.y, h, p2_0, p2_end, tr.dw_r4.y), p2_0, p2_end);
+    let a = powers(k1[4], k1[5]);
+    let b = powers(tr.k7[4], tr.k7[5]);
+    let f1 = split(dense_w(tr.dw.x, h, a.x, b.x, tr.dw_r4.x), a.x, b.x);
+    let f2 = split(dense_w(tr.dw.y, h, a.y, b.y, tr.dw_r4.y), a.y, b.y);
     return Flow(vec4<real>(f1.xy, f2.xy), vec2<real>(f1.z, f2.z));
 }
