@@ -27,11 +27,11 @@ fn agrees(total: real, p0: real, p_end: real) -> bool {
 }
 
 // `split` where the increment has the other sign than p at the ends: it
-// goes to the part of its own sign, and either part may be off by the
-// area of p's other sign, within |r1| + |r2| + |r3| + |r4|.
+// goes to the part of its own sign (`split_whole` with the increment in
+// place of p), and either part may be off by the area of p's other sign,
+// within |r1| + |r2| + |r3| + |r4|.
 fn split_against(r: array<real, 5>) -> vec3<real> {
-    let total = r[1];
-    let parts = select(vec2<real>(0.0, -total), vec2<real>(total, 0.0), total > 0.0);
+    let parts = split_whole(r[1], r[1], 0.0);
     return vec3<real>(parts, abs(r[1]) + abs(r[2]) + abs(r[3]) + abs(r[4]));
 }
 

@@ -138,7 +138,8 @@ impl<const N: usize> Budgets<N> {
         set: &Settings,
         cap: &mut [[f64; N]; NY],
     ) {
-        // The tolerance of each component's floor.
+        // A tenth of each component's floor tolerance: its floor per unit
+        // of (1 + |y|).
         let floor: [f64; NY] = std::array::from_fn(|i| REFINE_FACTOR * set.floor_tol_of(i));
         for j in 0..N {
             let left = larger(t_end[j] - t[j], 0.0);

@@ -59,24 +59,19 @@ pub(crate) fn agrees(total: f64, p0: f64, p_end: f64) -> bool {
 }
 
 /// [`split`] where the increment has the other sign than p at the step's
-/// ends ([`agrees`]): the increment goes to the part of its own sign (a
-/// part never falls), and either part may be off by the area of p's other
+/// ends ([`agrees`]): the increment goes to the part of its own sign
+/// ([`split_whole`] with the increment in place of p), so that a part
+/// never falls, and either part may be off by the area of p's other
 /// sign, which is within the area of |p|: at most |r1| + |r2| + |r3| +
 /// |r4| (the slope of the dense output is the sum of r1, (1 − 2θ) r2,
 /// θ(2 − 3θ) r3 and 2θ(1 − θ)(1 − 2θ) r4, each factor within 1 on
-/// [0, 1]). The error
-/// budget's local terms take that, so that a lane where it matters is
-/// refined. Rare: none on the tests' sweeps at the default tolerance; one
-/// step in 6,150 lanes at 1e-7 gave w1_in a negative increment, 7 times
-/// the bound, before this.
+/// [0, 1]). The error budget's local terms take that, so that a lane
+/// where it matters is refined. Rare: none on the tests' sweeps at the
+/// default tolerance; one step in 6,150 lanes at 1e-7 gave w1_in a
+/// negative increment, 7 times the bound, before this.
 #[cold]
 pub(crate) fn split_against(r: &[f64; 5]) -> ([f64; 2], f64) {
-    let total = r[1];
-    let parts = if total > 0.0 {
-        [total, 0.0]
-    } else {
-        [0.0, -total]
-    };
+    let parts = split_whole(r[1], r[1], 0.0);
     (parts, r[1].abs() + r[2].abs() + r[3].abs() + r[4].abs())
 }
 

@@ -4,11 +4,12 @@
 //! end in the same state: every value within 1e-9 of max(1, |value|),
 //! every decision (side, direction, flags, status, counts) the same, and
 //! the error budget's terms as the CPU's to the precision of their own
-//! arithmetic (an in or out part's local term unless which parts the step
-//! fed is such a decision: `fed_by_rounding`). Through it the functions an attempt calls are compared by
-//! what they compute together: the trial step, its verdict, the earliest
-//! event and the step to it, the energy flow and its split, and the
-//! error budget's sums. The cases are counted by what the attempt did
+//! arithmetic (an in or out part's local term unless which parts the
+//! step fed is such a decision: `fed_by_rounding`). Through it the
+//! functions an attempt calls are compared by what they compute
+//! together: the trial step, its verdict, the earliest event and the
+//! step to it, the energy flow and its split, and the error budget's
+//! sums. The cases are counted by what the attempt did
 //! (rejected, accepted, an event, a lane finished), and each kind must
 //! occur. Needs an adapter with 64-bit floats (lavapipe); without one the
 //! test says it is skipped, unless TSWM_REQUIRE_GPU=1.
