@@ -19,7 +19,7 @@ struct State {
     pad_r: array<real, 3>,
     side: i32, dir: i32, flags: u32, status: u32,
     switches: u32, reversals: u32, sticks: u32, steps: u32,
-    events: u32, pad: array<u32, 7>,
+    events: u32, branch: u32, pad: array<u32, 6>,
 }
 
 // Flag bits of State.flags (F_*): generated into the prelude from `flags` in
@@ -47,7 +47,7 @@ fn time_set(st: ptr<function, State>, t: real) {
 }
 
 fn mode_of(st: ptr<function, State>) -> Mode {
-    return Mode((*st).side, (*st).dir, has(st, F_MOTOR_ON), has(st, F_UPPER));
+    return Mode((*st).side, (*st).dir, has(st, F_MOTOR_ON), (*st).branch);
 }
 
 fn finish(st: ptr<function, State>, status: u32) {
@@ -69,7 +69,7 @@ fn init(l: Lane, st: ptr<function, State>) {
     (*st).dir = select(select(0, -1, v < 0.0), 1, v > 0.0);
     (*st).flags = F_STARTED;
     set_flag(st, F_MOTOR_ON, motor_on);
-    set_flag(st, F_UPPER, above_branch(l, sliding_speed(1.0, abs(v), l.inv_cos_g)));
+    (*st).branch = branch_of(l, sliding_speed(1.0, abs(v), l.inv_cos_g));
     (*st).status = S_OK;
     (*st).switches = 0u;
     (*st).reversals = 0u;
@@ -99,7 +99,8 @@ fn check_mode(l: Lane, st: ptr<function, State>) {
 fn come_to_rest(l: Lane, st: ptr<function, State>) {
     (*st).y[1] = 0.0;
     (*st).yc[1] = 0.0;
-    set_flag(st, F_UPPER, false);
+    // The branch a sliding speed rising from rest enters.
+    (*st).branch = branch_of(l, 0.0);
     let s = stick_test(l, has(st, F_MOTOR_ON));
     if (s.x > 0.5) {
         set_flag(st, F_STUCK, true);

@@ -16,15 +16,46 @@ fn event_value(l: Lane, m: Mode, which: u32, v: real) -> real {
     if (which == EV_SWITCH) { return real(m.side) * phi(l, v, m.motor_on); }
     if (which == EV_REST) { return real(m.dir) * v; }
     if (which == EV_BRANCH) {
-        let vs = sliding_speed(real(m.dir), v, l.inv_cos_g);
-        return select(l.branch_speed - vs, vs - l.branch_speed, m.upper);
+        return branch_value(real(m.dir), v, l.inv_cos_g, branch_edges(l, m.branch));
     }
     return -real(m.dir) * motion(l, m, v).acc;
 }
 
+// The branch event's function: the sliding speed's distance from the
+// nearer of the edges e (x: lo, y: hi).
+fn branch_value(dir: real, v: real, inv_cos_g: real, e: vec2<real>) -> real {
+    let vs = sliding_speed(dir, v, inv_cos_g);
+    return min(vs - e.x, e.y - vs);
+}
+
+// Whether a lane that left its branch (edges e) at speed v left it
+// upwards: the nearer edge is the one crossed.
+fn left_upwards(dir: real, v: real, inv_cos_g: real, e: vec2<real>) -> bool {
+    let vs = sliding_speed(dir, v, inv_cos_g);
+    return e.y - vs <= vs - e.x;
+}
+
+// `crossed_edge`: the edge of the mode's branch a step ending at speed
+// v_end crossed, the other one "never".
+fn crossed_edge(l: Lane, m: Mode, v_end: real) -> vec2<real> {
+    let e = branch_edges(l, m.branch);
+    if (e.y - sliding_speed(real(m.dir), v_end, l.inv_cos_g) < 0.0) {
+        return vec2<real>(-3.0e38, e.y);
+    }
+    return vec2<real>(e.x, 3.0e38);
+}
+
+// The event function `locate_root` seeks a root of: a branch event's on
+// the edge crossed alone (see `crossed_edge` in src/integrator/events.rs).
+fn root_value(l: Lane, m: Mode, which: u32, edge: vec2<real>, v: real) -> real {
+    if (which == EV_BRANCH) { return branch_value(real(m.dir), v, l.inv_cos_g, edge); }
+    return event_value(l, m, which, v);
+}
+
 fn locate_root(l: Lane, m: Mode, which: u32, r: array<real, 5>, g_end: real) -> real {
+    let edge = crossed_edge(l, m, dense_v(r, 1.0));
     var a: real = 0.0;
-    var fa = event_value(l, m, which, r[0]);
+    var fa = root_value(l, m, which, edge, r[0]);
     var b: real = 1.0;
     var fb = g_end;
     if (fa <= 0.0) { return 0.0; }
@@ -33,7 +64,7 @@ fn locate_root(l: Lane, m: Mode, which: u32, r: array<real, 5>, g_end: real) -> 
         if (b - a <= ROOT_THETA_TOL) { break; }
         var c = (a * fb - b * fa) / (fb - fa);
         if (!(c > a && c < b)) { c = 0.5 * (a + b); }
-        let fc = event_value(l, m, which, dense_v(r, c));
+        let fc = root_value(l, m, which, edge, dense_v(r, c));
         if (fc >= 0.0) {
             a = c; fa = fc;
             if (side == -1) { fb *= 0.5; }
@@ -63,7 +94,8 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<real> {
         let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
         if (th < theta) { theta = th; which = EV_SPEEDING; }
     }
-    if (has_branches(l)) {
+    let e = branch_edges(l, m.branch);
+    if (e.x > -1.0e38 || e.y < 1.0e38) {
         let g_branch = event_value(l, m, EV_BRANCH, tr.y1[1]);
         if (g_branch < 0.0) {
             let th = locate_root(l, m, EV_BRANCH, tr.dense, g_branch);

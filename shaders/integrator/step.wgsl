@@ -98,7 +98,12 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: real,
         set_side(st, -(*st).side);
         check_mode(l, st);
     } else if (which == EV_BRANCH) {
-        set_flag(st, F_UPPER, !has(st, F_UPPER));
+        let e = branch_edges(l, (*st).branch);
+        if (left_upwards(real((*st).dir), (*st).y[1], l.inv_cos_g, e)) {
+            (*st).branch += 1u;
+        } else {
+            (*st).branch -= 1u;
+        }
         check_mode(l, st);
     } else {
         set_flag(st, F_SPEEDING, true);

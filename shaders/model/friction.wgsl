@@ -39,30 +39,73 @@ fn stribeck_mu(s: array<real, LAW_SLOTS>, vs: real) -> real {
 
 // The lane's law on its slots `l.law` (the law's parameters in the
 // parameter table's order), as tan ρ: a coefficient μ over cos αn.
-fn mu_sliding(l: Lane, vs: real, upper: bool) -> real {
+fn mu_sliding(l: Lane, vs: real, branch: u32) -> real {
     let s = l.law;
     if (l.friction == FRICTION_PAPER) {
         return tan_small(paper_rho(s[0], s[1], s[2], vs));
     }
     if (l.friction == FRICTION_COULOMB) { return s[0] * l.inv_cos_an; }
-    if (l.friction == FRICTION_AGMA) { return agma_mu(vs, upper) * l.inv_cos_an; }
+    if (l.friction == FRICTION_AGMA) { return agma_mu(vs, branch == 1u) * l.inv_cos_an; }
     if (l.friction == FRICTION_STRIBECK) { return stribeck_mu(s, vs) * l.inv_cos_an; }
     if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
         // No such law or table: NaN makes the lane `nonfinite`, never a number.
         return real(bitcast<f32>(0x7fc00000u));
     }
-    // table: linear between points, flat past the ends
-    let t = l.table;
-    let n = g.table_n[t / 4u][t % 4u];
-    var prev = table_at(t, 0u);
-    if (vs <= prev.x) { return prev.y * l.inv_cos_an; }
-    for (var i = 1u; i < n; i++) {
-        let cur = table_at(t, i);
-        if (vs < cur.x) {
-            let w = (vs - prev.x) / (cur.x - prev.x);
-            return (prev.y + w * (cur.y - prev.y)) * l.inv_cos_an;
+    return table_mu_on(l.table, branch, vs) * l.inv_cos_an;
+}
+
+// Points in table t.
+fn table_n(t: u32) -> u32 {
+    return g.table_n[t / 4u][t % 4u];
+}
+
+// `FrictionTable::mu_on`: μ on piece k of table t (flat past the ends,
+// else the line through points k − 1 and k, extended past them).
+fn table_mu_on(t: u32, k: u32, vs: real) -> real {
+    let n = table_n(t);
+    if (k == 0u) { return table_at(t, 0u).y; }
+    if (k >= n) { return table_at(t, n - 1u).y; }
+    let prev = table_at(t, k - 1u);
+    let cur = table_at(t, k);
+    let w = (vs - prev.x) / (cur.x - prev.x);
+    return prev.y + w * (cur.y - prev.y);
+}
+
+// `law_speed` in src/model/friction.rs: the speed the law is read at,
+// for a table its signed extension past rest (smooth through a rest).
+fn law_speed(l: Lane, dir: real, v: real, vs: real) -> real {
+    if (l.friction == FRICTION_TABLE) { return dir * v * l.inv_cos_g; }
+    return vs;
+}
+
+// Whether the lane's law is a table that exists.
+fn has_table(l: Lane) -> bool {
+    return l.friction == FRICTION_TABLE && l.table < g.n_tables;
+}
+
+// `branch_of` in src/model/friction.rs: the branch of the lane's law that
+// sliding speed `vs` is on (a table's piece: its speeds at or below vs).
+fn branch_of(l: Lane, vs: real) -> u32 {
+    if (has_table(l)) {
+        var k = 0u;
+        for (var i = 0u; i < table_n(l.table); i++) {
+            if (table_at(l.table, i).x <= vs) { k += 1u; }
         }
-        prev = cur;
+        return k;
     }
-    return prev.y * l.inv_cos_an;
+    return select(0u, 1u, above_branch(l, vs));
+}
+
+// `branch_edges` in src/model/friction.rs: x, y: the sliding speeds
+// bounding branch b (∓3e38, "never", past the ends).
+fn branch_edges(l: Lane, b: u32) -> vec2<real> {
+    var e = vec2<real>(-3.0e38, 3.0e38);
+    if (has_table(l)) {
+        let n = table_n(l.table);
+        if (b > 0u) { e.x = table_at(l.table, min(b, n) - 1u).x; }
+        if (b < n) { e.y = table_at(l.table, b).x; }
+    } else if (l.branch_speed < 1.0e38) {
+        if (b == 0u) { e.y = l.branch_speed; } else { e.x = l.branch_speed; }
+    }
+    return e;
 }

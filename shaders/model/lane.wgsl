@@ -15,12 +15,8 @@ struct Lane {
     motor: u32, friction: u32, table: u32, steep: u32,
 }
 
-// Whether the lane's friction law has two branches (`branch_speed` is
-// "never", 3e38, for a law with one: WGSL may assume no infinities).
-fn has_branches(l: Lane) -> bool {
-    return l.branch_speed < 1.0e38;
-}
-
+// `branch_speed` is "never", 3e38, for a law without one: WGSL may
+// assume no infinities.
 fn above_branch(l: Lane, vs: real) -> bool {
     return vs > l.branch_speed;
 }

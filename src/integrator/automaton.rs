@@ -14,7 +14,7 @@ use super::control::H_INITIAL;
 use super::result::{speeding_up, EndState, Status};
 use super::rhs::rhs;
 use crate::model::kernel::sliding_speed;
-use crate::model::{phi, side_of, stick_test, FrictionTable, Lane, Mode};
+use crate::model::{branch_of, phi, side_of, stick_test, FrictionTable, Lane, Mode};
 
 crate::lanewise_struct! {
     /// The complete state of one lane between calls to
@@ -36,9 +36,8 @@ crate::lanewise_struct! {
         pub stuck: bool,
         /// The motor's force is on.
         pub motor_on: bool,
-        /// On the friction law's upper branch (Vs above its branch speed); always
-        /// false for the other laws.
-        pub upper: bool,
+        /// The friction law's branch the lane slides on (`Mode::branch`).
+        pub branch: u32,
         /// Finished, or abandoned with `status`.
         pub done: bool,
         /// Running on past t_end towards t_max: the motor is cut and the lane
@@ -78,7 +77,7 @@ impl LaneState {
             side: self.side,
             dir: self.dir,
             motor_on: self.motor_on,
-            upper: self.upper,
+            branch: self.branch,
         }
     }
 
@@ -126,7 +125,7 @@ pub fn init(lane: &Lane, tables: &[FrictionTable]) -> LaneState {
         },
         stuck: false,
         motor_on,
-        upper: lane.above_branch(sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
+        branch: branch_of(lane, tables, sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
         done: false,
         running_on: false,
         speeding: false,
@@ -178,8 +177,8 @@ pub(crate) fn check_mode(lane: &Lane, tables: &[FrictionTable], st: &mut LaneSta
 /// direction of the tangential force.
 pub(crate) fn come_to_rest(lane: &Lane, tables: &[FrictionTable], st: &mut LaneState) {
     st.y[1] = 0.0;
-    // At rest the sliding speed is below 10 ft/min: the lower branch.
-    st.upper = false;
+    // The branch a sliding speed rising from rest enters.
+    st.branch = branch_of(lane, tables, 0.0);
     let (stick, tf) = stick_test(lane, st.motor_on);
     if stick {
         st.stuck = true;

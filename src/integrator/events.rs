@@ -1,13 +1,14 @@
 //! Events inside a step (docs/model.md section 8): the switching function's
 //! sign change (a switch), ẋ1 reaching 0 (rest) and, while a lane runs on
 //! past t_end with its motor cut, its acceleration turning from braking
-//! to driving (speeding up: it runs away), and under the `agma` law the
-//! sliding speed crossing 10 ft/min (the law's change of branch), located
-//! by the Illinois method on the step's dense output.
+//! to driving (speeding up: it runs away), and under a law of several
+//! branches the sliding speed leaving its branch (`agma`'s 10 ft/min, a
+//! `table`'s speeds), located by the Illinois method on the step's dense
+//! output.
 
 use super::stepper::Trial;
 use crate::model::kernel::sliding_speed;
-use crate::model::{motion, phi, FrictionTable, Lane, Mode};
+use crate::model::{branch_edges, motion, phi, FrictionTable, Lane, Mode};
 
 /// Root-location tolerance for events, s.
 pub const T_ROOT_TOL: f64 = 1e-13;
@@ -31,9 +32,10 @@ pub enum EventFn {
     /// −s·ẍ1: leaves > 0 when a lane running on past t_end stops
     /// slowing down (only then is it looked for).
     Speeding = 2,
-    /// Under a law with two branches (`agma`), the sliding speed's
-    /// distance from the law's branch speed on the side of the mode's
-    /// branch: leaves > 0 when the speed crosses to the other branch.
+    /// Under a law of several branches (`agma`, `table`), the sliding
+    /// speed's distance from the nearer edge of the mode's branch
+    /// (`branch_edges`): leaves > 0 when the speed crosses to the next
+    /// branch.
     Branch = 3,
 }
 
@@ -61,13 +63,10 @@ pub(crate) fn event_value(
         EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
         EventFn::Rest => rest_value(mode.dir as f64, v),
         EventFn::Speeding => speeding_value(mode.dir as f64, motion(lane, tables, mode, v).acc),
-        EventFn::Branch => branch_value(
-            mode.dir as f64,
-            v,
-            lane.inv_cos_g,
-            lane.branch_speed,
-            mode.upper,
-        ),
+        EventFn::Branch => {
+            let (lo, hi) = branch_edges(lane, tables, mode.branch);
+            branch_value(mode.dir as f64, v, lane.inv_cos_g, lo, hi)
+        }
     }
 }
 
@@ -84,15 +83,21 @@ fn speeding_value(dir: f64, acc: f64) -> f64 {
 }
 
 /// The branch event's function at speed `v`: the sliding speed's
-/// distance from the law's branch speed on the side of the branch.
+/// distance from the nearer of its branch's edges `lo` and `hi` (an
+/// infinite edge is never near).
 #[inline(always)]
-fn branch_value(dir: f64, v: f64, inv_cos_g: f64, branch_speed: f64, upper: bool) -> f64 {
+fn branch_value(dir: f64, v: f64, inv_cos_g: f64, lo: f64, hi: f64) -> f64 {
     let vs = sliding_speed(dir, v, inv_cos_g);
-    if upper {
-        vs - branch_speed
-    } else {
-        branch_speed - vs
-    }
+    (vs - lo).min(hi - vs)
+}
+
+/// Whether a lane that left its branch (edges `lo`, `hi`) at speed `v`
+/// left it upwards, into the next branch, rather than downwards: the
+/// nearer edge is the one crossed.
+#[inline]
+pub(crate) fn left_upwards(dir: f64, v: f64, inv_cos_g: f64, lo: f64, hi: f64) -> bool {
+    let vs = sliding_speed(dir, v, inv_cos_g);
+    hi - vs <= vs - lo
 }
 
 crate::lanewise_struct! {
@@ -104,12 +109,13 @@ crate::lanewise_struct! {
         pub(crate) dir: f64,
         /// Running on past t_end: speeding up is an event.
         pub(crate) running_on: bool,
-        /// The law has two branches: the change of branch is an event.
+        /// The law has several branches: the change of branch is an event.
         pub(crate) branches: bool,
-        /// The sliding speed where the law changes branch, m/s.
-        pub(crate) branch_speed: f64,
-        /// The mode's branch.
-        pub(crate) upper: bool,
+        /// The sliding speeds bounding the mode's branch, m/s
+        /// (`branch_edges`).
+        pub(crate) lo: f64,
+        /// See `lo`.
+        pub(crate) hi: f64,
         /// 1 / cos γ.
         pub(crate) inv_cos_g: f64,
     }
@@ -118,13 +124,14 @@ crate::lanewise_struct! {
 impl Watch {
     /// What a lane in `mode` watches for.
     #[inline]
-    pub(crate) fn of(lane: &Lane, mode: Mode, running_on: bool) -> Watch {
+    pub(crate) fn of(lane: &Lane, tables: &[FrictionTable], mode: Mode, running_on: bool) -> Watch {
+        let (lo, hi) = branch_edges(lane, tables, mode.branch);
         Watch {
             dir: mode.dir as f64,
             running_on,
-            branches: lane.branch_speed.is_finite(),
-            branch_speed: lane.branch_speed,
-            upper: mode.upper,
+            branches: lo > f64::NEG_INFINITY || hi < f64::INFINITY,
+            lo,
+            hi,
             inv_cos_g: lane.inv_cos_g,
         }
     }
@@ -145,7 +152,7 @@ impl Watch {
                 off
             },
             if self.branches {
-                branch_value(self.dir, v, self.inv_cos_g, self.branch_speed, self.upper)
+                branch_value(self.dir, v, self.inv_cos_g, self.lo, self.hi)
             } else {
                 off
             },
@@ -165,12 +172,35 @@ pub fn locate_root(
     g_end: f64,
     theta_tol: f64,
 ) -> f64 {
-    let fa = event_value(lane, tables, mode, which, r[0]);
+    let value = |v: f64| match which {
+        EventFn::Branch => {
+            let (lo, hi) = crossed_edge(lane, tables, mode, dense_v(r, 1.0));
+            branch_value(mode.dir as f64, v, lane.inv_cos_g, lo, hi)
+        }
+        _ => event_value(lane, tables, mode, which, v),
+    };
+    let fa = value(r[0]);
     if fa <= 0.0 {
         return 0.0;
     }
-    let g = |th: f64| event_value(lane, tables, mode, which, dense_v(r, th));
-    illinois(g, fa, g_end, theta_tol).0
+    illinois(|th| value(dense_v(r, th)), fa, g_end, theta_tol).0
+}
+
+/// The edge of the mode's branch that a step ending at speed `v_end`
+/// crossed, as edges (lo, hi) with the other one infinite: the upper
+/// where the speed ended above it, else the lower. A step that starts a
+/// branch starts on the edge it came in by, where rounding may put it a
+/// hair outside; so the root is sought on the edge the step left by
+/// alone, not on the nearer edge, which at the start is the one behind
+/// it.
+#[inline]
+fn crossed_edge(lane: &Lane, tables: &[FrictionTable], mode: Mode, v_end: f64) -> (f64, f64) {
+    let (lo, hi) = branch_edges(lane, tables, mode.branch);
+    if hi - sliding_speed(mode.dir as f64, v_end, lane.inv_cos_g) < 0.0 {
+        (f64::NEG_INFINITY, hi)
+    } else {
+        (lo, f64::INFINITY)
+    }
 }
 
 /// The bracket [a, b] ⊂ [0, 1] around a crossing of `g` from >= 0 (at a)
@@ -227,7 +257,7 @@ pub(crate) fn earliest_event(
     let theta_tol = T_ROOT_TOL / h;
     let mut theta = 2.0;
     let mut which = EventFn::Rest;
-    let watch = Watch::of(lane, mode, running_on);
+    let watch = Watch::of(lane, tables, mode, running_on);
     // The switching function at the step's end came with the trial (the
     // same arithmetic as `event_value`, as vector code); the step's end
     // derivative holds the acceleration there.
@@ -274,7 +304,7 @@ mod tests {
             side: 1,
             dir: 1,
             motor_on: true,
-            upper: false,
+            branch: 0,
         };
         // v(θ) = 1 − 4θ as dense coefficients: r2 = −4, r3 = h k1 − r2 = 0, ...
         let r = [1.0, -4.0, 0.0, 0.0, 0.0];

@@ -59,14 +59,14 @@ impl<const N: usize> Lanes<N> {
 
     /// Slot j from lane `lane`'s state `st`.
     #[inline]
-    fn load(&mut self, j: usize, lane: &Lane, st: &LaneState) {
+    fn load(&mut self, j: usize, lane: &Lane, tables: &[FrictionTable], st: &LaneState) {
         self.st.set_lane(j, *st);
         self.ready[j] = !st.stuck && st.k1_valid && !st.done;
         self.t_end[j] = lane.t_end;
         self.t_stop[j] = time_stop(lane, st);
         self.steep[j] = lane.steep;
         self.watch
-            .set_lane(j, Watch::of(lane, st.mode(), st.running_on));
+            .set_lane(j, Watch::of(lane, tables, st.mode(), st.running_on));
     }
 
     /// The common plan of every slot (`step::prepare` of a ready lane):
@@ -126,10 +126,16 @@ impl<const N: usize> Slots<N> {
     /// Runs `f` (the automaton) on slot j, lane `lane`: its state taken
     /// out of the columns and put back.
     #[inline(always)]
-    fn on_automaton<R>(&mut self, j: usize, lane: &Lane, f: impl FnOnce(&mut LaneState) -> R) -> R {
+    fn on_automaton<R>(
+        &mut self,
+        j: usize,
+        lane: &Lane,
+        tables: &[FrictionTable],
+        f: impl FnOnce(&mut LaneState) -> R,
+    ) -> R {
         let mut st = self.hot.st.lane(j);
         let r = f(&mut st);
-        self.hot.load(j, lane, &st);
+        self.hot.load(j, lane, tables, &st);
         self.mode[j] = st.mode();
         self.fresh[j] = false;
         r
@@ -155,7 +161,7 @@ impl<const N: usize> Slots<N> {
             }
             if let Some(next) = order.next() {
                 let st = init(&lanes[next], tables);
-                self.hot.load(j, &lanes[next], &st);
+                self.hot.load(j, &lanes[next], tables, &st);
                 self.mode[j] = st.mode();
                 self.fresh[j] = false;
                 self.slot[j] = Some(next);
@@ -178,7 +184,7 @@ impl<const N: usize> Slots<N> {
             if self.hot.ready[j] {
                 active[j] = true;
             } else if let Some(p) =
-                self.on_automaton(j, &lanes[i], |s| prepare(&lanes[i], tables, s))
+                self.on_automaton(j, &lanes[i], tables, |s| prepare(&lanes[i], tables, s))
             {
                 (h[j], landing[j], active[j]) = (p.h, p.landing(), true);
             }
@@ -232,7 +238,7 @@ impl<const N: usize> Slots<N> {
         for j in (0..N).filter(|&j| v.slow[j]) {
             let plan = StepPlan::new(self.mode[j], h[j], self.hot.t_stop[j], landing[j]);
             let trial = self.trials.lane(j);
-            self.on_automaton(j, lane[j], |s| {
+            self.on_automaton(j, lane[j], tables, |s| {
                 finish_uncommon(lane[j], tables, set, s, &plan, &trial, v.h_next[j])
             });
         }

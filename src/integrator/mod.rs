@@ -86,7 +86,7 @@ mod tests {
             side: 1,
             dir: 1,
             motor_on: true,
-            upper: false,
+            branch: 0,
         };
         let m = motion(&l, &[], mode, 1.0);
         let t_rest = 2.0 / -m.acc;

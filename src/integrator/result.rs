@@ -6,7 +6,7 @@ use super::components::NY;
 pub use super::outcome::{Contact, Drive, Hold, SearchOutcome, SearchStatus, Side};
 pub use super::path::{Recheck, RowPath};
 use crate::model::kernel::sliding_speed;
-use crate::model::{efficiency, motion, mu_at, FrictionTable, Lane, Mode};
+use crate::model::{branch_of, efficiency, motion, mu_at, FrictionTable, Lane, Mode};
 use crate::params::gear::rpm;
 
 /// Why a lane ended; `Ok` unless it could not be finished.
@@ -290,7 +290,7 @@ impl EndState {
             side: self.side,
             dir: self.dir,
             motor_on: self.motor_on,
-            upper: lane.above_branch(sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
+            branch: branch_of(lane, tables, sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
         };
         let m = motion(lane, tables, mode, v);
         let eta_end = if self.stuck || v == 0.0 || !ok {

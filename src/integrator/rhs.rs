@@ -93,7 +93,7 @@ mod tests {
                 side: if u.next() < 0.5 { 1 } else { -1 },
                 dir: if u.next() < 0.5 { 1 } else { -1 },
                 motor_on: (round + j) % 4 != 0,
-                upper: u.next() < 0.5,
+                branch: u32::from(u.next() < 0.5),
             });
             let v: [f64; 8] =
                 std::array::from_fn(|j| if j == 3 { 0.0 } else { -6.0 + 12.0 * u.next() });
@@ -148,7 +148,7 @@ mod tests {
                 crate::model::tan_small(rho)
             }
             FrictionKind::Coulomb => a * l.inv_cos_an,
-            _ => crate::model::agma_mu(vs, mode.upper) * l.inv_cos_an,
+            _ => crate::model::agma_mu(vs, mode.branch == 1) * l.inv_cos_an,
         };
         let t = (mode.side * mode.dir) as f64 * mu;
         let (p, q) = (l.tan_g + t, 1.0 - l.tan_g * t);

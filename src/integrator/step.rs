@@ -9,7 +9,7 @@
 use super::automaton::{check_mode, come_to_rest, horizon, reach_time_event, set_side, LaneState};
 use super::components::NY;
 use super::control::step_size;
-use super::events::{earliest_event, EventFn, Watch};
+use super::events::{earliest_event, left_upwards, EventFn, Watch};
 use super::flow::step_flow;
 use super::result::Status;
 use super::rhs::rhs;
@@ -17,7 +17,7 @@ use super::settings::Settings;
 use super::stepper::{try_step, Trial};
 use super::verdict::{end_common, verdicts};
 use crate::lanewise::Lanewise;
-use crate::model::{FrictionTable, Lane, Mode};
+use crate::model::{branch_edges, FrictionTable, Lane, Mode};
 
 /// A step about to be tried: its mode, its size, and the time event it
 /// may land on.
@@ -36,7 +36,7 @@ impl StepPlan {
             side: 1,
             dir: 1,
             motor_on: false,
-            upper: false,
+            branch: 0,
         },
         h: 0.0,
         t_stop: 0.0,
@@ -130,7 +130,7 @@ pub fn finish_step(
     trial: &Trial,
 ) {
     let h = plan.h;
-    let watch = Watch::of(lane, plan.mode, st.running_on).one();
+    let watch = Watch::of(lane, tables, plan.mode, st.running_on).one();
     let one = |a: f64| [a];
     let v = verdicts::<1>(
         &[true],
@@ -239,7 +239,12 @@ pub(crate) fn step_to_event(
         }
         EventFn::Speeding => st.speeding = true,
         EventFn::Branch => {
-            st.upper = !st.upper;
+            let (lo, hi) = branch_edges(lane, tables, st.branch);
+            if left_upwards(st.dir as f64, st.y[1], lane.inv_cos_g, lo, hi) {
+                st.branch += 1;
+            } else {
+                st.branch -= 1;
+            }
             check_mode(lane, tables, st);
         }
     }

@@ -4,7 +4,7 @@
 //! once ([`motions`]): the kernel's formulas composed once. The one-lane
 //! path is its W = 1 case ([`super::motion`]).
 
-use super::friction::{mu_sliding, tan_series, FrictionTable, TAN_SERIES_MAX};
+use super::friction::{law_speed, mu_sliding, tan_series, FrictionTable, TAN_SERIES_MAX};
 use super::kernel::{
     load_term, motion_parts, motor_force_of, paper_rho, sliding_speed, switching, Motion,
 };
@@ -24,8 +24,8 @@ crate::lanewise_struct! {
         pub side: f64,
         /// c s: the sign of tan ρ in ψ.
         pub sd: f64,
-        /// The mode's branch of the friction law (`Mode::upper`).
-        pub upper: bool,
+        /// The mode's branch of the friction law (`Mode::branch`).
+        pub branch: u32,
         /// 1 / cos γ.
         pub inv_cos_g: f64,
         /// tan γ.
@@ -71,7 +71,7 @@ impl Coef {
             dir: mode.dir as f64,
             side: mode.side as f64,
             sd: (mode.side * mode.dir) as f64,
-            upper: mode.upper,
+            branch: mode.branch,
             inv_cos_g: lane.inv_cos_g,
             tan_g: lane.tan_g,
             m1: lane.m1,
@@ -161,7 +161,8 @@ pub fn motions<const W: usize>(
     if rare {
         for j in 0..W {
             if c.other[j] {
-                mu[j] = mu_sliding(lane[j], tables, vs[j], c.upper[j]);
+                let at = law_speed(lane[j], c.dir[j], v[j], vs[j]);
+                mu[j] = mu_sliding(lane[j], tables, at, c.branch[j]);
             } else if rho[j].abs() > TAN_SERIES_MAX {
                 mu[j] = rho[j].tan();
             }

@@ -66,6 +66,46 @@ impl FrictionTable {
         Ok(t)
     }
 
+    /// μ on piece `k` at sliding speed `vs`: piece 0 holds μ at the first
+    /// point, piece n (past the last point) μ at the last, and piece k
+    /// between them is the line through points k − 1 and k, extended past
+    /// them (a step is frozen on its piece, so that its right-hand side is
+    /// smooth; the table's kinks are events). On its own piece, the same
+    /// bits as [`FrictionTable::mu_at`].
+    #[inline]
+    pub fn mu_on(&self, k: u32, vs: f64) -> f64 {
+        let (k, n) = (k as usize, self.n);
+        if k == 0 {
+            return self.mu[0];
+        }
+        if k >= n {
+            return self.mu[n - 1];
+        }
+        let w = (vs - self.vs[k - 1]) / (self.vs[k] - self.vs[k - 1]);
+        self.mu[k - 1] + w * (self.mu[k] - self.mu[k - 1])
+    }
+
+    /// The piece sliding speed `vs` is on: the number of table speeds at
+    /// or below it (a speed on a point belongs to the piece above it, the
+    /// one a rising speed enters).
+    #[inline]
+    pub fn piece_of(&self, vs: f64) -> u32 {
+        self.vs[..self.n].iter().filter(|&&p| p <= vs).count() as u32
+    }
+
+    /// The sliding speeds bounding piece `k`: (−∞, ∞) past the ends.
+    #[inline]
+    pub fn edges(&self, k: u32) -> (f64, f64) {
+        let (k, n) = (k as usize, self.n);
+        let lo = if k == 0 {
+            f64::NEG_INFINITY
+        } else {
+            self.vs[k.min(n) - 1]
+        };
+        let hi = if k >= n { f64::INFINITY } else { self.vs[k] };
+        (lo, hi)
+    }
+
     /// μ at sliding speed `vs` (linear between points, constant outside).
     #[inline]
     pub fn mu_at(&self, vs: f64) -> f64 {
@@ -86,19 +126,18 @@ impl FrictionTable {
 /// The wedge's sliding friction tan ρ at sliding speed `vs` >= 0: the
 /// lane's law on its slots (`lane.law`, the law's parameters in the
 /// parameter table's order). For the laws that give a coefficient μ,
-/// tan ρ = μ / cos αn (the flank's normal force is N / cos αn). `upper`:
-/// the branch the step is frozen on, for a law that has two.
+/// tan ρ = μ / cos αn (the flank's normal force is N / cos αn). `branch`:
+/// the piece of the law the step is frozen on ([`branch_of`]), for a law
+/// of several.
 #[inline]
-pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, upper: bool) -> f64 {
+pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, branch: u32) -> f64 {
     let s = &lane.law;
     let mu = match lane.friction {
         FrictionKind::Paper => return tan_small(paper_rho(s[0], s[1], s[2], vs)),
         FrictionKind::Coulomb => s[0],
         // No such table: NaN makes the lane `nonfinite`, never a number.
-        FrictionKind::Table => tables
-            .get(lane.table as usize)
-            .map_or(f64::NAN, |t| t.mu_at(vs)),
-        FrictionKind::Agma => agma_mu(vs, upper),
+        FrictionKind::Table => table_of(lane, tables).map_or(f64::NAN, |t| t.mu_on(branch, vs)),
+        FrictionKind::Agma => agma_mu(vs, branch == 1),
         FrictionKind::Stribeck => stribeck_mu(s, vs),
     };
     mu * lane.inv_cos_an
@@ -108,7 +147,62 @@ pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, upper: bool) -
 /// a function of speed alone, for results read at one speed.
 #[inline]
 pub fn mu_at(lane: &Lane, tables: &[FrictionTable], vs: f64) -> f64 {
-    mu_sliding(lane, tables, vs, lane.above_branch(vs))
+    mu_sliding(lane, tables, vs, branch_of(lane, tables, vs))
+}
+
+/// The speed the lane's law is read at, moving in direction `dir` at
+/// speed `v` with sliding speed `vs` (clamped at rest): `vs`, but for
+/// a table its signed extension past rest, dir·v / cos γ. Inside a step
+/// the mode is frozen, and past a rest the step overshoots the sliding
+/// speed stays 0; a table's piece from a point at 0 is a line, which,
+/// read past rest, keeps the right-hand side smooth through the rest.
+/// Clamped, it had a kink there that the step's dense output does not
+/// follow: a rest located 3e-7 s late at the default tolerance, and the
+/// lane's works 9e-6 off after it.
+#[inline]
+pub fn law_speed(lane: &Lane, dir: f64, v: f64, vs: f64) -> f64 {
+    if lane.friction == FrictionKind::Table {
+        dir * v * lane.inv_cos_g
+    } else {
+        vs
+    }
+}
+
+/// The lane's friction table, for a `table` lane whose table exists.
+#[inline]
+fn table_of<'a>(lane: &Lane, tables: &'a [FrictionTable]) -> Option<&'a FrictionTable> {
+    match lane.friction {
+        FrictionKind::Table => tables.get(lane.table as usize),
+        _ => None,
+    }
+}
+
+/// The branch of the lane's friction law that sliding speed `vs` is on:
+/// for `agma` 1 above its branch speed (10 ft/min), else 0; for `table`
+/// the piece between its speeds ([`FrictionTable::piece_of`]); 0 for a
+/// law of one piece. A step is frozen on its branch, and the law's kinks
+/// and jumps between branches are events (`EventFn::Branch`).
+#[inline]
+pub fn branch_of(lane: &Lane, tables: &[FrictionTable], vs: f64) -> u32 {
+    match table_of(lane, tables) {
+        Some(t) => t.piece_of(vs),
+        None => u32::from(lane.above_branch(vs)),
+    }
+}
+
+/// The sliding speeds bounding the lane's branch `branch`, (lo, hi):
+/// the branch event is where the speed leaves them. (−∞, ∞) for a law
+/// of one piece.
+#[inline]
+pub fn branch_edges(lane: &Lane, tables: &[FrictionTable], branch: u32) -> (f64, f64) {
+    if let Some(t) = table_of(lane, tables) {
+        return t.edges(branch);
+    }
+    match (lane.branch_speed.is_finite(), branch) {
+        (false, _) => (f64::NEG_INFINITY, f64::INFINITY),
+        (true, 0) => (f64::NEG_INFINITY, lane.branch_speed),
+        (true, _) => (lane.branch_speed, f64::INFINITY),
+    }
 }
 
 /// tan x, by its Taylor series up to x^15 where that is exact to the last

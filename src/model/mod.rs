@@ -19,7 +19,10 @@ pub mod laws;
 pub mod vmath;
 
 pub use coefs::{motions, Coef, Coefs};
-pub use friction::{mu_at, mu_sliding, tan_small, FrictionTable, MAX_TABLES, MAX_TABLE_POINTS};
+pub use friction::{
+    branch_edges, branch_of, mu_at, mu_sliding, tan_small, FrictionTable, MAX_TABLES,
+    MAX_TABLE_POINTS,
+};
 pub use kernel::{Motion, Motions};
 pub use lane::Lane;
 pub use laws::{agma_mu, agma_upper, FrictionKind, MotorKind, AGMA_JUMP_M_S};
@@ -68,11 +71,12 @@ pub struct Mode {
     pub dir: i32,
     /// Motor force on.
     pub motor_on: bool,
-    /// The friction law's upper branch (Vs above its branch speed, 10
-    /// ft/min for `agma`); false for the laws with one branch. Frozen so a
-    /// step's right-hand side is smooth: the jump between the branches is
-    /// an event.
-    pub upper: bool,
+    /// The friction law's branch ([`branch_of`]): for `agma` 1 above its
+    /// branch speed (10 ft/min), else 0; for `table` the piece between
+    /// two of its speeds; 0 for the laws of one piece. Frozen so a step's
+    /// right-hand side is smooth: the law's jumps and kinks between
+    /// branches are events.
+    pub branch: u32,
 }
 
 /// Equation of motion in mode `mode` (side c, direction s) at speed `v1`:
@@ -147,7 +151,7 @@ mod tests {
                     side,
                     dir: 1,
                     motor_on: true,
-                    upper: false,
+                    branch: 0,
                 },
                 v,
             );
@@ -171,7 +175,7 @@ mod tests {
                 side: 1,
                 dir: 1,
                 motor_on: true,
-                upper: false,
+                branch: 0,
             },
             v,
         );
@@ -185,7 +189,7 @@ mod tests {
                 side: -1,
                 dir: 1,
                 motor_on: true,
-                upper: false,
+                branch: 0,
             },
             v,
         );
@@ -198,7 +202,7 @@ mod tests {
                 side: 1,
                 dir: -1,
                 motor_on: false,
-                upper: false,
+                branch: 0,
             },
             -v,
         );

@@ -5,7 +5,7 @@
 use super::table::{law_params, Num};
 use super::validated::LaneParams;
 use crate::model::laws::{StaticMu, SteepAtRest, LAW_SLOTS};
-use crate::model::{mu_sliding, FrictionTable, Lane, MotorKind};
+use crate::model::{mu_at, FrictionTable, Lane, MotorKind};
 
 impl Lane {
     /// Derives a lane's constants from validated parameters.
@@ -61,7 +61,7 @@ impl Lane {
             *slot = p.get(n);
         }
         lane.mu_s = match law.static_mu {
-            StaticMu::AtRest => mu_sliding(&lane, tables, 0.0, false),
+            StaticMu::AtRest => mu_at(&lane, tables, 0.0),
             StaticMu::Slot(i) => lane.law[i] * inv_cos_an,
             StaticMu::Value(mu) => mu * inv_cos_an,
         };

@@ -94,7 +94,7 @@ macro_rules! host_layouts {
             (
                 "State",
                 rust_layout!($state; t_hi, t_lo, h, t_first_switch, flow, flow_c, y, yc, k1, lag, phase,
-                    local, pad_r, side, dir, flags, status, switches, reversals, sticks, steps, events, pad),
+                    local, pad_r, side, dir, flags, status, switches, reversals, sticks, steps, events, branch, pad),
             ),
             (
                 "Globals",

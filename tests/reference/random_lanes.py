@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|table]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -34,6 +34,15 @@ rest), a viscous term 0 to 0.01 s/m in 60 %, a flank angle 0 to 30 deg in
 half, lead angle 2 to 15 deg (static friction often above it: lanes that
 hold), load -9 to +9 kN, the motor cut in 50 % (with t_max in half of
 those), constant motors in 20 %, initial speeds in 25 %.
+
+`table` draws lanes under friction tables, as `agma` does otherwise
+(lead angle 2 to 15 deg), and writes the tables to OUT.toml (a sweep
+file holding only them, for `tswm run --lanes OUT.csv OUT.toml` and
+`scipy_reference.py`): six tables of 2 to 16 points, the first speed 0
+in two tables of three (else up to 0.05 m/s), each next one 0.01 to 2
+m/s above the last (log-uniform), mu 0.02 to 0.15 in a random walk that
+may rise or fall; each lane names one of them, with a flank angle 0 to
+30 deg in half of the lanes.
 """
 import csv
 import random
@@ -131,6 +140,40 @@ if sys.argv[4:] == ["stribeck"]:
                        v_stribeck=0.02 + 0.48 * rng.random(), stribeck_exp=delta)
             if rng.random() < 0.6:
                 row["mu_viscous"] = 0.01 * rng.random()
+            if rng.random() < 0.5:
+                row["alpha_n_deg"] = 30 * rng.random()
+            if rng.random() < 0.5:
+                row["motor_off"] = t_end * rng.random()
+                if rng.random() < 0.5:
+                    row["t_max"] = t_end + 2 + 18 * rng.random()
+            if rng.random() < 0.2:
+                row.update(motor="constant", f1=500 + 6000 * rng.random())
+            if rng.random() < 0.25:
+                row["v1_0"] = -3 + 6 * rng.random()
+            w.writerow([row[c] for c in cols])
+    sys.exit(0)
+if sys.argv[4:] == ["table"]:
+    names = [f"t{k}" for k in range(6)]
+    with open(out.rsplit(".", 1)[0] + ".toml", "w") as f:
+        for name in names:
+            points = 2 + int(15 * rng.random())
+            vs = [0.0 if rng.random() < 2 / 3 else 0.05 * rng.random()]
+            mu = [0.02 + 0.13 * rng.random()]
+            for _ in range(points - 1):
+                vs.append(vs[-1] + 0.01 * 200 ** rng.random())
+                mu.append(min(0.15, max(0.02, mu[-1] + 0.04 * (rng.random() - 0.5))))
+            f.write(f"[friction_table.{name}]\nvs = {vs!r}\nmu = {mu!r}\n")
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction",
+            "friction_table", "alpha_n_deg", "motor", "f1", "v1_0"]
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for _ in range(n):
+            t_end = 0.5 + 3.5 * rng.random()
+            row = {c: "" for c in cols}
+            row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                       t_end=t_end, friction="table", friction_table=rng.choice(names))
             if rng.random() < 0.5:
                 row["alpha_n_deg"] = 30 * rng.random()
             if rng.random() < 0.5:

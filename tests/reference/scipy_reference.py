@@ -2,26 +2,35 @@
 written from the model's text and not from tswm's code: scipy's DOP853 at
 rtol = atol = 1e-12 with located events, for checking tswm's results.
 
-    python3 scipy_reference.py LANES.csv OUT.csv
+    python3 scipy_reference.py LANES.csv OUT.csv [TABLES.toml]
 
 LANES.csv holds lanes.csv's parameter columns (tswm's own lanes.csv will
-do); OUT.csv gets lane, status, contact_end, x1_end, v1_end, the works and
-the four mesh energies, then hold, t_stop, branches (the agma law's
-changes of branch: crossings of 10 ft/min), and the counts switches
-(changes of contact side; a stick phase has none of its own, and a lane
-that starts at rest starts on the side of phi at t = 0), reversals
-(changes of the direction of motion) and sticks (stick phases) ("Does it hold?": a lane whose
-motor is cut and that still slides, slowing down, at t_end runs on to
-t_max until it comes to rest (held, or it departs: runs away) or its
-acceleration turns to driving it (runs away)).
+do); TABLES.toml, a tswm sweep file (a run's sweep.resolved.toml will do),
+holds the friction tables ([friction_table.NAME], arrays vs and mu) that
+lanes with friction = table name in their friction_table column. OUT.csv
+gets lane, status, contact_end, x1_end, v1_end, the works and the four
+mesh energies, then hold, t_stop, branches (changes of the law's piece:
+crossings of the agma law's 10 ft/min or of a table's speeds), and the
+counts switches (changes of contact side; a stick phase has none of its
+own, and a lane that starts at rest starts on the side of phi at t = 0),
+reversals (changes of the direction of motion) and sticks (stick phases)
+("Does it hold?": a lane whose motor is cut and that still slides,
+slowing down, at t_end runs on to t_max until it comes to rest (held, or
+it departs: runs away) or its acceleration turns to driving it (runs
+away)).
 
-Friction laws: the paper's fit, a constant mu, AGMA's steel-on-bronze
-curve (docs/model.md section 5, in ft/min; its jump at 10 ft/min located
-as an event, each branch kept smooth up to it) and the Stribeck curve
-mu = mu_c + (mu_s - mu_c) exp(-(Vs/v_st)^delta) + kv Vs; the laws that
-give a coefficient take the flank's pressure angle: tan rho = mu /
-cos(alpha_n).
+Friction laws: the paper's fit, a constant mu, a table mu(Vs) (linear
+between its points and flat past its ends, mu at Vs = 0 its static
+value), AGMA's steel-on-bronze curve (docs/model.md section 5, in
+ft/min) and the Stribeck curve mu = mu_c + (mu_s - mu_c)
+exp(-(Vs/v_st)^delta) + kv Vs; the laws that give a coefficient take the
+flank's pressure angle: tan rho = mu / cos(alpha_n). The agma law's jump
+at 10 ft/min and a table's kinks at its speeds split mu(Vs) into pieces:
+each integration segment stays on one piece, its formula kept smooth
+(extended) past the piece's ends, and the sliding speed leaving the piece
+is located as an event, after which the next piece takes over.
 """
+import bisect
 import csv
 import math
 import sys
@@ -48,6 +57,7 @@ def num(row, key, default=float("nan")):
 
 class Lane:
     def __init__(self, row, table=None):
+        """table: a friction table's (vs, mu) for friction = table."""
         self.m1, self.m2 = num(row, "m1"), num(row, "m2")
         g = math.radians(num(row, "gamma_deg"))
         self.tg, self.sg, self.cg = math.tan(g), math.sin(g), math.cos(g)
@@ -66,14 +76,48 @@ class Lane:
         self.x0, self.v0, self.t_end = num(row, "x1_0"), num(row, "v1_0"), num(row, "t_end")
         self.t_max = num(row, "t_max", self.t_end)
         self.k = 1.0 / math.cos(math.radians(num(row, "alpha_n_deg", 0.0) or 0.0))
+        # The sliding speeds that split mu(Vs) into pieces: piece p lies
+        # between speeds[p - 1] and speeds[p] (-inf and +inf past the ends).
+        if self.friction == "table":
+            self.speeds, self.mus = list(table[0]), list(table[1])
+        else:
+            self.speeds = [AGMA_JUMP] if self.friction == "agma" else []
 
-    def mu(self, vs, upper=None):
-        """tan rho at sliding speed vs >= 0; for agma on branch `upper`
-        (None: the branch of vs)."""
+    def piece(self, vs):
+        """The piece of mu holding sliding speed vs >= 0: for agma 0 (the
+        lower branch, up to and at 10 ft/min) or 1; for a table the p with
+        speeds[p - 1] <= vs < speeds[p], so that a speed rising from rest
+        enters the piece that starts at 0 when the table does."""
+        if self.friction == "agma":
+            return int(vs > AGMA_JUMP)
+        return bisect.bisect_right(self.speeds, vs)
+
+    def bounds(self, p):
+        """The ends of piece p, lo and hi; an end at 0 or below is -inf, as
+        the sliding speed leaves it only by coming to rest (an event of its
+        own)."""
+        sp = self.speeds
+        lo = sp[p - 1] if p > 0 and sp[p - 1] > 0 else -math.inf
+        hi = sp[p] if p < len(sp) else math.inf
+        return lo, hi
+
+    def mu(self, vs, p=None):
+        """tan rho at sliding speed vs >= 0 on piece p of the law, its
+        formula extended past the piece's ends (None: the piece of vs)."""
+        if p is None:
+            p = self.piece(vs)
         if self.friction == "paper":
             return math.tan(math.radians(1.0 / (self.a * vs ** self.b + self.c)))
         if self.friction == "agma":
-            return agma(vs, vs > AGMA_JUMP if upper is None else upper) * self.k
+            return agma(vs, p == 1) * self.k
+        if self.friction == "table":
+            v, m = self.speeds, self.mus
+            if p == 0:
+                return m[0] * self.k
+            if p == len(v):
+                return m[-1] * self.k
+            slope = (m[p] - m[p - 1]) / (v[p] - v[p - 1])
+            return (m[p - 1] + slope * (vs - v[p - 1])) * self.k
         if self.friction == "stribeck":
             drop = math.exp(-((vs / self.v_st) ** self.delta))
             return (self.mu_c + (self.mu_static - self.mu_c) * drop + self.kv * vs) * self.k
@@ -98,17 +142,18 @@ class Lane:
     def phi(self, v, on):
         return self.f1(v, on) / self.m1 - self.f2 / (self.m2 * self.tg)
 
-    def forces(self, v, c, s, on, upper=None):
-        """Acceleration, D and the reactions S1, S2 in mode (c, s)."""
+    def forces(self, v, c, s, on, p=None):
+        """Acceleration, D and the reactions S1, S2 in mode (c, s), on
+        piece p of the friction law."""
         f1 = self.f1(v, on)
-        rho = math.atan(self.mu(max(s * v, 0.0) / self.cg, upper))
+        rho = math.atan(self.mu(max(s * v, 0.0) / self.cg, p))
         psi = -math.tan(math.atan(self.tg) + c * s * rho)
         d = self.m1 - psi * self.m2 * self.tg
         acc = (f1 - psi * self.f2) / d
         return acc, d, f1 - self.m1 * acc, self.f2 - self.m2 * self.tg * acc, f1
 
 
-BRANCHES = [0]  # the agma law's changes of branch in the lane being run
+BRANCHES = [0]  # the friction law's changes of piece in the lane being run
 COUNTS = {}  # switches, reversals, sticks of the lane being run
 
 
@@ -119,14 +164,14 @@ def simulate(L):
     end, running_on = L.t_end, False
     c = 1 if L.phi(L.v0, on) >= 0 else -1
     s, stuck = (1 if L.v0 > 0 else -1 if L.v0 < 0 else 0), False
-    upper = L.friction == "agma" and abs(L.v0) / L.cg > AGMA_JUMP
+    piece = L.piece(abs(L.v0) / L.cg)
 
     COUNTS.update(switches=0, reversals=0, sticks=0)
 
     def rest():
-        nonlocal s, c, stuck, upper
+        nonlocal s, c, stuck, piece
         y[1] = 0.0
-        upper = False
+        piece = L.piece(0.0)
         f1 = L.f1(0.0, on)
         n = abs(L.f2 * L.cg - f1 * L.sg)
         T = f1 * L.cg + L.f2 * L.sg
@@ -161,7 +206,7 @@ def simulate(L):
         if stuck:
             t = t_stop
         else:
-            def rhs(_, z, c=c, s=s, on=on, u=upper):
+            def rhs(_, z, c=c, s=s, on=on, u=piece):
                 v = z[1]
                 acc, _, s1, s2, f1 = L.forces(v, c, s, on, u)
                 p1, p2 = s1 * v, s2 * v * L.tg
@@ -172,10 +217,16 @@ def simulate(L):
             def ev_rest(_, z, s=s):
                 return s * z[1]
 
-            def ev_switch(_, z, c=c, on=on):
-                return c * L.phi(z[1], on)
+            # No load and no motor force (cut, or a constant 0): phi is 0
+            # throughout, the contact stays where it is (phi >= 0: a-a),
+            # and an event function that is 0 everywhere would stop every
+            # segment where it starts.
+            no_phi = L.f2 == 0 and (not on or (L.motor == "constant" and L.f1c == 0))
 
-            kink0 = L.mu(max(s * y[1], 0.0) / L.cg, upper) - L.tg if c * s == -1 else 0.0
+            def ev_switch(_, z, c=c, on=on):
+                return 1.0 if no_phi else c * L.phi(z[1], on)
+
+            kink0 = L.mu(max(s * y[1], 0.0) / L.cg, piece) - L.tg if c * s == -1 else 0.0
             if c * s == -1 and after_kink:
                 # At a located kink the state sits on the root; the gap's
                 # sign there is rounding. The crossing is behind us: the
@@ -183,22 +234,26 @@ def simulate(L):
                 kink0 = -last_kink
             last_kink, after_kink = kink0, False
 
-            def ev_kink(_, z, s=s, k=kink0, u=upper):
+            def ev_kink(_, z, s=s, k=kink0, u=piece):
                 return k * (L.mu(max(s * z[1], 0.0) / L.cg, u) - L.tg) if k else 1.0
 
-            def ev_speeding(_, z, c=c, s=s, on=on, u=upper):
+            def ev_speeding(_, z, c=c, s=s, on=on, u=piece):
                 return -s * L.forces(z[1], c, s, on, u)[0] if running_on else 1.0
 
-            def ev_branch(_, z, s=s, u=upper):
-                if L.friction != "agma":
+            lo, hi = L.bounds(piece)
+
+            def ev_branch(_, z, s=s, lo=lo, hi=hi):
+                # >= 0 on the piece; its ends are the agma law's jump or a
+                # table's kinks.
+                if lo == -math.inf and hi == math.inf:
                     return 1.0
                 vs = max(s * z[1], 0.0) / L.cg
-                return vs - AGMA_JUMP if u else AGMA_JUMP - vs
+                return min(vs - lo, hi - vs)
 
             events = (ev_rest, ev_switch, ev_kink, ev_speeding, ev_branch)
             for e in events:
                 e.terminal, e.direction = True, -1
-            if L.forces(y[1], c, s, on, upper)[1] <= 0:
+            if L.forces(y[1], c, s, on, piece)[1] <= 0:
                 return "inconsistent", y, c, stuck, "", t
             # p1 = S1 x1' and p2 = S2 x2' change sign only where x1' = 0
             # (rest), S2 = 0 (phi = 0, a switch) or S1 = psi S2 = 0 (the
@@ -234,7 +289,9 @@ def simulate(L):
                 after_kink = True
                 continue
             if sol.status == 1 and hit[4]:
-                upper = not upper
+                # Up to the next piece through hi, down through lo.
+                vs = max(s * y[1], 0.0) / L.cg
+                piece += 1 if hi - vs < vs - lo else -1
                 BRANCHES[0] += 1
                 continue
         if t >= end:
@@ -255,9 +312,34 @@ def simulate(L):
     return "max_events", y, c, stuck, "", t
 
 
+def load_tables(path):
+    """The friction tables of a sweep file: name -> (vs, mu)."""
+    import tomllib
+
+    with open(path, "rb") as f:
+        sections = tomllib.load(f).get("friction_table", {})
+    tables = {}
+    for name, t in sections.items():
+        vs, mu = [float(v) for v in t.get("vs", [])], [float(m) for m in t.get("mu", [])]
+        if not vs or len(vs) != len(mu):
+            sys.exit(f"{path}: friction_table.{name}: vs and mu must be non-empty and of one length")
+        if vs[0] < 0 or any(b <= a for a, b in zip(vs, vs[1:])) or min(mu) < 0:
+            sys.exit(f"{path}: friction_table.{name}: vs must rise strictly from >= 0 and mu be >= 0")
+        tables[name] = (vs, mu)
+    return tables
+
+
 def main():
+    if len(sys.argv) not in (3, 4):
+        sys.exit("usage: scipy_reference.py LANES.csv OUT.csv [TABLES.toml]")
     src, dst = sys.argv[1], sys.argv[2]
+    tables = load_tables(sys.argv[3]) if len(sys.argv) > 3 else {}
     rows = list(csv.DictReader(open(src)))
+    for i, row in enumerate(rows):
+        name = row.get("friction_table") or ""
+        if row["friction"] == "table" and name not in tables:
+            sys.exit(f"lane {row.get('lane', i)}: friction table {name!r} not given"
+                     + ("" if len(sys.argv) > 3 else " (no TABLES.toml)"))
     with open(dst, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["lane", "status", "contact_end", "x1_end", "v1_end", "w_motor", "w_load",
@@ -265,7 +347,8 @@ def main():
                     "branches", "switches", "reversals", "sticks"])
         for i, row in enumerate(rows):
             BRANCHES[0] = 0
-            status, y, c, stuck, hold, t = simulate(Lane(row))
+            table = tables.get(row.get("friction_table") or "") if row["friction"] == "table" else None
+            status, y, c, stuck, hold, t = simulate(Lane(row, table))
             contact = "stick" if stuck else ("aa" if c > 0 else "bb")
             w.writerow([row.get("lane", i), status, contact] + [repr(float(v)) for v in y]
                        + [hold, repr(float(t)), BRANCHES[0], COUNTS["switches"],

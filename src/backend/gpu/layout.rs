@@ -39,8 +39,6 @@ pub mod flags {
         RUNNING_ON = 32;
         /// Running on ended because the lane began to speed up.
         SPEEDING = 64;
-        /// On the friction law's upper branch.
-        UPPER = 128;
         /// A step's mesh power turned and turned back inside it
         /// ([`Recheck::FlowTurn`](crate::integrator::path::Recheck::FlowTurn)).
         FLOW_TURN = 256;
@@ -194,8 +192,10 @@ macro_rules! gpu_layout {
             pub steps: u32,
             /// Events (switches, rests, motor cut-off, ...) so far.
             pub events: u32,
+            /// The friction law's branch the lane slides on (`Mode::branch`).
+            pub branch: u32,
             /// Padding (see the struct's text).
-            pub pad: [u32; 7],
+            pub pad: [u32; 6],
         }
 
         impl $state {

@@ -204,6 +204,9 @@ shader_files!(
 pub const MIRRORED: &[&str] = &[
     // model
     "above_branch",
+    "branch_of",
+    "branch_edges",
+    "law_speed",
     "motor_force",
     "tan_small",
     "agma_mu",
@@ -232,6 +235,9 @@ pub const MIRRORED: &[&str] = &[
     "dense_v",
     "event_value",
     "locate_root",
+    "branch_value",
+    "crossed_edge",
+    "left_upwards",
     "earliest_event",
     "dense_slope",
     "split",

@@ -52,6 +52,12 @@ const THROUGH: &[(&str, &str)] = &[
     ("capped", "attempt"),
     ("powers", "rates"),
     ("parts", "rates"),
+    ("above_branch", "branch_of"),
+    ("law_speed", "motion"),
+    ("branch_edges", "event_value"),
+    ("branch_value", "event_value"),
+    ("crossed_edge", "locate_root"),
+    ("left_upwards", "attempt"),
 ];
 
 /// Mirrored functions not yet compared by what they compute, and why:

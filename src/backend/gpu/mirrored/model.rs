@@ -23,7 +23,7 @@ use crate::params::{Num, Param, Spec};
 const K: usize = 36;
 
 /// Lane `c.x` at speed `bitcast<f32>(c.y)` in the mode of flags `c.z`
-/// (1: side +1, 2: dir +1, 4: motor on, 8: upper branch).
+/// (1: side +1, 2: dir +1, 4: motor on; the bits from 8 up: the branch).
 pub(super) const ENTRY: &str = r#"
 @compute @workgroup_size(64)
 fn mirrored(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -35,12 +35,12 @@ fn mirrored(@builtin(global_invocation_id) id: vec3<u32>) {
     let l = d_lanes[c.x];
     let v = bitcast<f32>(c.y);
     let m = Mode(select(-1, 1, (c.z & 1u) != 0u), select(-1, 1, (c.z & 2u) != 0u),
-                 (c.z & 4u) != 0u, (c.z & 8u) != 0u);
+                 (c.z & 4u) != 0u, c.z >> 3u);
     let o = i * 36u;
     let vs = sliding_speed(f32(m.dir), v, l.inv_cos_g);
     let f1 = motor_force(l, v, m.motor_on);
     let load = load_term(l.f2, l.m2, l.tan_g);
-    let mu = mu_sliding(l, vs, m.upper);
+    let mu = mu_sliding(l, vs, m.branch);
     let t = f32(m.side * m.dir) * mu;
     let pq = psi_parts(l.tan_g, t);
     let mo = motion(l, m, v);
@@ -62,9 +62,9 @@ fn mirrored(@builtin(global_invocation_id) id: vec3<u32>) {
     d_out[o + 14u] = phi(l, v, m.motor_on);
     d_out[o + 15u] = f32(side_of(phi(l, v, m.motor_on)));
     d_out[o + 16u] = f1;
-    d_out[o + 17u] = select(0.0, 1.0, above_branch(l, vs));
+    d_out[o + 17u] = f32(branch_of(l, vs));
     d_out[o + 18u] = tan_small(0.01 * v);
-    d_out[o + 19u] = agma_mu(vs, m.upper);
+    d_out[o + 19u] = agma_mu(vs, m.branch == 1u);
     d_out[o + 20u] = st.x;
     d_out[o + 21u] = st.y;
     let dv = rhs(l, m, v);
@@ -100,7 +100,7 @@ const NAMES: [&str; 34] = [
     "phi",
     "side_of",
     "motor_force",
-    "above_branch",
+    "branch_of",
     "tan_small",
     "agma_mu",
     "stick_test.sticks",
@@ -164,7 +164,7 @@ fn cpu(l: &Lane, tables: &[FrictionTable], m: Mode, v: f64) -> Vec<(f64, f64)> {
     let vs = kernel::sliding_speed(m.dir as f64, v, l.inv_cos_g);
     let f1 = model::motor_force(l, v, m.motor_on);
     let load = kernel::load_term(l.f2, l.m2, l.tan_g);
-    let mu = model::friction::mu_sliding(l, tables, vs, m.upper);
+    let mu = model::friction::mu_sliding(l, tables, vs, m.branch);
     let t = (m.side * m.dir) as f64 * mu;
     let (p, q) = kernel::psi_parts(l.tan_g, t);
     let mo = model::motion(l, tables, m, v);
@@ -174,6 +174,7 @@ fn cpu(l: &Lane, tables: &[FrictionTable], m: Mode, v: f64) -> Vec<(f64, f64)> {
     let acc = force / l.m1 + kernel::load_term(l.f2, l.m2, l.tan_g).abs();
     let [a, b, c, ..] = l.law;
     let big = force * (1.0 + p.abs()) / q.abs().max(1e-3);
+    let agma = model::agma_mu(vs, m.branch == 1);
     let mut out = vec![
         (kernel::kloss(l.v_sync, l.sigma_k, l.f_crit, v), l.f_crit),
         (
@@ -194,13 +195,13 @@ fn cpu(l: &Lane, tables: &[FrictionTable], m: Mode, v: f64) -> Vec<(f64, f64)> {
         (mo.f1, force),
         (mo.s1, force * (1.0 + p.abs()) / q.abs().max(1e-3)),
         (mo.s2, force * (1.0 + p.abs()) / q.abs().max(1e-3)),
-        (mu, mu.abs()),
+        (mu, mu_scale(l, tables, m.branch, mu)),
         (ph, acc),
         (model::side_of(ph) as f64, 0.0),
         (f1, force),
-        (if l.above_branch(vs) { 1.0 } else { 0.0 }, 0.0),
+        (f64::from(model::branch_of(l, tables, vs)), 0.0),
         (model::friction::tan_small(0.01 * v), (0.01 * v).abs()),
-        (model::agma_mu(vs, m.upper), model::agma_mu(vs, m.upper)),
+        (agma, agma),
         (if sticks { 1.0 } else { 0.0 }, 0.0),
         (st, force),
     ];
@@ -221,12 +222,9 @@ fn cpu(l: &Lane, tables: &[FrictionTable], m: Mode, v: f64) -> Vec<(f64, f64)> {
         EventFn::Speeding,
         EventFn::Branch,
     ];
-    let scales = [
-        acc,
-        v.abs(),
-        big / l.m1,
-        vs.abs() + l.branch_speed.min(1e30),
-    ];
+    let (lo, hi) = model::branch_edges(l, tables, m.branch);
+    let edges = lo.abs().min(1e30) + hi.abs().min(1e30);
+    let scales = [acc, v.abs(), big / l.m1, vs.abs() + edges];
     for (w, sc) in which.into_iter().zip(scales) {
         out.push((event_value(l, tables, m, w, v), sc));
     }
@@ -239,19 +237,63 @@ fn cpu(l: &Lane, tables: &[FrictionTable], m: Mode, v: f64) -> Vec<(f64, f64)> {
     out
 }
 
+/// The scale μ is made from: its own size, or on a table's piece the
+/// sizes of its two terms, μ at the piece's lower point and the line's
+/// rise from there (extended past the piece, they may cancel).
+fn mu_scale(l: &Lane, tables: &[FrictionTable], branch: u32, mu: f64) -> f64 {
+    let (lo, hi) = model::branch_edges(l, tables, branch);
+    if l.friction != FrictionKind::Table || !(lo.is_finite() && hi.is_finite()) {
+        return mu.abs();
+    }
+    let at_lo = model::mu_sliding(l, tables, lo, branch);
+    at_lo.abs() + (mu - at_lo).abs()
+}
+
 /// The speeds each lane is tried at: rest, a hair off it, the laws'
 /// branch speeds and the motor's synchronous speed (each side of them),
 /// and spread values, both directions.
-fn speeds(l: &Lane, u: &mut Uniforms) -> Vec<f64> {
+fn speeds(l: &Lane, tables: &[FrictionTable], u: &mut Uniforms) -> Vec<f64> {
     let mut v = vec![0.0, 1e-6, 1e-3, 0.5, 2.0, l.v_sync, 0.999 * l.v_sync];
-    for b in [l.branch_speed, model::AGMA_JUMP_M_S] {
-        if b.is_finite() {
-            let b = b / l.inv_cos_g;
-            v.extend([0.9 * b, 1.1 * b]);
-        }
+    for b in edges(l, tables).into_iter().chain([model::AGMA_JUMP_M_S]) {
+        let b = b / l.inv_cos_g;
+        v.extend([0.9 * b, 1.1 * b]);
     }
     v.extend((0..4).map(|_| 6.0 * u.next()));
     v.iter().flat_map(|&x| [x, -x]).collect()
+}
+
+/// The finite sliding speeds where the lane's law changes branch.
+fn edges(l: &Lane, tables: &[FrictionTable]) -> Vec<f64> {
+    (0..branches(l, tables))
+        .flat_map(|b| {
+            let (lo, hi) = model::branch_edges(l, tables, b);
+            [lo, hi]
+        })
+        .filter(|e| e.is_finite())
+        .collect()
+}
+
+/// The branches a lane is tried on at sliding speed `vs`: both of a law
+/// of two, else the speed's own and those beside it (a step is frozen on
+/// a branch, and its stages reach past the branch's edges by a part of
+/// a step, never to a far branch's speeds, where a table's line,
+/// extended, can be far from the table).
+fn tried(l: &Lane, tables: &[FrictionTable], vs: f64) -> Vec<u32> {
+    let n = branches(l, tables);
+    if n <= 2 {
+        return (0..n).collect();
+    }
+    let b = model::branch_of(l, tables, vs);
+    (b.saturating_sub(1)..=(b + 1).min(n - 1)).collect()
+}
+
+/// How many branches the lane's law has.
+fn branches(l: &Lane, tables: &[FrictionTable]) -> u32 {
+    let mut n = 1;
+    while model::branch_edges(l, tables, n - 1).1.is_finite() {
+        n += 1;
+    }
+    n
 }
 
 #[test]
@@ -263,16 +305,30 @@ fn the_shaders_model_functions_compute_what_the_rust_ones_do() {
     let mut cases = Vec::new();
     let mut want = Vec::new();
     for (li, l) in lanes.iter().enumerate() {
-        for v in speeds(l, &mut u) {
-            for flags in 0..16u32 {
+        for v in speeds(l, &tables, &mut u) {
+            let v32 = v as f32;
+            // A table's line is read past rest (`law_speed`) only as far
+            // as a step overshoots a rest: against the direction, a hair.
+            let far_back = |f: u32| {
+                let dir = if f & 2 != 0 { 1.0 } else { -1.0 };
+                l.friction == FrictionKind::Table && dir * f64::from(v32) < -1e-3
+            };
+            let every = (0..8u32).filter(move |&f| !far_back(f)).flat_map(|f| {
+                let vs = kernel::sliding_speed(
+                    if f & 2 != 0 { 1.0 } else { -1.0 },
+                    f64::from(v32),
+                    l.inv_cos_g,
+                );
+                tried(l, &tables, vs).into_iter().map(move |b| f | b << 3)
+            });
+            for flags in every {
                 let m = Mode {
                     side: if flags & 1 != 0 { 1 } else { -1 },
                     dir: if flags & 2 != 0 { 1 } else { -1 },
                     motor_on: flags & 4 != 0,
-                    upper: flags & 8 != 0,
+                    branch: flags >> 3,
                 };
                 // The case as the shader sees it: its speed in f32.
-                let v32 = v as f32;
                 cases.push([li as u32, v32.to_bits(), flags, 0]);
                 want.push((li, m, f64::from(v32), cpu(l, &tables, m, f64::from(v32))));
             }
@@ -298,7 +354,9 @@ fn the_shaders_model_functions_compute_what_the_rust_ones_do() {
         // branch, |T| against μs N for the stick.
         let n = (l.f2 * l.cos_g - w[16].0 * l.sin_g).abs();
         let near_side = w[14].0.abs() <= BOUND * w[14].1;
-        let near_branch = (w[3].0 - l.branch_speed).abs() <= BOUND * w[3].1;
+        let near_branch = edges(l, &tables)
+            .iter()
+            .any(|e| (w[3].0 - e).abs() <= BOUND * w[3].1);
         let near_stick = (w[21].0.abs() - l.mu_s * n).abs() <= BOUND * w[21].1;
         for (k, &(c, scale)) in w.iter().enumerate() {
             let near = match k {

@@ -96,14 +96,14 @@ pub(super) fn to_gpu(st: &LaneState) -> GpuState64 {
             | bit(st.k1_valid, flags::K1_VALID)
             | flags::STARTED
             | bit(st.running_on, flags::RUNNING_ON)
-            | bit(st.speeding, flags::SPEEDING)
-            | bit(st.upper, flags::UPPER),
+            | bit(st.speeding, flags::SPEEDING),
         status: st.status.code(),
         switches: st.switches,
         reversals: st.reversals,
         sticks: st.sticks,
         steps: st.steps,
         events: st.events,
+        branch: st.branch,
         ..GpuState64::default()
     }
 }
