@@ -39,14 +39,17 @@ fn stribeck_mu(s: array<real, LAW_SLOTS>, vs: real) -> real {
 
 // The lane's law on its slots `l.law` (the law's parameters in the
 // parameter table's order), as tan ρ: a coefficient μ over cos αn.
+// `vs` may be below 0, past a rest a step overshoots: a table reads its
+// line there, the other laws their speed at 0 (see src/model/friction.rs).
 fn mu_sliding(l: Lane, vs: real, branch: u32) -> real {
     let s = l.law;
+    let clamped = max(vs, 0.0);
     if (l.friction == FRICTION_PAPER) {
-        return tan_small(paper_rho(s[0], s[1], s[2], vs));
+        return tan_small(paper_rho(s[0], s[1], s[2], clamped));
     }
     if (l.friction == FRICTION_COULOMB) { return s[0] * l.inv_cos_an; }
-    if (l.friction == FRICTION_AGMA) { return agma_mu(vs, branch == 1u) * l.inv_cos_an; }
-    if (l.friction == FRICTION_STRIBECK) { return stribeck_mu(s, vs) * l.inv_cos_an; }
+    if (l.friction == FRICTION_AGMA) { return agma_mu(clamped, branch == 1u) * l.inv_cos_an; }
+    if (l.friction == FRICTION_STRIBECK) { return stribeck_mu(s, clamped) * l.inv_cos_an; }
     if (l.friction != FRICTION_TABLE || l.table >= g.n_tables) {
         // No such law or table: NaN makes the lane `nonfinite`, never a number.
         return real(bitcast<f32>(0x7fc00000u));
@@ -69,13 +72,6 @@ fn table_mu_on(t: u32, k: u32, vs: real) -> real {
     let cur = table_at(t, k);
     let w = (vs - prev.x) / (cur.x - prev.x);
     return prev.y + w * (cur.y - prev.y);
-}
-
-// `law_speed` in src/model/friction.rs: the speed the law is read at,
-// for a table its signed extension past rest (smooth through a rest).
-fn law_speed(l: Lane, dir: real, v: real, vs: real) -> real {
-    if (l.friction == FRICTION_TABLE) { return dir * v * l.inv_cos_g; }
-    return vs;
 }
 
 // Whether the lane's law is a table that exists.

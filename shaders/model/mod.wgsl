@@ -19,8 +19,8 @@ struct Mode { side: i32, dir: i32, motor_on: bool, branch: u32 }
 
 fn motion(l: Lane, m: Mode, v1: real) -> Motion {
     let f1 = motor_force(l, v1, m.motor_on);
-    let vs = sliding_speed(real(m.dir), v1, l.inv_cos_g);
-    let t = real(m.side * m.dir) * mu_sliding(l, law_speed(l, real(m.dir), v1, vs), m.branch);
+    // Signed: past a rest a table reads its line (`mu_sliding`).
+    let t = real(m.side * m.dir) * mu_sliding(l, real(m.dir) * v1 * l.inv_cos_g, m.branch);
     return motion_parts(f1, t, l.tan_g, l.m1, l.m2, l.f2);
 }
 

@@ -109,10 +109,9 @@ crate::lanewise_struct! {
         pub(crate) dir: f64,
         /// Running on past t_end: speeding up is an event.
         pub(crate) running_on: bool,
-        /// The law has several branches: the change of branch is an event.
-        pub(crate) branches: bool,
         /// The sliding speeds bounding the mode's branch, m/s
-        /// (`branch_edges`).
+        /// (`branch_edges`): (−∞, ∞) for a law of one branch, whose
+        /// branch event is then +∞, never < 0.
         pub(crate) lo: f64,
         /// See `lo`.
         pub(crate) hi: f64,
@@ -129,7 +128,6 @@ impl Watch {
         Watch {
             dir: mode.dir as f64,
             running_on,
-            branches: lo > f64::NEG_INFINITY || hi < f64::INFINITY,
             lo,
             hi,
             inv_cos_g: lane.inv_cos_g,
@@ -151,11 +149,7 @@ impl Watch {
             } else {
                 off
             },
-            if self.branches {
-                branch_value(self.dir, v, self.inv_cos_g, self.lo, self.hi)
-            } else {
-                off
-            },
+            branch_value(self.dir, v, self.inv_cos_g, self.lo, self.hi),
         ]
     }
 }

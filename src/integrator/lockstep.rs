@@ -58,7 +58,7 @@ impl<const N: usize> Lanes<N> {
     }
 
     /// Slot j from lane `lane`'s state `st`.
-    #[inline]
+    #[inline(always)]
     fn load(&mut self, j: usize, lane: &Lane, tables: &[FrictionTable], st: &LaneState) {
         self.st.set_lane(j, *st);
         self.ready[j] = !st.stuck && st.k1_valid && !st.done;

@@ -4,7 +4,7 @@
 //! once ([`motions`]): the kernel's formulas composed once. The one-lane
 //! path is its W = 1 case ([`super::motion`]).
 
-use super::friction::{law_speed, mu_sliding, tan_series, FrictionTable, TAN_SERIES_MAX};
+use super::friction::{mu_sliding, tan_series, FrictionTable, TAN_SERIES_MAX};
 use super::kernel::{
     load_term, motion_parts, motor_force_of, paper_rho, sliding_speed, switching, Motion,
 };
@@ -161,7 +161,8 @@ pub fn motions<const W: usize>(
     if rare {
         for j in 0..W {
             if c.other[j] {
-                let at = law_speed(lane[j], c.dir[j], v[j], vs[j]);
+                // Signed: past a rest a table reads its line (`mu_sliding`).
+                let at = c.dir[j] * v[j] * c.inv_cos_g[j];
                 mu[j] = mu_sliding(lane[j], tables, at, c.branch[j]);
             } else if rho[j].abs() > TAN_SERIES_MAX {
                 mu[j] = rho[j].tan();

@@ -129,16 +129,27 @@ impl FrictionTable {
 /// tan ρ = μ / cos αn (the flank's normal force is N / cos αn). `branch`:
 /// the piece of the law the step is frozen on ([`branch_of`]), for a law
 /// of several.
+///
+/// `vs` may be below 0: inside a step the mode is frozen, and past a rest
+/// the step overshoots, dir·ẋ1 / cos γ is negative. A table reads its
+/// piece's line there too, which keeps the right-hand side smooth through
+/// the rest (read at 0, a table's first piece has a kink at the rest that
+/// the step's dense output does not follow: a rest located 3e-7 s late
+/// at the default tolerance, and the lane's works 9e-6 off after it); the
+/// other laws read their speed at 0.
 #[inline]
 pub fn mu_sliding(lane: &Lane, tables: &[FrictionTable], vs: f64, branch: u32) -> f64 {
     let s = &lane.law;
+    // Past a rest the laws but a table read their speed at 0.
     let mu = match lane.friction {
-        FrictionKind::Paper => return tan_small(paper_rho(s[0], s[1], s[2], vs)),
+        FrictionKind::Paper => return tan_small(paper_rho(s[0], s[1], s[2], vs.max(0.0))),
         FrictionKind::Coulomb => s[0],
         // No such table: NaN makes the lane `nonfinite`, never a number.
-        FrictionKind::Table => table_of(lane, tables).map_or(f64::NAN, |t| t.mu_on(branch, vs)),
-        FrictionKind::Agma => agma_mu(vs, branch == 1),
-        FrictionKind::Stribeck => stribeck_mu(s, vs),
+        FrictionKind::Table => tables
+            .get(lane.table as usize)
+            .map_or(f64::NAN, |t| t.mu_on(branch, vs)),
+        FrictionKind::Agma => agma_mu(vs.max(0.0), branch == 1),
+        FrictionKind::Stribeck => stribeck_mu(s, vs.max(0.0)),
     };
     mu * lane.inv_cos_an
 }
@@ -150,33 +161,6 @@ pub fn mu_at(lane: &Lane, tables: &[FrictionTable], vs: f64) -> f64 {
     mu_sliding(lane, tables, vs, branch_of(lane, tables, vs))
 }
 
-/// The speed the lane's law is read at, moving in direction `dir` at
-/// speed `v` with sliding speed `vs` (clamped at rest): `vs`, but for
-/// a table its signed extension past rest, dir·v / cos γ. Inside a step
-/// the mode is frozen, and past a rest the step overshoots the sliding
-/// speed stays 0; a table's piece from a point at 0 is a line, which,
-/// read past rest, keeps the right-hand side smooth through the rest.
-/// Clamped, it had a kink there that the step's dense output does not
-/// follow: a rest located 3e-7 s late at the default tolerance, and the
-/// lane's works 9e-6 off after it.
-#[inline]
-pub fn law_speed(lane: &Lane, dir: f64, v: f64, vs: f64) -> f64 {
-    if lane.friction == FrictionKind::Table {
-        dir * v * lane.inv_cos_g
-    } else {
-        vs
-    }
-}
-
-/// The lane's friction table, for a `table` lane whose table exists.
-#[inline]
-fn table_of<'a>(lane: &Lane, tables: &'a [FrictionTable]) -> Option<&'a FrictionTable> {
-    match lane.friction {
-        FrictionKind::Table => tables.get(lane.table as usize),
-        _ => None,
-    }
-}
-
 /// The branch of the lane's friction law that sliding speed `vs` is on:
 /// for `agma` 1 above its branch speed (10 ft/min), else 0; for `table`
 /// the piece between its speeds ([`FrictionTable::piece_of`]); 0 for a
@@ -184,9 +168,11 @@ fn table_of<'a>(lane: &Lane, tables: &'a [FrictionTable]) -> Option<&'a Friction
 /// and jumps between branches are events (`EventFn::Branch`).
 #[inline]
 pub fn branch_of(lane: &Lane, tables: &[FrictionTable], vs: f64) -> u32 {
-    match table_of(lane, tables) {
-        Some(t) => t.piece_of(vs),
-        None => u32::from(lane.above_branch(vs)),
+    match lane.friction {
+        FrictionKind::Table => tables
+            .get(lane.table as usize)
+            .map_or(0, |t| t.piece_of(vs)),
+        _ => u32::from(lane.above_branch(vs)),
     }
 }
 
@@ -195,13 +181,14 @@ pub fn branch_of(lane: &Lane, tables: &[FrictionTable], vs: f64) -> u32 {
 /// of one piece.
 #[inline]
 pub fn branch_edges(lane: &Lane, tables: &[FrictionTable], branch: u32) -> (f64, f64) {
-    if let Some(t) = table_of(lane, tables) {
-        return t.edges(branch);
-    }
-    match (lane.branch_speed.is_finite(), branch) {
-        (false, _) => (f64::NEG_INFINITY, f64::INFINITY),
-        (true, 0) => (f64::NEG_INFINITY, lane.branch_speed),
-        (true, _) => (lane.branch_speed, f64::INFINITY),
+    let (never_below, never_above) = (f64::NEG_INFINITY, f64::INFINITY);
+    match lane.friction {
+        FrictionKind::Table => tables
+            .get(lane.table as usize)
+            .map_or((never_below, never_above), |t| t.edges(branch)),
+        // A law of one branch has no branch speed (+∞) and branch 0.
+        _ if branch == 0 => (never_below, lane.branch_speed),
+        _ => (lane.branch_speed, never_above),
     }
 }
 

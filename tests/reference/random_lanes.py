@@ -100,58 +100,67 @@ if sys.argv[4:] == ["hold"]:
                 row.update(friction="coulomb", mu=mu, mu_static=mu * (1 + 0.5 * rng.random()))
             w.writerow([row[c] for c in cols])
     sys.exit(0)
-if sys.argv[4:] == ["agma"]:
-    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "alpha_n_deg",
-            "motor", "f1", "v1_0"]
+
+
+def write_lanes(cols, draw):
+    """Writes n lanes of columns cols to OUT.csv, each row drawn by
+    draw(row) into a row of empty cells, and exits."""
     with open(out, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(cols)
         for _ in range(n):
-            t_end = 0.5 + 3.5 * rng.random()
             row = {c: "" for c in cols}
-            row.update(gamma_deg=2 + 23 * rng.random(), f2=-9000 + 18000 * rng.random(),
-                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
-                       t_end=t_end, friction="agma", alpha_n_deg=5 + 25 * rng.random())
-            if rng.random() < 0.5:
-                row["motor_off"] = t_end * rng.random()
-                if rng.random() < 0.5:
-                    row["t_max"] = t_end + 2 + 18 * rng.random()
-            if rng.random() < 0.2:
-                row.update(motor="constant", f1=500 + 6000 * rng.random())
-            if rng.random() < 0.25:
-                row["v1_0"] = -3 + 6 * rng.random()
+            draw(row)
             w.writerow([row[c] for c in cols])
     sys.exit(0)
+
+
+def cut_motor_start(row, t_end):
+    """The part of the agma, stribeck and table recipes after the law:
+    the motor cut in 50 % of lanes (with t_max in half of those), constant
+    motors in 20 %, initial speeds in 25 %."""
+    if rng.random() < 0.5:
+        row["motor_off"] = t_end * rng.random()
+        if rng.random() < 0.5:
+            row["t_max"] = t_end + 2 + 18 * rng.random()
+    if rng.random() < 0.2:
+        row.update(motor="constant", f1=500 + 6000 * rng.random())
+    if rng.random() < 0.25:
+        row["v1_0"] = -3 + 6 * rng.random()
+
+
+if sys.argv[4:] == ["agma"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "alpha_n_deg",
+            "motor", "f1", "v1_0"]
+
+    def draw(row):
+        t_end = 0.5 + 3.5 * rng.random()
+        row.update(gamma_deg=2 + 23 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                   m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                   t_end=t_end, friction="agma", alpha_n_deg=5 + 25 * rng.random())
+        cut_motor_start(row, t_end)
+
+    write_lanes(cols, draw)
 if sys.argv[4:] == ["stribeck"]:
     cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "mu",
             "mu_static", "v_stribeck", "stribeck_exp", "mu_viscous", "alpha_n_deg", "motor", "f1",
             "v1_0"]
-    with open(out, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(cols)
-        for _ in range(n):
-            t_end = 0.5 + 3.5 * rng.random()
-            mu = 0.02 + 0.06 * rng.random()
-            delta = 0.5 + 0.5 * rng.random() if rng.random() < 1 / 3 else 1 + rng.random()
-            row = {c: "" for c in cols}
-            row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
-                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
-                       t_end=t_end, friction="stribeck", mu=mu, mu_static=mu * (1 + 1.5 * rng.random()),
-                       v_stribeck=0.02 + 0.48 * rng.random(), stribeck_exp=delta)
-            if rng.random() < 0.6:
-                row["mu_viscous"] = 0.01 * rng.random()
-            if rng.random() < 0.5:
-                row["alpha_n_deg"] = 30 * rng.random()
-            if rng.random() < 0.5:
-                row["motor_off"] = t_end * rng.random()
-                if rng.random() < 0.5:
-                    row["t_max"] = t_end + 2 + 18 * rng.random()
-            if rng.random() < 0.2:
-                row.update(motor="constant", f1=500 + 6000 * rng.random())
-            if rng.random() < 0.25:
-                row["v1_0"] = -3 + 6 * rng.random()
-            w.writerow([row[c] for c in cols])
-    sys.exit(0)
+
+    def draw(row):
+        t_end = 0.5 + 3.5 * rng.random()
+        mu = 0.02 + 0.06 * rng.random()
+        delta = 0.5 + 0.5 * rng.random() if rng.random() < 1 / 3 else 1 + rng.random()
+        row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                   m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                   t_end=t_end, friction="stribeck", mu=mu, mu_static=mu * (1 + 1.5 * rng.random()),
+                   v_stribeck=0.02 + 0.48 * rng.random(), stribeck_exp=delta)
+        if rng.random() < 0.6:
+            row["mu_viscous"] = 0.01 * rng.random()
+        if rng.random() < 0.5:
+            row["alpha_n_deg"] = 30 * rng.random()
+        cut_motor_start(row, t_end)
+
+    write_lanes(cols, draw)
 if sys.argv[4:] == ["table"]:
     names = [f"t{k}" for k in range(6)]
     with open(out.rsplit(".", 1)[0] + ".toml", "w") as f:
@@ -165,27 +174,17 @@ if sys.argv[4:] == ["table"]:
             f.write(f"[friction_table.{name}]\nvs = {vs!r}\nmu = {mu!r}\n")
     cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction",
             "friction_table", "alpha_n_deg", "motor", "f1", "v1_0"]
-    with open(out, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(cols)
-        for _ in range(n):
-            t_end = 0.5 + 3.5 * rng.random()
-            row = {c: "" for c in cols}
-            row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
-                       m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
-                       t_end=t_end, friction="table", friction_table=rng.choice(names))
-            if rng.random() < 0.5:
-                row["alpha_n_deg"] = 30 * rng.random()
-            if rng.random() < 0.5:
-                row["motor_off"] = t_end * rng.random()
-                if rng.random() < 0.5:
-                    row["t_max"] = t_end + 2 + 18 * rng.random()
-            if rng.random() < 0.2:
-                row.update(motor="constant", f1=500 + 6000 * rng.random())
-            if rng.random() < 0.25:
-                row["v1_0"] = -3 + 6 * rng.random()
-            w.writerow([row[c] for c in cols])
-    sys.exit(0)
+
+    def draw(row):
+        t_end = 0.5 + 3.5 * rng.random()
+        row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                   m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                   t_end=t_end, friction="table", friction_table=rng.choice(names))
+        if rng.random() < 0.5:
+            row["alpha_n_deg"] = 30 * rng.random()
+        cut_motor_start(row, t_end)
+
+    write_lanes(cols, draw)
 cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static"]
 with open(out, "w", newline="") as f:
     w = csv.writer(f)

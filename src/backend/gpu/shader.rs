@@ -206,7 +206,6 @@ pub const MIRRORED: &[&str] = &[
     "above_branch",
     "branch_of",
     "branch_edges",
-    "law_speed",
     "motor_force",
     "tan_small",
     "agma_mu",

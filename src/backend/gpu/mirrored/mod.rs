@@ -53,7 +53,6 @@ const THROUGH: &[(&str, &str)] = &[
     ("powers", "rates"),
     ("parts", "rates"),
     ("above_branch", "branch_of"),
-    ("law_speed", "motion"),
     ("branch_edges", "event_value"),
     ("branch_value", "event_value"),
     ("crossed_edge", "locate_root"),

@@ -307,7 +307,7 @@ fn the_shaders_model_functions_compute_what_the_rust_ones_do() {
     for (li, l) in lanes.iter().enumerate() {
         for v in speeds(l, &tables, &mut u) {
             let v32 = v as f32;
-            // A table's line is read past rest (`law_speed`) only as far
+            // A table's line is read past rest (`mu_sliding`) only as far
             // as a step overshoots a rest: against the direction, a hair.
             let far_back = |f: u32| {
                 let dir = if f & 2 != 0 { 1.0 } else { -1.0 };
