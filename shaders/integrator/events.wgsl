@@ -53,7 +53,9 @@ fn root_value(l: Lane, m: Mode, which: u32, edge: vec2<real>, v: real) -> real {
 }
 
 fn locate_root(l: Lane, m: Mode, which: u32, r: array<real, 5>, g_end: real) -> real {
-    let edge = crossed_edge(l, m, dense_v(r, 1.0));
+    // A branch event's edge, found once for the whole search.
+    var edge = vec2<real>(-3.0e38, 3.0e38);
+    if (which == EV_BRANCH) { edge = crossed_edge(l, m, dense_v(r, 1.0)); }
     var a: real = 0.0;
     var fa = root_value(l, m, which, edge, r[0]);
     var b: real = 1.0;
@@ -96,7 +98,7 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<real> {
     }
     let e = branch_edges(l, m.branch);
     if (e.x > -1.0e38 || e.y < 1.0e38) {
-        let g_branch = event_value(l, m, EV_BRANCH, tr.y1[1]);
+        let g_branch = branch_value(real(m.dir), tr.y1[1], l.inv_cos_g, e);
         if (g_branch < 0.0) {
             let th = locate_root(l, m, EV_BRANCH, tr.dense, g_branch);
             if (th < theta) { theta = th; which = EV_BRANCH; }

@@ -166,12 +166,12 @@ pub fn locate_root(
     g_end: f64,
     theta_tol: f64,
 ) -> f64 {
-    let value = |v: f64| match which {
-        EventFn::Branch => {
-            let (lo, hi) = crossed_edge(lane, tables, mode, dense_v(r, 1.0));
-            branch_value(mode.dir as f64, v, lane.inv_cos_g, lo, hi)
-        }
-        _ => event_value(lane, tables, mode, which, v),
+    // A branch event's edge, found once for the whole search.
+    let edge =
+        (which == EventFn::Branch).then(|| crossed_edge(lane, tables, mode, dense_v(r, 1.0)));
+    let value = |v: f64| match edge {
+        Some((lo, hi)) => branch_value(mode.dir as f64, v, lane.inv_cos_g, lo, hi),
+        None => event_value(lane, tables, mode, which, v),
     };
     let fa = value(r[0]);
     if fa <= 0.0 {
