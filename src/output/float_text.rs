@@ -16,25 +16,41 @@
 /// bytes `format!("{v:?}")` gives.
 #[inline]
 pub(crate) fn push_f64(out: &mut Vec<u8>, v: f64) {
+    put_f64(v, |s| super::short_bytes::push(out, s));
+}
+
+/// Hands `v`'s text ([`push_f64`]'s bytes) to `put`: where the text goes
+/// is the caller's (a growing buffer, or room made for a block of rows).
+#[inline]
+pub(crate) fn put_f64(v: f64, put: impl FnOnce(&[u8])) {
     let a = v.abs();
     // The common case, `zmij`'s text as it is: a magnitude `zmij` lays out
     // as `{:?}` does, and no tie (NaN fails the comparison).
     if (1e-4..1e16).contains(&a) && !may_tie(v) {
-        super::short_bytes::push(out, zmij::Buffer::new().format_finite(v).as_bytes());
+        put(zmij::Buffer::new().format_finite(v).as_bytes());
+    } else if v == 0.0 {
+        // A result that is exactly zero (a work never done) is common.
+        put(if v.is_sign_negative() {
+            b"-0.0"
+        } else {
+            b"0.0"
+        });
     } else {
-        push_other(out, v);
+        let mut s = Vec::with_capacity(32);
+        push_other(&mut s, v);
+        put(&s);
     }
 }
 
 /// [`push_f64`] of the values `zmij` does not lay out as `{:?}` does, or
-/// that may be a tie, and of NaN, infinities and zeros.
+/// that may be a tie, and of NaN and infinities.
 #[cold]
 fn push_other(out: &mut Vec<u8>, v: f64) {
     if v.is_nan() {
         return;
     }
-    if v.is_infinite() || v == 0.0 {
-        // `core::fmt` spells them ("inf", "0.0", "-0.0").
+    if v.is_infinite() {
+        // `core::fmt` spells them ("inf", "-inf").
         use std::io::Write as _;
         let _ = write!(out, "{v:?}");
         return;

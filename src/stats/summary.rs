@@ -318,8 +318,7 @@ fn number_cells(c: &Column, kept: &[f64]) -> Cells {
         let qs: Vec<f64> = match &c.sketch {
             Some(s) => PROBS.iter().map(|&q| s.quantile(q)).collect(),
             None => {
-                let v = quantile::sorted_finite(kept);
-                PROBS.iter().map(|&q| quantile::exact(&v, q)).collect()
+                quantile::exact_finite(kept, &PROBS).unwrap_or_else(|| vec![f64::NAN; PROBS.len()])
             }
         };
         let moments = [c.m.mean, sd, c.m.min]

@@ -13,24 +13,42 @@ use arrow_array::{Array, RecordBatch};
 
 use crate::error::Result;
 use crate::output::batch::{typed, Col};
-use crate::output::float_text::push_f64;
-use crate::output::short_bytes;
+use crate::output::float_text::put_f64;
+use crate::output::short_bytes::{self, Room};
 
 /// Rows a task formats: big enough that a task's overhead is nothing
 /// beside its rows, small enough to share a chunk among every thread.
 const BLOCK: usize = 1024;
 
-/// Appends row `i`'s cell of `col` (nothing for an empty cell).
-#[inline]
-fn push_cell(out: &mut Vec<u8>, col: &Col<'_>, i: usize) {
+/// Hands row `i`'s cell of `col` to `put` (nothing for an empty cell).
+#[inline(always)]
+fn cell(col: &Col<'_>, i: usize, put: impl FnOnce(&[u8])) {
     match col {
         Col::F(a) => {
             if a.is_valid(i) {
-                push_f64(out, a.value(i));
+                put_f64(a.value(i), put);
             }
         }
-        Col::I(a) => short_bytes::push(out, itoa::Buffer::new().format(a.value(i)).as_bytes()),
-        Col::S(..) => short_bytes::push(out, col.word(i).as_bytes()),
+        Col::I(a) => put(itoa::Buffer::new().format(a.value(i)).as_bytes()),
+        Col::S(..) => put(col.word(i).as_bytes()),
+    }
+}
+
+/// Appends row `i`'s cell of `col` (nothing for an empty cell).
+fn push_cell(out: &mut Vec<u8>, col: &Col<'_>, i: usize) {
+    cell(col, i, |s| short_bytes::push(out, s));
+}
+
+/// Most bytes a cell of `col` takes: a number's text (at most 24 bytes
+/// for a float, 20 for a count) is given 32, a word the longest of its
+/// column's words.
+fn cell_most(col: &Col<'_>) -> usize {
+    match col {
+        Col::F(_) | Col::I(_) => 32,
+        Col::S(_, words) => (0..words.len())
+            .map(|k| words.value_length(k) as usize)
+            .max()
+            .unwrap_or(0),
     }
 }
 
@@ -88,6 +106,8 @@ enum Piece {
 struct Template {
     text: Vec<u8>,
     pieces: Vec<Piece>,
+    /// Most bytes a row takes.
+    most: usize,
 }
 
 impl Template {
@@ -95,6 +115,7 @@ impl Template {
     fn of(&mut self, cols: &[Col<'_>], rows: std::ops::Range<usize>) {
         self.text.clear();
         self.pieces.clear();
+        self.most = 0;
         let mut start = 0;
         for (c, col) in cols.iter().enumerate() {
             if c > 0 {
@@ -105,30 +126,41 @@ impl Template {
             } else {
                 self.pieces.push(Piece::Text(start..self.text.len()));
                 self.pieces.push(Piece::Cell(c));
+                self.most += cell_most(col);
                 start = self.text.len();
             }
         }
         self.text.push(b'\n');
         self.pieces.push(Piece::Text(start..self.text.len()));
+        self.most += self.text.len();
     }
 
-    /// Appends rows `rows` of `cols` to `out`.
-    fn rows(&self, cols: &[Col<'_>], rows: std::ops::Range<usize>, out: &mut Vec<u8>) {
+    /// Writes rows `rows` of `cols` into `out` from its start (grown to
+    /// the most they can take, never shrunk, so that after the first
+    /// chunks it is neither grown nor cleared); the bytes written.
+    fn rows(&self, cols: &[Col<'_>], rows: std::ops::Range<usize>, out: &mut Vec<u8>) -> usize {
+        let most = rows.len() * self.most;
+        if out.len() < most {
+            out.resize(most, 0);
+        }
+        let mut room = Room::new(out, 0);
         for i in rows {
             for p in &self.pieces {
                 match p {
-                    Piece::Text(r) => short_bytes::push(out, &self.text[r.clone()]),
-                    Piece::Cell(c) => push_cell(out, &cols[*c], i),
+                    Piece::Text(r) => room.put(&self.text[r.clone()]),
+                    Piece::Cell(c) => cell(&cols[*c], i, |s| room.put(s)),
                 }
             }
         }
+        room.at()
     }
 }
 
-/// Buffers for the blocks of a chunk, kept from chunk to chunk.
+/// Buffers for the blocks of a chunk, kept from chunk to chunk: each
+/// block's text (the first of its bytes written) and layout.
 #[derive(Default)]
 pub struct CsvBlocks {
-    blocks: Vec<(Vec<u8>, Template)>,
+    blocks: Vec<(Vec<u8>, usize, Template)>,
 }
 
 impl CsvBlocks {
@@ -151,15 +183,14 @@ impl CsvBlocks {
             self.blocks[..count]
                 .par_iter_mut()
                 .enumerate()
-                .for_each(|(b, (out, template))| {
+                .for_each(|(b, (out, len, template))| {
                     let rows = b * BLOCK..((b + 1) * BLOCK).min(n);
-                    out.clear();
                     template.of(&cols, rows.clone());
-                    template.rows(&cols, rows, out);
+                    *len = template.rows(&cols, rows, out);
                 })
         });
-        for (out, _) in &self.blocks[..count] {
-            write(out)?;
+        for (out, len, _) in &self.blocks[..count] {
+            write(&out[..*len])?;
         }
         Ok(())
     }
