@@ -5,6 +5,7 @@
 //! input with each result. Lanes of one grid point are consecutive, so
 //! one group is held at a time and memory does not grow with the run.
 
+pub mod exact_quantiles;
 pub mod grouping;
 pub mod moments;
 pub mod order;
