@@ -12,6 +12,10 @@
 //! layout is `{:?}`'s but for 1e-5 <= |x| < 1e-4, which is laid out
 //! again here.
 
+/// Most bytes of a float's text: `-2.2250738585072014e-308` (a sign, 17
+/// digits, a point and a three-digit negative exponent).
+pub(crate) const MOST_BYTES: usize = 24;
+
 /// Appends `v`'s text to `out`: nothing for NaN (an empty cell), else the
 /// bytes `format!("{v:?}")` gives.
 #[inline]
@@ -138,6 +142,7 @@ mod tests {
     fn same(v: f64) {
         let mut out = Vec::new();
         push_f64(&mut out, v);
+        assert!(out.len() <= super::MOST_BYTES, "bits {:#x}", v.to_bits());
         let want = if v.is_nan() {
             String::new()
         } else {
@@ -187,6 +192,9 @@ mod tests {
             5e-324,
             f64::MAX,
             f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::MIN,
+            -1.2345678901234567e-300,
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::NAN,

@@ -13,7 +13,7 @@ use arrow_array::{Array, RecordBatch};
 
 use crate::error::Result;
 use crate::output::batch::{typed, Col};
-use crate::output::float_text::put_f64;
+use crate::output::float_text::{put_f64, MOST_BYTES};
 use crate::output::short_bytes::{self, Room};
 
 /// Rows a task formats: big enough that a task's overhead is nothing
@@ -39,12 +39,13 @@ fn push_cell(out: &mut Vec<u8>, col: &Col<'_>, i: usize) {
     cell(col, i, |s| short_bytes::push(out, s));
 }
 
-/// Most bytes a cell of `col` takes: a number's text (at most 24 bytes
-/// for a float, 20 for a count) is given 32, a word the longest of its
-/// column's words.
+/// Most bytes a cell of `col` takes: a float's text at most
+/// [`MOST_BYTES`], a count's 20 (`-9223372036854775808`), a word the
+/// longest of its column's words.
 fn cell_most(col: &Col<'_>) -> usize {
     match col {
-        Col::F(_) | Col::I(_) => 32,
+        Col::F(_) => MOST_BYTES,
+        Col::I(_) => 20,
         Col::S(_, words) => (0..words.len())
             .map(|k| words.value_length(k) as usize)
             .max()
@@ -135,24 +136,27 @@ impl Template {
         self.most += self.text.len();
     }
 
-    /// Writes rows `rows` of `cols` into `out` from its start (grown to
-    /// the most they can take, never shrunk, so that after the first
-    /// chunks it is neither grown nor cleared); the bytes written.
+    /// Writes rows `rows` of `cols` into `out` from its start; the bytes
+    /// written. Before each row `out` is grown to leave room for a row's
+    /// most (only as far as that: the bytes it zeroes are bytes the
+    /// process holds), and it is never shrunk, so that after the first
+    /// chunks it is neither grown nor cleared.
     fn rows(&self, cols: &[Col<'_>], rows: std::ops::Range<usize>, out: &mut Vec<u8>) -> usize {
-        let most = rows.len() * self.most;
-        if out.len() < most {
-            out.resize(most, 0);
-        }
-        let mut room = Room::new(out, 0);
+        let mut at = 0;
         for i in rows {
+            if out.len() < at + self.most {
+                out.resize(at + self.most, 0);
+            }
+            let mut room = Room::new(out, at);
             for p in &self.pieces {
                 match p {
                     Piece::Text(r) => room.put(&self.text[r.clone()]),
                     Piece::Cell(c) => cell(&cols[*c], i, |s| room.put(s)),
                 }
             }
+            at = room.at();
         }
-        room.at()
+        at
     }
 }
 
@@ -202,6 +206,33 @@ mod tests {
     use crate::output::batch::Key;
     use arrow_array::{DictionaryArray, Float64Array, Int64Array};
     use rand_core::{Rng, SeedableRng};
+
+    /// No cell takes more than `cell_most` says: the longest float texts,
+    /// the extreme counts and the longest word of a column.
+    #[test]
+    fn no_cell_is_longer_than_its_room() {
+        let floats = Float64Array::from(vec![
+            -f64::MIN_POSITIVE,
+            f64::MIN,
+            -1.2345678901234567e-300,
+            -0.00012345678901234567,
+            -9.999999999999998e15,
+            -5e-324,
+        ]);
+        let ints = Int64Array::from(vec![i64::MIN, i64::MAX, -1]);
+        let words: DictionaryArray<Key> = vec![Some("ok"), Some("max_events"), None]
+            .into_iter()
+            .collect();
+        let words = Col::of(&words).unwrap();
+        for col in [Col::F(&floats), Col::I(&ints), words] {
+            let most = cell_most(&col);
+            for i in 0..col.len() {
+                let mut t = Vec::new();
+                push_cell(&mut t, &col, i);
+                assert!(t.len() <= most, "{} bytes, room {most}", t.len());
+            }
+        }
+    }
 
     /// `fixed` against its definition (every row's cell the same text),
     /// on random columns of each type with runs of one value, empty
