@@ -44,9 +44,9 @@ fn copy_short(dst: &mut [u8], s: &[u8]) {
     }
 }
 
-/// Room made once for text of a known most length, written at a cursor:
-/// a block of rows costs one resize of its buffer, not a check of the
-/// buffer's capacity and length at every cell.
+/// Room made for text of a known most length, written at a cursor: a
+/// row of `lanes.csv` checks its buffer's length once, not its capacity
+/// and length at every cell.
 pub struct Room<'a> {
     buf: &'a mut [u8],
     at: usize,
