@@ -46,6 +46,11 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
     let ev = earliest_event(l, plan.mode, tr, has(st, F_RUNNING_ON));
     if (ev.x <= 1.0) {
         step_to_event(l, st, plan, ev.x, u32(ev.y), h_next);
+    } else if (!(tr.d_end > 0.0)) {
+        // D has left (0, inf) inside the mode (through infinity where
+        // gamma + rho passes 90 degrees): the mode is inconsistent.
+        finish(st, S_INCONSISTENT);
+        return;
     } else {
         add_flow(st, tr, h);
         (*st).y = tr.y1;

@@ -56,6 +56,8 @@ struct Trial {
     // the embedded error estimate of each component and, last, of the
     // integral of p2 (absolute; the error budget adds them up)
     est: array<real, NY + 1u>,
+    // D at the step's end (the mode is inconsistent where it is <= 0)
+    d_end: real,
 }
 
 // Compensated (Kahan) y1 = y + dy of component i; the value is y1 - y1c.
@@ -87,7 +89,9 @@ fn try_step(l: Lane, m: Mode, y: array<real, NY>, yc: array<real, NY>, k1: array
     step_component(&tr, 3u, increment(h, k1[3], k3[3], k4[3], k5[3], k6[3]), y[3], yc[3]);
     step_component(&tr, 4u, increment(h, k1[4], k3[4], k4[4], k5[4], k6[4]), y[4], yc[4]);
     step_component(&tr, 5u, increment(h, k1[5], k3[5], k4[5], k5[5], k6[5]), y[5], yc[5]);
-    tr.k7 = rhs(l, m, tr.y1[1]).k;
+    let end = rhs(l, m, tr.y1[1]);
+    tr.k7 = end.k;
+    tr.d_end = end.d;
     var err: real = 0.0;
     tr.est[0] = abs(error_term(h, k1[0], k3[0], k4[0], k5[0], k6[0], tr.k7[0]));
     err = max(err, tr.est[0] / capped(error_scale(tol_traj, y[0], tr.y1[0]), cap[0]));

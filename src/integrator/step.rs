@@ -182,6 +182,13 @@ pub(crate) fn finish_uncommon(
     }
     match earliest_event(lane, tables, plan.mode, trial, h, st.running_on) {
         Some((theta, which)) => step_to_event(lane, tables, set, st, plan, theta, which, h_next),
+        // D has left (0, inf) inside the mode (through infinity where
+        // γ + ρ passes 90°): the mode is inconsistent (docs/model.md
+        // section 2).
+        None if !(trial.d_end > 0.0) => {
+            st.finish(Status::Inconsistent);
+            return;
+        }
         None => {
             add_flow(st, trial, h);
             st.y = trial.y1;

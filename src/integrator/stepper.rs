@@ -173,6 +173,9 @@ crate::lanewise_struct! {
         /// ∫p2 dt (absolute; the accuracy budget adds them up, see
         /// `accuracy`).
         pub(crate) est: [f64; NY + 1],
+        /// D at the step's end: the mode is inconsistent where it is
+        /// not > 0 (`step::finish_uncommon`).
+        pub(crate) d_end: f64,
         /// The derivatives at stages 2 to 6 (`try_steps`' scratch).
         pub(crate) stages: [[f64; NY]; 5],
     }
@@ -252,7 +255,8 @@ pub(crate) fn try_steps<const N: usize>(
             y1[i][j] = y0[i][j] + dy;
         }
     }
-    let f1_end = rhs_lanes(c, &lane, tables, &y1[1], k7, |_, _| {});
+    let d_end = &mut tr.d_end;
+    let f1_end = rhs_lanes(c, &lane, tables, &y1[1], k7, |j, d| d_end[j] = d);
     // The rest component-major too, every lane, so each loop is vector
     // arithmetic.
     let est = &mut tr.est;

@@ -26,8 +26,8 @@ pub(crate) struct Verdicts<const W: usize> {
     /// Rejected, and the smaller size is no step underflow: tried again.
     pub(crate) retry: [bool; W],
     /// Neither (an event, a time event, a sign change of a mesh power, a
-    /// state that is not finite, the step budget, a step underflow): the
-    /// automaton ends the attempt.
+    /// state that is not finite, D not > 0 at the step's end, the step
+    /// budget, a step underflow): the automaton ends the attempt.
     pub(crate) slow: [bool; W],
     /// The size proposed next: h times the factor the error asks for after
     /// an acceptance, the retry size after a rejection.
@@ -80,6 +80,7 @@ pub(crate) fn verdicts<const W: usize>(
             & agrees(tr.dw[0][j], p1_0, p1_end)
             & agrees(tr.dw[1][j], p2_0, p2_end)
             & finite
+            & (tr.d_end[j] > 0.0)
             & (steps[j] < set.max_steps);
         v.plain[j] = active[j] & !rejected & common;
         v.retry[j] = active[j] & rejected & !underflow;

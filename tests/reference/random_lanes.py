@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|table]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|table]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -34,6 +34,13 @@ rest), a viscous term 0 to 0.01 s/m in 60 %, a flank angle 0 to 30 deg in
 half, lead angle 2 to 15 deg (static friction often above it: lanes that
 hold), load -9 to +9 kN, the motor cut in 50 % (with t_max in half of
 those), constant motors in 20 %, initial speeds in 25 %.
+
+`viscous` draws lanes under the Stribeck curve as `stribeck` does, but
+with a viscous term of 0.1 to 10 s/m (log-uniform) in every lane, where
+friction soon grows past any real drive's and gamma + rho can reach 90
+degrees (the mode is inconsistent there), and the motor never cut (a
+back-driven lane may settle at a terminal speed, where `hold` has no
+decided word: docs/model.md).
 
 `table` draws lanes under friction tables, as `agma` does otherwise
 (lead angle 2 to 15 deg), and writes the tables to OUT.toml (a sweep
@@ -159,6 +166,26 @@ if sys.argv[4:] == ["stribeck"]:
         if rng.random() < 0.5:
             row["alpha_n_deg"] = 30 * rng.random()
         cut_motor_start(row, t_end)
+
+    write_lanes(cols, draw)
+if sys.argv[4:] == ["viscous"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "friction", "mu", "mu_static", "v_stribeck",
+            "stribeck_exp", "mu_viscous", "alpha_n_deg", "motor", "f1", "v1_0"]
+
+    def draw(row):
+        mu = 0.02 + 0.06 * rng.random()
+        delta = 0.5 + 0.5 * rng.random() if rng.random() < 1 / 3 else 1 + rng.random()
+        row.update(gamma_deg=2 + 13 * rng.random(), f2=-9000 + 18000 * rng.random(),
+                   m1=586 * (0.5 + rng.random()), m2=10275 * (0.5 + rng.random()),
+                   t_end=0.5 + 3.5 * rng.random(), friction="stribeck", mu=mu,
+                   mu_static=mu * (1 + 1.5 * rng.random()), v_stribeck=0.02 + 0.48 * rng.random(),
+                   stribeck_exp=delta, mu_viscous=10 ** (-1 + 2 * rng.random()))
+        if rng.random() < 0.5:
+            row["alpha_n_deg"] = 30 * rng.random()
+        if rng.random() < 0.2:
+            row.update(motor="constant", f1=500 + 6000 * rng.random())
+        if rng.random() < 0.25:
+            row["v1_0"] = -3 + 6 * rng.random()
 
     write_lanes(cols, draw)
 if sys.argv[4:] == ["table"]:

@@ -240,6 +240,13 @@ def simulate(L):
             def ev_speeding(_, z, c=c, s=s, on=on, u=piece):
                 return -s * L.forces(z[1], c, s, on, u)[0] if running_on else 1.0
 
+            # Where gamma + rho reaches 90 degrees (c s = +1 and tan(gamma)
+            # tan(rho) = 1; friction far beyond a real drive's), psi passes
+            # through infinity and D from +infinity to below 0: the mode is
+            # inconsistent from there on (docs/model.md section 2).
+            def ev_wedge(_, z, s=s, on_wedge=c * s == 1, u=piece):
+                return 1.0 - L.tg * L.mu(max(s * z[1], 0.0) / L.cg, u) if on_wedge else 1.0
+
             lo, hi = L.bounds(piece)
 
             def ev_branch(_, z, s=s, lo=lo, hi=hi):
@@ -250,13 +257,14 @@ def simulate(L):
                 vs = max(s * z[1], 0.0) / L.cg
                 return min(vs - lo, hi - vs)
 
-            events = (ev_rest, ev_switch, ev_kink, ev_speeding, ev_branch)
+            events = (ev_rest, ev_switch, ev_kink, ev_speeding, ev_branch, ev_wedge)
             for e in events:
                 e.terminal, e.direction = True, -1
             if L.forces(y[1], c, s, on, piece)[1] <= 0:
                 return "inconsistent", y, c, stuck, "", t
             # p1 = S1 x1' and p2 = S2 x2' change sign only where x1' = 0
-            # (rest), S2 = 0 (phi = 0, a switch) or S1 = psi S2 = 0 (the
+            # (rest), S2 = 0 (phi = 0, a switch; or psi through infinity,
+            # the wedge event, where the lane ends) or S1 = psi S2 = 0 (the
             # kink): all terminal events. So each segment's increments of
             # their integrals go whole to the in or the out part, by the
             # sign at the segment's middle. (Integrating max(+-p, 0)
@@ -288,6 +296,8 @@ def simulate(L):
             if sol.status == 1 and hit[2]:
                 after_kink = True
                 continue
+            if sol.status == 1 and hit[5]:
+                return "inconsistent", y, c, stuck, "", t
             if sol.status == 1 and hit[4]:
                 # Up to the next piece through hi, down through lo.
                 vs = max(s * y[1], 0.0) / L.cg
