@@ -31,13 +31,21 @@ fn prepare(l: Lane, st: ptr<function, State>) -> StepPlan {
 }
 
 
+// Why a lane whose step cannot shrink any further stops: where D has
+// fallen to within JAM_D of m1 of 0 the wedge jams (inconsistent), else
+// a step underflow.
+fn underflow_status(l: Lane, m: Mode, v: real) -> u32 {
+    if (rhs(l, m, v).d < JAM_D * l.m1) { return S_INCONSISTENT; }
+    return S_STEP_UNDERFLOW;
+}
+
 fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
     let h = plan.h;
     let fac = step_factor(tr.err);
     if (tr.err > 1.0) {
         let retry = retry_size(h, fac, time_of(st));
         (*st).h = retry.h;
-        if (retry.underflow) { finish(st, S_STEP_UNDERFLOW); }
+        if (retry.underflow) { finish(st, underflow_status(l, plan.mode, (*st).y[1])); }
         return;
     }
     let h_next = h * fac;

@@ -13,6 +13,18 @@ pub const H_INITIAL: f64 = 1e-6;
 /// steps stop moving the lane (the shader's f32 stops at 1e-7).
 pub const STEP_UNDERFLOW: f64 = 1e-15;
 
+/// A step underflow where D has fallen below this fraction of m1 is the
+/// wedge jamming, not a step too small for a smooth motion: in a mode
+/// with c·s = −1 whose friction angle grows along the motion (a wheel
+/// that overhauls a self-locking drive, slowing down), D falls
+/// continuously to 0, as the square root of the time left, and the
+/// acceleration m1·φ/D grows without bound, so the steps shrink until
+/// they underflow within a few 1e-7 of m1 of D = 0 (on random such lanes,
+/// 8.5e-8 to 8.5e-7). D ≤ 0 makes the mode inconsistent (docs/model.md
+/// section 2), and so does D reaching 0 (the shader's f32 stops at
+/// [`JAM_D_F32`](crate::backend::gpu::shader::JAM_D_F32)).
+pub const JAM_D: f64 = 1e-4;
+
 /// The size of the step to try from the proposed size `h`, at speed `v`
 /// and acceleration `a` in direction `dir`, `remaining` before the next
 /// time event; and whether the step lands on that event. `steep`: the

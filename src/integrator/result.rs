@@ -18,7 +18,8 @@ use crate::params::gear::rpm;
 pub enum Status {
     /// Ran to `t_end`.
     Ok = 0,
-    /// The mode's D = m1 − ψ m2 tan γ is <= 0 (friction far above the lead angle).
+    /// The mode's D = m1 − ψ m2 tan γ is <= 0, or falls to 0 inside the
+    /// mode (the wedge jams): friction far above the lead angle.
     Inconsistent = 1,
     /// The state became NaN or infinite.
     NonFinite = 2,

@@ -8,7 +8,7 @@
 
 use super::automaton::{check_mode, come_to_rest, horizon, reach_time_event, set_side, LaneState};
 use super::components::NY;
-use super::control::step_size;
+use super::control::{step_size, JAM_D};
 use super::events::{earliest_event, left_upwards, EventFn, Watch};
 use super::flow::step_flow;
 use super::result::Status;
@@ -152,6 +152,19 @@ pub fn finish_step(
     finish_uncommon(lane, tables, set, st, plan, trial, v.h_next[0]);
 }
 
+/// Why a lane whose step cannot shrink any further stops, at speed `v`
+/// in `mode`: where D has fallen to within [`JAM_D`] of m1 of 0 the
+/// wedge jams (the mode is inconsistent: docs/model.md section 2), else
+/// a step underflow.
+fn underflow_status(lane: &Lane, tables: &[FrictionTable], mode: Mode, v: f64) -> Status {
+    let (_, d) = rhs(lane, tables, mode, v);
+    if d < JAM_D * lane.m1 {
+        Status::Inconsistent
+    } else {
+        Status::StepUnderflow
+    }
+}
+
 /// The automaton's end of an attempt that is not common (the verdict
 /// said so, and proposed the next size `h_next`): a step underflow, the
 /// step budget, the earliest event inside the step and the restart from
@@ -172,7 +185,7 @@ pub(crate) fn finish_uncommon(
     if trial.err > 1.0 {
         // Rejected, and too small to try again.
         st.h = h_next;
-        st.finish(Status::StepUnderflow);
+        st.finish(underflow_status(lane, tables, plan.mode, st.y[1]));
         return;
     }
     st.steps += 1;

@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|table]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|jam|table]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -41,6 +41,17 @@ friction soon grows past any real drive's and gamma + rho can reach 90
 degrees (the mode is inconsistent there), and the motor never cut (a
 back-driven lane may settle at a terminal speed, where `hold` has no
 decided word: docs/model.md).
+
+`jam` draws lanes whose wedge can jam: a light worm side (m1 5 to 60 kg)
+and a heavy wheel side (m2 5,000 to 15,000 kg), lead angle 2 to 6 deg, a
+load of 1 to 20 kN either way with the lane started in its direction
+(0.02 to 1 m/s), the motor cut at 0 in 75 % of lanes, and the paper law
+or a Stribeck curve without viscous term (mu_c 0.02 to 0.06, static 0.02
+to 0.15 above it, v_st 0.05 to 0.5 m/s, exponent 0.5 to 2) in half each.
+The overhauling load drives the wedge in b-b (a-a backwards), where the
+friction angle grows as the lane slows: when it passes the lead angle by
+atan(m1 / (m2 tan gamma)), D reaches 0 and the mode is inconsistent; a
+quarter of the lanes or so get there.
 
 `table` draws lanes under friction tables, as `agma` does otherwise
 (lead angle 2 to 15 deg), and writes the tables to OUT.toml (a sweep
@@ -186,6 +197,25 @@ if sys.argv[4:] == ["viscous"]:
             row.update(motor="constant", f1=500 + 6000 * rng.random())
         if rng.random() < 0.25:
             row["v1_0"] = -3 + 6 * rng.random()
+
+    write_lanes(cols, draw)
+if sys.argv[4:] == ["jam"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static",
+            "v_stribeck", "stribeck_exp", "v1_0"]
+
+    def draw(row):
+        sign = rng.choice([1, -1])
+        row.update(gamma_deg=2 + 4 * rng.random(), f2=sign * (1000 + 19000 * rng.random()),
+                   m1=5 + 55 * rng.random(), m2=5000 + 10000 * rng.random(),
+                   t_end=0.2 + 1.8 * rng.random(), v1_0=sign * (0.02 + 0.98 * rng.random()))
+        if rng.random() < 0.75:
+            row["motor_off"] = 0
+        if rng.random() < 0.5:
+            row["friction"] = "paper"
+        else:
+            mu = 0.02 + 0.04 * rng.random()
+            row.update(friction="stribeck", mu=mu, mu_static=mu + 0.02 + 0.13 * rng.random(),
+                       v_stribeck=0.05 + 0.45 * rng.random(), stribeck_exp=0.5 + 1.5 * rng.random())
 
     write_lanes(cols, draw)
 if sys.argv[4:] == ["table"]:

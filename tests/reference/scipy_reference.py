@@ -243,9 +243,16 @@ def simulate(L):
             # Where gamma + rho reaches 90 degrees (c s = +1 and tan(gamma)
             # tan(rho) = 1; friction far beyond a real drive's), psi passes
             # through infinity and D from +infinity to below 0: the mode is
-            # inconsistent from there on (docs/model.md section 2).
-            def ev_wedge(_, z, s=s, on_wedge=c * s == 1, u=piece):
-                return 1.0 - L.tg * L.mu(max(s * z[1], 0.0) / L.cg, u) if on_wedge else 1.0
+            # inconsistent from there on (docs/model.md section 2). With
+            # c s = -1, D = m1 - tan(rho - gamma) m2 tan(gamma) is finite
+            # and can fall to 0 (rho growing as the lane slows): the
+            # acceleration m1 phi / D grows without bound, D falls as the
+            # square root of the time left, and no step reaches D = 0;
+            # the lane ends inconsistent where D is 1e-6 of m1.
+            def ev_wedge(_, z, s=s, c=c, on=on, u=piece):
+                if c * s == 1:
+                    return 1.0 - L.tg * L.mu(max(s * z[1], 0.0) / L.cg, u)
+                return L.forces(z[1], c, s, on, u)[1] / L.m1 - 1e-6
 
             lo, hi = L.bounds(piece)
 

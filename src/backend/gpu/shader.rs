@@ -160,11 +160,13 @@ pub fn prelude_of(real: ShaderReal) -> String {
     reals.extend(match real {
         ShaderReal::F32 => [
             ("STEP_UNDERFLOW", STEP_UNDERFLOW as f64),
+            ("JAM_D", JAM_D_F32 as f64),
             ("ROOT_THETA_TOL", ROOT_THETA_TOL as f64),
             ("P_ZERO_TOL", P_ZERO_TOL as f64),
         ],
         ShaderReal::F64 => [
             ("STEP_UNDERFLOW", crate::integrator::control::STEP_UNDERFLOW),
+            ("JAM_D", crate::integrator::control::JAM_D),
             ("ROOT_THETA_TOL", ROOT_THETA_TOL_F64),
             ("P_ZERO_TOL", crate::integrator::flow::P_ZERO_TOL),
         ],
@@ -275,6 +277,17 @@ pub const MIRRORED: &[&str] = &[
 /// itself, as [`control::STEP_UNDERFLOW`](crate::integrator::control::STEP_UNDERFLOW)
 /// is f64's.
 pub const STEP_UNDERFLOW: f32 = 1e-7;
+
+/// A step underflow on the GPU where D has fallen below this fraction
+/// of m1 is the wedge jamming (`JAM_D` in the shader; the f64 path's is
+/// [`control::JAM_D`](crate::integrator::control::JAM_D)). D falls as
+/// the square root of the time left, so f32's underflow, 1e8 times f64's
+/// in a step's size, would come at D some 1e4 times as large: f64's
+/// 8.5e-8 to 8.5e-7 of m1 would be 1e-3 to 1e-2. On random jamming lanes
+/// f32's steps cross D = 0 before they underflow (the step's end finds
+/// D < 0); this bound, five times that estimate, is kept for lanes that
+/// do not.
+pub const JAM_D_F32: f32 = 5e-2;
 
 /// An event's root is located to this fraction of its step on the GPU
 /// (`ROOT_THETA_TOL` in the shader); the f64 path locates it to
