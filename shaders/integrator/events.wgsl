@@ -13,7 +13,12 @@ fn dense_v(r: array<real, 5>, th: real) -> real {
 // src/integrator/events.rs.
 
 fn event_value(l: Lane, m: Mode, which: u32, v: real) -> real {
-    if (which == EV_SWITCH) { return real(m.side) * phi(l, v, m.motor_on); }
+    if (which == EV_SWITCH) {
+        // No load: phi = F1/m1 changes sign only at synchronous speed, a
+        // fixed point of the motion, never crossed (`switch_value`).
+        if (load_term(l.f2, l.m2, l.tan_g) == 0.0) { return 1.0; }
+        return real(m.side) * phi(l, v, m.motor_on);
+    }
     if (which == EV_REST) { return real(m.dir) * v; }
     if (which == EV_BRANCH) {
         return branch_value(real(m.dir), v, l.inv_cos_g, branch_edges(l, m.branch));

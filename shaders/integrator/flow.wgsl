@@ -5,6 +5,14 @@
 // 2^-24, the resolution of f32 on [0, 1] (2^-52 in f64, `P_ZERO_TOL` in
 // src/integrator/flow.rs).
 
+// The signs of (p1, p2) throughout a mode of side c and direction s:
+// p2's is -c s, p1's +1 where c s = +1, and 0 where the mode does not
+// decide it (p1 with c s = -1 changes sign where rho crosses gamma).
+fn mode_signs(side: i32, dir: i32) -> vec2<real> {
+    let cs = real(side * dir);
+    return vec2<real>(select(real(0.0), real(1.0), cs > 0.0), -cs);
+}
+
 fn dense_slope(r: array<real, 5>, th: real) -> real {
     let th1 = 1.0 - th;
     return r[1] + (th1 - th) * r[2] + th * (2.0 - 3.0 * th) * r[3] + 2.0 * th * th1 * (th1 - th) * r[4];
@@ -24,6 +32,14 @@ fn split(r: array<real, 5>, p0: real, p_end: real) -> vec3<real> {
 // the step, and the ends do not say which part the increment goes to.
 fn agrees(total: real, p0: real, p_end: real) -> bool {
     return total * (p0 + p_end) >= 0.0;
+}
+
+// Whether an increment goes whole to the part of p's sign at the ends: p
+// keeps its sign there, and the increment has it too or is within its own
+// error estimate est (`goes_whole`).
+fn goes_whole(total: real, est: real, p0: real, p_end: real) -> bool {
+    let noise = abs(total) <= est && p0 + p_end != 0.0;
+    return !crosses(p0, p_end) && (agrees(total, p0, p_end) || noise);
 }
 
 // `split` where the increment has the other sign than p at the ends: it
@@ -87,24 +103,34 @@ fn turns_inside(r: array<real, 5>, p0: real, p_end: real) -> bool {
     return !crosses(p0, p_end) && dense_slope(r, 0.5) * (p0 + p_end) < 0.0;
 }
 
-// Whether p1 or p2 turned and turned back inside an accepted step.
-fn flow_turns(k1: array<real, NY>, tr: Trial, h: real) -> bool {
-    // (p1, p2) at the step's start and end.
+// Whether p1, where the mode does not decide its part, turned and turned
+// back inside an accepted step of mode m.
+fn flow_turns(k1: array<real, NY>, tr: Trial, h: real, m: Mode) -> bool {
+    if (mode_signs(m.side, m.dir).x != 0.0) { return false; }
+    // p1 at the step's start and end.
     let a = powers(k1[4], k1[5]);
     let b = powers(tr.k7[4], tr.k7[5]);
-    return turns_inside(dense_w(tr.dw.x, h, a.x, b.x, tr.dw_r4.x), a.x, b.x)
-        || turns_inside(dense_w(tr.dw.y, h, a.y, b.y, tr.dw_r4.y), a.y, b.y);
+    return turns_inside(dense_w(tr.dw.x, h, a.x, b.x, tr.dw_r4.x), a.x, b.x);
 }
 
 // A step's energy flow: the increments of (w1_in, w1_out, w2_in,
 // w2_out), and how far the split of the integrals of p1 and p2 may be off.
 struct Flow { d: vec4<real>, err: vec2<real> }
 
-// The flow of an accepted step.
-fn step_flow(k1: array<real, NY>, tr: Trial, h: real) -> Flow {
-    let a = powers(k1[4], k1[5]);
-    let b = powers(tr.k7[4], tr.k7[5]);
-    let f1 = split(dense_w(tr.dw.x, h, a.x, b.x, tr.dw_r4.x), a.x, b.x);
-    let f2 = split(dense_w(tr.dw.y, h, a.y, b.y, tr.dw_r4.y), a.y, b.y);
-    return Flow(vec4<real>(f1.xy, f2.xy), vec2<real>(f1.z, f2.z));
+// The flow of an accepted step of mode m: each increment whole to the
+// part the mode gives it, p1's where it gives none by its ends' signs.
+fn step_flow(k1: array<real, NY>, tr: Trial, h: real, m: Mode) -> Flow {
+    let sg = mode_signs(m.side, m.dir);
+    var f1 = vec3<real>(split_whole(tr.dw.x, sg.x, 0.0), 0.0);
+    if (sg.x == 0.0) {
+        let a = powers(k1[4], k1[5]);
+        let b = powers(tr.k7[4], tr.k7[5]);
+        if (goes_whole(tr.dw.x, tr.est[5], a.x, b.x)) {
+            f1 = vec3<real>(split_whole(tr.dw.x, a.x, b.x), 0.0);
+        } else {
+            f1 = split(dense_w(tr.dw.x, h, a.x, b.x, tr.dw_r4.x), a.x, b.x);
+        }
+    }
+    let f2 = split_whole(tr.dw.y, sg.y, 0.0);
+    return Flow(vec4<real>(f1.xy, f2), vec2<real>(f1.z, 0.0));
 }

@@ -83,8 +83,9 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
 // Compensated (Kahan) sum of an accepted step's energy flow, before the
 // state moves, and in f64 the step's share of the error budget.
 fn add_flow(st: ptr<function, State>, tr: Trial, h: real) {
-    if (flow_turns((*st).k1, tr, h)) { set_flag(st, F_FLOW_TURN, true); }
-    let f = step_flow((*st).k1, tr, h);
+    let m = mode_of(st);
+    if (flow_turns((*st).k1, tr, h, m)) { set_flag(st, F_FLOW_TURN, true); }
+    let f = step_flow((*st).k1, tr, h, m);
     if (KEEP_BUDGET) {
         add_step(st, (*st).k1, tr, f.d);
         add_split(st, f.err);

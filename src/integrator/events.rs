@@ -7,8 +7,8 @@
 //! output.
 
 use super::stepper::Trial;
-use crate::model::kernel::sliding_speed;
-use crate::model::{branch_edges, motion, phi, FrictionTable, Lane, Mode};
+use crate::model::kernel::{load_term, sliding_speed};
+use crate::model::{branch_edges, motion, phi, switch_value, FrictionTable, Lane, Mode};
 
 /// Root-location tolerance for events, s.
 pub const T_ROOT_TOL: f64 = 1e-13;
@@ -60,7 +60,11 @@ pub(crate) fn event_value(
     v: f64,
 ) -> f64 {
     match which {
-        EventFn::Switch => mode.side as f64 * phi(lane, v, mode.motor_on),
+        EventFn::Switch => switch_value(
+            mode.side as f64,
+            phi(lane, v, mode.motor_on),
+            load_term(lane.f2, lane.m2, lane.tan_g),
+        ),
         EventFn::Rest => rest_value(mode.dir as f64, v),
         EventFn::Speeding => speeding_value(mode.dir as f64, motion(lane, tables, mode, v).acc),
         EventFn::Branch => {
@@ -107,6 +111,9 @@ crate::lanewise_struct! {
     pub(crate) struct Watch, Watches {
         /// Direction of motion s.
         pub(crate) dir: f64,
+        /// Contact side c (the mesh powers' signs follow from c and s:
+        /// `flow::mode_signs`).
+        pub(crate) side: f64,
         /// Running on past t_end: speeding up is an event.
         pub(crate) running_on: bool,
         /// The sliding speeds bounding the mode's branch, m/s
@@ -127,6 +134,7 @@ impl Watch {
         let (lo, hi) = branch_edges(lane, tables, mode.branch);
         Watch {
             dir: mode.dir as f64,
+            side: mode.side as f64,
             running_on,
             lo,
             hi,

@@ -6,14 +6,26 @@
 //! so each crossing would need an event that restarts the step; measured,
 //! that cost a third of the CPU path's lanes/s. Instead ∫p1 is one more
 //! smooth, error-controlled quadrature (w_p1; ∫p2 is w_friction − w_p1),
-//! and an accepted step's increment of each goes to the in or the out part
-//! by the sign of p at the step's two ends (the derivatives k1 and k7).
-//! Where the sign differs, the step's dense output of the integral, a
-//! quartic in θ whose slope is p, gives both the zero (where the slope
-//! changes sign, found by the Illinois method) and the part before it (its value
-//! there); the part after it is the rest of the increment. So in − out is
-//! the quadrature itself, w1_in − w1_out + w2_in − w2_out = w_friction
-//! holds to rounding, and no right-hand side is evaluated again.
+//! and an accepted step's increment of each goes whole to the in or the
+//! out part where the mode says which (`mode_signs`): p2 = S2 ẋ2 has the
+//! sign −c·s throughout a mode, and p1 = ψ S2 ẋ1 the sign +1 where c·s =
+//! +1 (ψ < 0 there). Only p1 with c·s = −1 changes sign inside a mode
+//! (ψ = tan(ρ − γ) passes 0 where ρ crosses γ, which is no event): there
+//! the increment goes by the sign of p1 at the step's two ends (the
+//! derivatives k1 and k7; `goes_whole`), and where that differs, the
+//! step's dense output of the integral, a quartic in θ whose slope is p,
+//! gives both the zero (where the slope changes sign, found by the
+//! Illinois method) and the part before it (its value there); the part
+//! after it is the rest of the increment. So in − out is the quadrature itself, w1_in − w1_out + w2_in
+//! − w2_out = w_friction holds to rounding, and no right-hand side is
+//! evaluated again.
+//!
+//! Why the mode and not the ends: where a power tends to 0 (a motor
+//! running up to synchronous speed with no load, where S1 and S2 vanish),
+//! its values at the ends and the step's increment are the quadrature's
+//! error, of either sign, and that error is held to the size of the whole
+//! integral (hundreds of J), not to the part's: read by the ends, it went
+//! to the part of the other sign, whose value is 0, up to 5e-5 J of it.
 
 use super::components::{powers, NY};
 use super::events::{dense_v, illinois};
@@ -23,6 +35,17 @@ use super::stepper::Trial;
 /// this narrow, as a fraction of the step: 2^-52, the resolution of f64
 /// on [0, 1] (the shader's `P_ZERO_TOL` is 2^-24, f32's).
 pub const P_ZERO_TOL: f64 = f64::EPSILON;
+
+/// The signs of the mesh powers (p1, p2) throughout a mode with contact
+/// side `side` (c) and direction `dir` (s), each ±1: p2's is −c·s (S2
+/// has the sign −c, ẋ2 the sign s), p1's is +1 where c·s = +1 (p1 = ψ S2
+/// ẋ1, ψ = −tan(γ + ρ) < 0); 0 where the mode does not decide it (p1 with
+/// c·s = −1, whose ψ = tan(ρ − γ) changes sign where ρ crosses γ).
+#[inline(always)]
+pub(crate) fn mode_signs(side: f64, dir: f64) -> (f64, f64) {
+    let cs = side * dir;
+    (if cs > 0.0 { 1.0 } else { 0.0 }, -cs)
+}
 
 /// Slope dW/dθ of a dense output W(θ) = r0 + θ(r1 + (1−θ)(r2 + θ(r3 +
 /// (1−θ) r4))) (see `events::dense_v`): h times the integrand there.
@@ -56,6 +79,18 @@ pub fn split(r: &[f64; 5], p0: f64, p_end: f64) -> ([f64; 2], f64) {
 #[inline(always)]
 pub(crate) fn agrees(total: f64, p0: f64, p_end: f64) -> bool {
     total * (p0 + p_end) >= 0.0
+}
+
+/// Whether a step's increment `total` of ∫p goes whole to the part of p's
+/// sign at the step's ends (`p0`, `p_end`): p keeps its sign there, and
+/// the increment has that sign too, or is within its own error estimate
+/// `est` (where p tends to 0, as a no-load motor nears synchronous speed
+/// from above, the increment's sign is the quadrature's error, which the
+/// error budget counts in the part it feeds).
+#[inline(always)]
+pub(crate) fn goes_whole(total: f64, est: f64, p0: f64, p_end: f64) -> bool {
+    let noise = (total.abs() <= est) & (p0 + p_end != 0.0);
+    !crosses(p0, p_end) & (agrees(total, p0, p_end) | noise)
 }
 
 /// [`split`] where the increment has the other sign than p at the step's
@@ -138,18 +173,34 @@ pub(crate) fn dense_w(dw: f64, h: f64, q0: f64, q_end: f64, r4: f64) -> [f64; 5]
 }
 
 /// The increments of (w1_in, w1_out, w2_in, w2_out) over an accepted step
-/// of size `h`, from the derivative `k1` at its start to `trial`, and
-/// how far the split of ∫p1 and of ∫p2 may be off ([`split_error`]).
+/// of size `h`, from the derivative `k1` at its start to `trial`, in the
+/// mode of contact side `side` and direction `dir` ([`mode_signs`]), and
+/// how far the split of ∫p1 and of ∫p2 may be off ([`split_error`]; 0
+/// where the mode decides the part).
 #[inline]
-pub(crate) fn step_flow(k1: &[f64; NY], trial: &Trial, h: f64) -> ([f64; 4], [f64; 2]) {
-    let k7 = &trial.k7;
-    let (p1_0, p2_0) = powers(k1[4], k1[5]);
-    let (p1_end, p2_end) = powers(k7[4], k7[5]);
-    let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
-    let r2 = dense_w(trial.dw[1], h, p2_0, p2_end, trial.dw_r4[1]);
-    let ([i1, o1], e1) = split(&r1, p1_0, p1_end);
-    let ([i2, o2], e2) = split(&r2, p2_0, p2_end);
-    ([i1, o1, i2, o2], [e1, e2])
+pub(crate) fn step_flow(
+    k1: &[f64; NY],
+    trial: &Trial,
+    h: f64,
+    side: f64,
+    dir: f64,
+) -> ([f64; 4], [f64; 2]) {
+    let (s1, s2) = mode_signs(side, dir);
+    let ([i1, o1], e1) = if s1 != 0.0 {
+        (split_whole(trial.dw[0], s1, 0.0), 0.0)
+    } else {
+        let k7 = &trial.k7;
+        let (p1_0, _) = powers(k1[4], k1[5]);
+        let (p1_end, _) = powers(k7[4], k7[5]);
+        if goes_whole(trial.dw[0], trial.est[5], p1_0, p1_end) {
+            (split_whole(trial.dw[0], p1_0, p1_end), 0.0)
+        } else {
+            let r1 = dense_w(trial.dw[0], h, p1_0, p1_end, trial.dw_r4[0]);
+            split(&r1, p1_0, p1_end)
+        }
+    };
+    let [i2, o2] = split_whole(trial.dw[1], s2, 0.0);
+    ([i1, o1, i2, o2], [e1, 0.0])
 }
 
 #[cfg(test)]

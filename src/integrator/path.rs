@@ -19,10 +19,10 @@ pub enum Recheck {
     StiffMotor,
     /// A work that cancels below what f32 resolves of the energy that flowed.
     Cancellation,
-    /// A step's mesh power turned and turned back inside it (the slope of
-    /// its dense output at the step's middle against its ends): the
-    /// split of that step's energy flow into in and out parts cannot be
-    /// vouched for.
+    /// A step's p1, in a mode that does not decide its part (c·s = −1),
+    /// turned and turned back inside it (the slope of its dense output at
+    /// the step's middle against its ends): the split of that step's
+    /// energy flow into in and out parts cannot be vouched for.
     FlowTurn,
     /// A traced lane: its row comes from the f64 integration its trace is
     /// taken from, so the row and the trace are one integration.

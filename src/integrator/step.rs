@@ -222,7 +222,7 @@ pub(crate) fn finish_uncommon(
 /// Adds an accepted step's energy flow (from `st`, before it moves).
 #[inline]
 pub(crate) fn add_flow(st: &mut LaneState, trial: &Trial, h: f64) {
-    let (d, split_err) = step_flow(&st.k1, trial, h);
+    let (d, split_err) = step_flow(&st.k1, trial, h, st.side as f64, st.dir as f64);
     st.budget.add_step(&st.k1, trial, &d);
     st.budget.add_split(split_err);
     for (f, d) in st.flow.iter_mut().zip(d) {

@@ -4,7 +4,8 @@
 //!
 //! Most attempts are common: a rejected trial tried again smaller, or an
 //! accepted one with no event inside, not landing on a time event, whose
-//! mesh powers keep their signs, with a finite state and steps left. For
+//! mesh powers each go whole to one part (`flow::step_flow`: by the mode,
+//! or p1 keeping its sign), with a finite state and steps left. For
 //! those the outcome (the state, the energy flow, the error budget, the
 //! next size) is branch-free arithmetic per lane. Every other attempt is
 //! the lane automaton's (`step::finish_step`). The one-lane path decides
@@ -15,7 +16,7 @@ use super::automaton::LaneStates;
 use super::components::{powers, NY};
 use super::control::retry_size;
 use super::events::Watches;
-use super::flow::{agrees, crosses, split_whole};
+use super::flow::{goes_whole, mode_signs, split_whole};
 use super::settings::Settings;
 use super::stepper::Trials;
 
@@ -25,7 +26,8 @@ pub(crate) struct Verdicts<const W: usize> {
     pub(crate) plain: [bool; W],
     /// Rejected, and the smaller size is no step underflow: tried again.
     pub(crate) retry: [bool; W],
-    /// Neither (an event, a time event, a sign change of a mesh power, a
+    /// Neither (an event, a time event, a sign change of p1 where the mode
+    /// does not decide its part, a
     /// state that is not finite, D not > 0 at the step's end, the step
     /// budget, a step underflow): the automaton ends the attempt.
     pub(crate) slow: [bool; W],
@@ -33,7 +35,7 @@ pub(crate) struct Verdicts<const W: usize> {
     /// an acceptance, the retry size after a rejection.
     pub(crate) h_next: [f64; W],
     /// The step's increments of (w1_in, w1_out, w2_in, w2_out) when it is
-    /// plain (each power keeps its sign: all of an increment goes to one part).
+    /// plain (all of each increment goes to one part).
     pub(crate) flow: [[f64; W]; 4],
 }
 
@@ -63,22 +65,23 @@ pub(crate) fn verdicts<const W: usize>(
     for j in 0..W {
         let rejected = tr.err[j] > 1.0;
         let (h_retry, underflow) = retry_size(h[j], tr.fac[j], t[j]);
-        let ends = watch
-            .lane(j)
-            .at_end(tr.y1[1][j], tr.k7[1][j], tr.g_switch[j]);
+        let w = watch.lane(j);
+        let ends = w.at_end(tr.y1[1][j], tr.k7[1][j], tr.g_switch[j]);
         // Folds with `|` and `&`, not `any`, `all` or `&&`: no branch, so
         // the loop over the lanes stays vector code.
         let event = ends.iter().fold(false, |e, g| e | (*g < 0.0));
-        // The mesh powers p1 and p2 at the step's ends.
-        let (p1_0, p2_0) = powers(k1[4][j], k1[5][j]);
-        let (p1_end, p2_end) = powers(tr.k7[4][j], tr.k7[5][j]);
+        // The signs the mode gives the mesh powers; where it gives p1
+        // none, p1 at the step's ends.
+        let (s1, s2) = mode_signs(w.side, w.dir);
+        let by_mode = s1 != 0.0;
+        let (p1_0, _) = powers(k1[4][j], k1[5][j]);
+        let (p1_end, _) = powers(tr.k7[4][j], tr.k7[5][j]);
+        let (p1_0, p1_end) = if by_mode { (s1, 0.0) } else { (p1_0, p1_end) };
         let finite = (0..NY).fold(true, |f, i| f & tr.y1[i][j].is_finite());
+        let p1_whole = by_mode | goes_whole(tr.dw[0][j], tr.est[5][j], p1_0, p1_end);
         let common = !event
             & !landing[j]
-            & !crosses(p1_0, p1_end)
-            & !crosses(p2_0, p2_end)
-            & agrees(tr.dw[0][j], p1_0, p1_end)
-            & agrees(tr.dw[1][j], p2_0, p2_end)
+            & p1_whole
             & finite
             & (tr.d_end[j] > 0.0)
             & (steps[j] < set.max_steps);
@@ -87,7 +90,7 @@ pub(crate) fn verdicts<const W: usize>(
         v.slow[j] = active[j] & !v.plain[j] & !v.retry[j];
         v.h_next[j] = if rejected { h_retry } else { h[j] * tr.fac[j] };
         [v.flow[0][j], v.flow[1][j]] = split_whole(tr.dw[0][j], p1_0, p1_end);
-        [v.flow[2][j], v.flow[3][j]] = split_whole(tr.dw[1][j], p2_0, p2_end);
+        [v.flow[2][j], v.flow[3][j]] = split_whole(tr.dw[1][j], s2, 0.0);
     }
     v
 }

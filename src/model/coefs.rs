@@ -9,7 +9,7 @@ use super::kernel::{
     load_term, motion_parts, motor_force_of, paper_rho, sliding_speed, switching, Motion,
 };
 use super::laws::{FrictionKind, MotorKind};
-use super::{Lane, Mode};
+use super::{switch_value, Lane, Mode};
 use crate::lanewise::by_lane;
 
 crate::lanewise_scalar!(MotorKind = MotorKind::Kloss);
@@ -122,7 +122,10 @@ impl<const W: usize> Coefs<W> {
     /// `f1` (at the speed φ is wanted at).
     #[inline(always)]
     pub(crate) fn switch_values(&self, f1: &[f64; W]) -> [f64; W] {
-        by_lane(|j| self.side[j] * switching(f1[j], self.m1[j], self.load[j]))
+        by_lane(|j| {
+            let phi = switching(f1[j], self.m1[j], self.load[j]);
+            switch_value(self.side[j], phi, self.load[j])
+        })
     }
 }
 

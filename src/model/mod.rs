@@ -51,6 +51,22 @@ pub fn phi(lane: &Lane, v1: f64, motor_on: bool) -> f64 {
     switching(motor_force(lane, v1, motor_on), lane.m1, load)
 }
 
+/// The switch event's function, c·φ for a lane on side `side` (c) with
+/// switching function `phi`, or 1 (never a switch) where the lane has no
+/// load (`load`, F2/(m2 tan γ), is 0): φ = F1/m1 then changes sign only
+/// where F1 does, at a Kloss motor's synchronous speed, a fixed point of
+/// the motion (ẍ1 = F1/D = 0 there, on either side) that a lane
+/// approaches and never crosses. A crossing located there would be
+/// rounding (f32's speed does overshoot it), and the side stays.
+#[inline(always)]
+pub(crate) fn switch_value(side: f64, phi: f64, load: f64) -> f64 {
+    if load == 0.0 {
+        1.0
+    } else {
+        side * phi
+    }
+}
+
 /// The contact side for φ: +1 (a-a) when φ >= 0, else −1 (b-b).
 #[inline]
 pub(crate) fn side_of(phi: f64) -> i32 {

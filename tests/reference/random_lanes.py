@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|jam|table]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|jam|noload|table]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -52,6 +52,18 @@ The overhauling load drives the wedge in b-b (a-a backwards), where the
 friction angle grows as the lane slows: when it passes the lead angle by
 atan(m1 / (m2 tan gamma)), D reaches 0 and the mode is inconsistent; a
 quarter of the lanes or so get there.
+
+`noload` draws lanes with no load (f2 = 0), a motor running up: Kloss
+motors of synchronous speed 0.3 to 5 m/s (peak at 0.3 to 0.95 of it,
+peak force 1 to 40 kN) in 80 % of lanes, constant motors (100 to 5,000
+N) in the rest, started from rest or (30 %) at -0.5 to 1.2 times the
+synchronous speed, lead angle 2 to 25 deg, masses 0.3 to 3 times the
+paper's, t_end 0.5 to 10 s, the motor cut in 20 %, and the paper law,
+Coulomb friction or a Stribeck curve in a third each. As a Kloss motor
+nears synchronous speed its force, S1, S2 and both mesh powers tend to
+0, and the in and out parts of the flow must stay as the mode says (with
+no load the contact never switches: phi = F1/m1 changes sign only at
+synchronous speed, a fixed point of the motion).
 
 `table` draws lanes under friction tables, as `agma` does otherwise
 (lead angle 2 to 15 deg), and writes the tables to OUT.toml (a sweep
@@ -216,6 +228,33 @@ if sys.argv[4:] == ["jam"]:
             mu = 0.02 + 0.04 * rng.random()
             row.update(friction="stribeck", mu=mu, mu_static=mu + 0.02 + 0.13 * rng.random(),
                        v_stribeck=0.05 + 0.45 * rng.random(), stribeck_exp=0.5 + 1.5 * rng.random())
+
+    write_lanes(cols, draw)
+if sys.argv[4:] == ["noload"]:
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "motor", "f1", "v_sync", "v_crit",
+            "f_crit", "friction", "mu", "mu_static", "v_stribeck", "stribeck_exp", "v1_0"]
+
+    def draw(row):
+        t_end = 0.5 + 9.5 * rng.random()
+        v_sync = 0.3 + 4.7 * rng.random()
+        row.update(gamma_deg=2 + 23 * rng.random(), f2=0.0, m1=586 * (0.3 + 2.7 * rng.random()),
+                   m2=10275 * (0.3 + 2.7 * rng.random()), t_end=t_end)
+        if rng.random() < 0.8:
+            row.update(v_sync=v_sync, v_crit=v_sync * (0.3 + 0.65 * rng.random()),
+                       f_crit=1000 + 39000 * rng.random())
+        else:
+            row.update(motor="constant", f1=100 + 4900 * rng.random())
+        if rng.random() < 0.3:
+            row["v1_0"] = v_sync * (-0.5 + 1.7 * rng.random())
+        if rng.random() < 0.2:
+            row["motor_off"] = t_end * rng.random()
+        law = rng.choice(["paper", "coulomb", "stribeck"])
+        row["friction"] = law
+        if law != "paper":
+            mu = 0.02 + 0.08 * rng.random()
+            row.update(mu=mu, mu_static=mu * (1 + rng.random()))
+        if law == "stribeck":
+            row.update(v_stribeck=0.02 + 0.48 * rng.random(), stribeck_exp=0.5 + 1.5 * rng.random())
 
     write_lanes(cols, draw)
 if sys.argv[4:] == ["table"]:

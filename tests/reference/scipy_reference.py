@@ -203,7 +203,10 @@ def simulate(L):
 
     for _ in range(100000):
         t_stop = L.motor_off if on and L.motor_off < end else end
-        if stuck:
+        # Stuck, or an event found at the stop time itself (a switch that
+        # chatters at an equilibrium where phi tends to 0): nothing to
+        # integrate before the stop.
+        if stuck or t >= t_stop:
             t = t_stop
         else:
             def rhs(_, z, c=c, s=s, on=on, u=piece):
@@ -217,11 +220,16 @@ def simulate(L):
             def ev_rest(_, z, s=s):
                 return s * z[1]
 
-            # No load and no motor force (cut, or a constant 0): phi is 0
-            # throughout, the contact stays where it is (phi >= 0: a-a),
-            # and an event function that is 0 everywhere would stop every
-            # segment where it starts.
-            no_phi = L.f2 == 0 and (not on or (L.motor == "constant" and L.f1c == 0))
+            # No load: phi = F1/m1. With no motor force (cut, or a
+            # constant 0) it is 0 throughout, the contact stays where it is
+            # (phi >= 0: a-a), and an event function that is 0 everywhere
+            # would stop every segment where it starts. A constant motor's
+            # phi keeps its sign, and a Kloss motor's changes sign only at
+            # synchronous speed, a fixed point of the motion (x1'' = F1/D =
+            # 0 there), which a lane approaches but never crosses: an event
+            # located there is the integration's rounding, and the contact
+            # stays where it is.
+            no_phi = L.f2 == 0
 
             def ev_switch(_, z, c=c, on=on):
                 return 1.0 if no_phi else c * L.phi(z[1], on)
@@ -274,18 +282,20 @@ def simulate(L):
             # the wedge event, where the lane ends) or S1 = psi S2 = 0 (the
             # kink): all terminal events. So each segment's increments of
             # their integrals go whole to the in or the out part, by the
-            # sign at the segment's middle. (Integrating max(+-p, 0)
+            # sign of the segment's integral, which is p's. (Not by p at
+            # the segment's middle: where p tends to 0, a motor reaching
+            # synchronous speed with no load, p there is rounding of
+            # either sign.) (Integrating max(+-p, 0)
             # instead puts a kink at the rest event inside the step that
             # overshoots it, and the dense output at the event reads the
             # part past it: 1.8e-6 J of a w1_out that is 0.)
             z0 = y[:5] + [0.0, 0.0]
             sol = solve_ivp(rhs, (t, t_stop), z0, method="DOP853", rtol=RTOL, atol=ATOL,
-                            events=events, first_step=1e-8, dense_output=True)
-            z, t_mid = sol.y[:, -1], 0.5 * (sol.t[0] + sol.t[-1])
-            p1m, p2m = rhs(t_mid, sol.sol(t_mid))[5:7]
+                            events=events, first_step=min(1e-8, t_stop - t), dense_output=True)
+            z = sol.y[:, -1]
             flow = y[5:9]
-            flow[0 if p1m > 0 else 1] += abs(z[5])
-            flow[2 if p2m > 0 else 3] += abs(z[6])
+            flow[0 if z[5] > 0 else 1] += abs(z[5])
+            flow[2 if z[6] > 0 else 3] += abs(z[6])
             y, t = list(z[:5]) + flow, sol.t[-1]
             hit = [len(te) > 0 and te[0] > sol.t[0] for te in sol.t_events]
             if sol.status == 1 and hit[0]:

@@ -39,7 +39,8 @@ pub mod flags {
         RUNNING_ON = 32;
         /// Running on ended because the lane began to speed up.
         SPEEDING = 64;
-        /// A step's mesh power turned and turned back inside it
+        /// A step's p1, where the mode does not decide its part, turned
+        /// and turned back inside it
         /// ([`Recheck::FlowTurn`](crate::integrator::path::Recheck::FlowTurn)).
         FLOW_TURN = 256;
     }
