@@ -113,7 +113,7 @@ impl Lanes {
             source,
             threads,
             settings,
-            precision: self.precision,
+            precision: args.asked_precision(),
         })
     }
 }
@@ -373,7 +373,8 @@ fn check<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let lanes = source.lanes(threads, tol, precision)?;
     let c = drive::drive(py, progress, move |show| {
-        let checked = tswm::commands::check::compare(&lanes.plan(&show)?, None, &show)?;
+        let plan = tswm::commands::check::checked_plan(lanes.plan(&show)?, lanes.precision);
+        let checked = tswm::commands::check::compare(&plan, None, &show)?;
         Ok((
             checked.report.lanes,
             checked.report.disagree,

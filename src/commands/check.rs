@@ -90,6 +90,13 @@ pub fn compare(plan: &Plan, disagreements: Option<&Path>, show: &Show) -> Result
     })
 }
 
+/// `plan` with the GPU arithmetic `--precision` names: a check compares
+/// the path it names (f32 unless f64), whatever `--tol` the CPU reference
+/// runs at ([`LanesArgs::asked_precision`] is a run's choice).
+pub fn checked_plan(plan: Plan, precision: Precision) -> Plan {
+    Plan { precision, ..plan }
+}
+
 /// Runs `tswm check`; exit 1 (an error) when a bound is missed.
 pub fn run(lanes: &LanesArgs, disagreements: Option<&Path>, show: &Show) -> Result<()> {
     let Checked {
@@ -97,7 +104,11 @@ pub fn run(lanes: &LanesArgs, disagreements: Option<&Path>, show: &Show) -> Resu
         gpu,
         cpu,
         note,
-    } = compare(&lanes.plan()?, disagreements, show)?;
+    } = compare(
+        &checked_plan(lanes.plan()?, lanes.precision),
+        disagreements,
+        show,
+    )?;
     sayln!("tswm check: {} lanes, {gpu} against {cpu}", report.lanes);
     if let Some(n) = note {
         sayln!("({n})");

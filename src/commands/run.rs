@@ -32,7 +32,7 @@ pub fn run(lanes: &LanesArgs, flags: &RunFlags, show: &Show) -> Result<()> {
                 source: crate::input::lanes::Source::sweep(file)?,
                 threads,
                 settings,
-                precision: lanes.precision,
+                precision: lanes.asked_precision(),
             }
         }
         _ => lanes.plan_part(&part, show)?,
