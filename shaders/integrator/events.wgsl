@@ -23,7 +23,10 @@ fn event_value(l: Lane, m: Mode, which: u32, v: real) -> real {
     if (which == EV_BRANCH) {
         return branch_value(real(m.dir), v, l.inv_cos_g, branch_edges(l, m.branch));
     }
-    return -real(m.dir) * motion(l, m, v).acc;
+    // The speeding event: -s x1'' D, the sign of -s x1'' without its pole
+    // where a jamming wedge takes D through 0 (`speeding_value`).
+    let mo = motion(l, m, v);
+    return -real(m.dir) * mo.acc * mo.d;
 }
 
 // The branch event's function: the sliding speed's distance from the
@@ -96,7 +99,7 @@ fn earliest_event(l: Lane, m: Mode, tr: Trial, running_on: bool) -> vec2<real> {
         let th = locate_root(l, m, EV_SWITCH, tr.dense, g_switch);
         if (th < theta) { theta = th; which = EV_SWITCH; }
     }
-    let g_speeding = -real(m.dir) * tr.k7[1];
+    let g_speeding = -real(m.dir) * tr.k7[1] * tr.d_end;
     if (running_on && g_speeding < 0.0) {
         let th = locate_root(l, m, EV_SPEEDING, tr.dense, g_speeding);
         if (th < theta) { theta = th; which = EV_SPEEDING; }

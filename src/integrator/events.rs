@@ -29,8 +29,8 @@ pub enum EventFn {
     Switch = 0,
     /// s·ẋ1: leaves > 0 when the lane comes to rest.
     Rest = 1,
-    /// −s·ẍ1: leaves > 0 when a lane running on past t_end stops
-    /// slowing down (only then is it looked for).
+    /// −s·ẍ1·D (−s·ẍ1 without its pole): leaves > 0 when a lane running
+    /// on past t_end stops slowing down (only then is it looked for).
     Speeding = 2,
     /// Under a law of several branches (`agma`, `table`), the sliding
     /// speed's distance from the nearer edge of the mode's branch
@@ -66,7 +66,10 @@ pub(crate) fn event_value(
             load_term(lane.f2, lane.m2, lane.tan_g),
         ),
         EventFn::Rest => rest_value(mode.dir as f64, v),
-        EventFn::Speeding => speeding_value(mode.dir as f64, motion(lane, tables, mode, v).acc),
+        EventFn::Speeding => {
+            let m = motion(lane, tables, mode, v);
+            speeding_value(mode.dir as f64, m.acc, m.d)
+        }
         EventFn::Branch => {
             let (lo, hi) = branch_edges(lane, tables, mode.branch);
             branch_value(mode.dir as f64, v, lane.inv_cos_g, lo, hi)
@@ -80,10 +83,14 @@ fn rest_value(dir: f64, v: f64) -> f64 {
     dir * v
 }
 
-/// The speeding-up event's function −s·ẍ1 at acceleration `acc`.
+/// The speeding-up event's function −s·ẍ1·D at acceleration `acc` and
+/// D `d`: the sign of −s·ẍ1 where D > 0, without its pole. Where a wedge
+/// jams, D passes 0 inside a step and ẍ1 = (F1 − ψ F2)/D through
+/// infinity to the other sign: −s·ẍ1 then had a root there, read as the
+/// lane speeding up (`runs_away`), where the lane is inconsistent.
 #[inline(always)]
-fn speeding_value(dir: f64, acc: f64) -> f64 {
-    -dir * acc
+fn speeding_value(dir: f64, acc: f64, d: f64) -> f64 {
+    -dir * acc * d
 }
 
 /// The branch event's function at speed `v`: the sliding speed's
@@ -143,17 +150,17 @@ impl Watch {
     }
 
     /// The event functions at a step's end (speed `v`, acceleration
-    /// `acc`, switching function `g_switch`) in [`EventFn`] order: Rest,
+    /// `acc`, D `d`, switching function `g_switch`) in [`EventFn`] order: Rest,
     /// Switch, Speeding, Branch; +∞ for one the lane does not watch. An
     /// event lies inside the step where one is < 0.
     #[inline(always)]
-    pub(crate) fn at_end(&self, v: f64, acc: f64, g_switch: f64) -> [f64; 4] {
+    pub(crate) fn at_end(&self, v: f64, acc: f64, d: f64, g_switch: f64) -> [f64; 4] {
         let off = f64::INFINITY;
         [
             rest_value(self.dir, v),
             g_switch,
             if self.running_on {
-                speeding_value(self.dir, acc)
+                speeding_value(self.dir, acc, d)
             } else {
                 off
             },
@@ -263,7 +270,7 @@ pub(crate) fn earliest_event(
     // The switching function at the step's end came with the trial (the
     // same arithmetic as `event_value`, as vector code); the step's end
     // derivative holds the acceleration there.
-    let ends = watch.at_end(trial.y1[1], trial.k7[1], trial.g_switch);
+    let ends = watch.at_end(trial.y1[1], trial.k7[1], trial.d_end, trial.g_switch);
     let order = [
         EventFn::Rest,
         EventFn::Switch,

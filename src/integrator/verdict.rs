@@ -66,7 +66,7 @@ pub(crate) fn verdicts<const W: usize>(
         let rejected = tr.err[j] > 1.0;
         let (h_retry, underflow) = retry_size(h[j], tr.fac[j], t[j]);
         let w = watch.lane(j);
-        let ends = w.at_end(tr.y1[1][j], tr.k7[1][j], tr.g_switch[j]);
+        let ends = w.at_end(tr.y1[1][j], tr.k7[1][j], tr.d_end[j], tr.g_switch[j]);
         // Folds with `|` and `&`, not `any`, `all` or `&&`: no branch, so
         // the loop over the lanes stays vector code.
         let event = ends.iter().fold(false, |e, g| e | (*g < 0.0));

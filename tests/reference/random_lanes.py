@@ -4,7 +4,7 @@ lead angle 2 to 25 deg, load -9 to +9 kN, masses 0.5 to 1.5 times the
 paper's, t_end 1 to 4 s, the motor cut in 35 % of lanes, and Coulomb
 friction (mu 0.02 to 0.12, static up to 30 % above) in half of them.
 
-    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|jam|noload|table]
+    python3 random_lanes.py N SEED OUT.csv [wide|hold|agma|stribeck|viscous|jam|noload|extreme|table]
 
 `wide` draws from a wider recipe instead: lead angle 2 to 30 deg, load
 -12 to +12 kN, masses 0.3 to 1.8 times the paper's, t_end 0.5 to 6 s,
@@ -45,7 +45,8 @@ decided word: docs/model.md).
 `jam` draws lanes whose wedge can jam: a light worm side (m1 5 to 60 kg)
 and a heavy wheel side (m2 5,000 to 15,000 kg), lead angle 2 to 6 deg, a
 load of 1 to 20 kN either way with the lane started in its direction
-(0.02 to 1 m/s), the motor cut at 0 in 75 % of lanes, and the paper law
+(0.02 to 1 m/s), the motor cut at 0 in 75 % of lanes (half of them with
+t_max, t_end + 0.5 to 5 s, running on while they slow), and the paper law
 or a Stribeck curve without viscous term (mu_c 0.02 to 0.06, static 0.02
 to 0.15 above it, v_st 0.05 to 0.5 m/s, exponent 0.5 to 2) in half each.
 The overhauling load drives the wedge in b-b (a-a backwards), where the
@@ -64,6 +65,17 @@ nears synchronous speed its force, S1, S2 and both mesh powers tend to
 0, and the in and out parts of the flow must stay as the mode says (with
 no load the contact never switches: phi = F1/m1 changes sign only at
 synchronous speed, a fixed point of the motion).
+
+`extreme` draws lanes over wide ranges, log-uniform where a range spans
+decades: lead angle 0.5 to 60 deg, load 10 N to 100 kN either way (0 in
+5 %), m1 1 to 10^4 kg and m2 10 to 10^6 kg (every mass ratio a drive in
+gear terms can reduce to), t_end 0.05 to 8 s, the motor cut in 40 %
+(t_max in half of those), constant motors (10 N to 100 kN either way, 0
+in 5 %) in 30 %, Kloss motors of other speeds and peaks in 35 %, the
+paper law (its own parameters in half), Coulomb friction (0.005 to 0.6),
+a Stribeck curve (with a viscous term in 40 %) or AGMA's curve in a
+quarter each, a flank angle in half of the coefficient laws, initial
+speeds (1 mm/s to 10 m/s either way) in 40 % and positions in 20 %.
 
 `table` draws lanes under friction tables, as `agma` does otherwise
 (lead angle 2 to 15 deg), and writes the tables to OUT.toml (a sweep
@@ -212,16 +224,19 @@ if sys.argv[4:] == ["viscous"]:
 
     write_lanes(cols, draw)
 if sys.argv[4:] == ["jam"]:
-    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "friction", "mu", "mu_static",
-            "v_stribeck", "stribeck_exp", "v1_0"]
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "friction", "mu",
+            "mu_static", "v_stribeck", "stribeck_exp", "v1_0"]
 
     def draw(row):
         sign = rng.choice([1, -1])
+        t_end = 0.2 + 1.8 * rng.random()
         row.update(gamma_deg=2 + 4 * rng.random(), f2=sign * (1000 + 19000 * rng.random()),
                    m1=5 + 55 * rng.random(), m2=5000 + 10000 * rng.random(),
-                   t_end=0.2 + 1.8 * rng.random(), v1_0=sign * (0.02 + 0.98 * rng.random()))
+                   t_end=t_end, v1_0=sign * (0.02 + 0.98 * rng.random()))
         if rng.random() < 0.75:
             row["motor_off"] = 0
+            if rng.random() < 0.5:
+                row["t_max"] = t_end + 0.5 + 4.5 * rng.random()
         if rng.random() < 0.5:
             row["friction"] = "paper"
         else:
@@ -255,6 +270,53 @@ if sys.argv[4:] == ["noload"]:
             row.update(mu=mu, mu_static=mu * (1 + rng.random()))
         if law == "stribeck":
             row.update(v_stribeck=0.02 + 0.48 * rng.random(), stribeck_exp=0.5 + 1.5 * rng.random())
+
+    write_lanes(cols, draw)
+if sys.argv[4:] == ["extreme"]:
+    import math
+
+    cols = ["gamma_deg", "f2", "m1", "m2", "t_end", "motor_off", "t_max", "motor", "f1", "v_sync",
+            "v_crit", "f_crit", "friction", "mu", "mu_static", "v_stribeck", "stribeck_exp",
+            "mu_viscous", "alpha_n_deg", "fric_a", "fric_b", "fric_c", "v1_0", "x1_0"]
+
+    def lu(a, b):
+        return math.exp(math.log(a) + (math.log(b) - math.log(a)) * rng.random())
+
+    def draw(row):
+        t_end = lu(0.05, 8)
+        row.update(gamma_deg=lu(0.5, 60),
+                   f2=rng.choice([1, -1]) * lu(10, 1e5) if rng.random() < 0.95 else 0.0,
+                   m1=lu(1, 1e4), m2=lu(10, 1e6), t_end=t_end)
+        if rng.random() < 0.4:
+            row["motor_off"] = t_end * rng.random() * 1.2
+        if row["motor_off"] != "" and rng.random() < 0.5:
+            row["t_max"] = t_end + lu(0.5, 50)
+        if rng.random() < 0.3:
+            row.update(motor="constant",
+                       f1=rng.choice([1, -1]) * lu(10, 1e5) if rng.random() < 0.95 else 0.0)
+        elif rng.random() < 0.5:
+            vs = lu(0.3, 20)
+            row.update(v_sync=vs, v_crit=vs * rng.uniform(0, 0.95), f_crit=lu(100, 1e5))
+        law = rng.choice(["paper", "coulomb", "stribeck", "agma"])
+        row["friction"] = law
+        if law == "paper":
+            if rng.random() < 0.5:
+                row.update(fric_a=lu(0.01, 2), fric_b=rng.uniform(0.2, 1.5), fric_c=lu(0.02, 2))
+        elif law == "coulomb":
+            mu = lu(0.005, 0.6)
+            row.update(mu=mu, mu_static=mu * rng.uniform(1, 1.5))
+        elif law == "stribeck":
+            mu = lu(0.005, 0.3)
+            row.update(mu=mu, mu_static=mu * rng.uniform(1, 3), v_stribeck=lu(0.005, 2),
+                       stribeck_exp=rng.uniform(0.5, 2))
+            if rng.random() < 0.4:
+                row["mu_viscous"] = lu(1e-4, 0.3)
+        if law != "paper" and rng.random() < 0.5:
+            row["alpha_n_deg"] = rng.uniform(0, 40)
+        if rng.random() < 0.4:
+            row["v1_0"] = rng.choice([1, -1]) * lu(0.001, 10)
+        if rng.random() < 0.2:
+            row["x1_0"] = rng.uniform(-10, 10)
 
     write_lanes(cols, draw)
 if sys.argv[4:] == ["table"]:

@@ -292,6 +292,16 @@ def simulate(L):
             z0 = y[:5] + [0.0, 0.0]
             sol = solve_ivp(rhs, (t, t_stop), z0, method="DOP853", rtol=RTOL, atol=ATOL,
                             events=events, first_step=min(1e-8, t_stop - t), dense_output=True)
+            if sol.status == -1:
+                # The integration could not go on. Where a wedge jams just
+                # past a kink (D = m1 there, and 0 a hair further on for a
+                # light worm side), the acceleration outgrows any step
+                # before the wedge event's D = 1e-6 m1: inconsistent. Any
+                # other failure is the reference's, said aloud.
+                v_fail = sol.y[1, -1]
+                if L.forces(v_fail, c, s, on, piece)[1] < 1e-3 * L.m1:
+                    return "inconsistent", y, c, stuck, "", t
+                raise RuntimeError(f"the integration failed at t = {sol.t[-1]}: {sol.message}")
             z = sol.y[:, -1]
             flow = y[5:9]
             flow[0 if z[5] > 0 else 1] += abs(z[5])

@@ -224,7 +224,8 @@ fn cpu(l: &Lane, tables: &[FrictionTable], m: Mode, v: f64) -> Vec<(f64, f64)> {
     ];
     let (lo, hi) = model::branch_edges(l, tables, m.branch);
     let edges = lo.abs().min(1e30) + hi.abs().min(1e30);
-    let scales = [acc, v.abs(), big / l.m1, vs.abs() + edges];
+    let speeding = big / l.m1 * (mo.d.abs() + l.m1); // −s·ẍ1·D
+    let scales = [acc, v.abs(), speeding, vs.abs() + edges];
     for (w, sc) in which.into_iter().zip(scales) {
         out.push((event_value(l, tables, m, w, v), sc));
     }
