@@ -325,7 +325,8 @@ pub const RESULTS: &[Column] = &[
         name: STATUS,
         quantity: "lane status",
         meaning: "ok, or why the lane could not be finished: inconsistent (D <= 0, or falling to 0 \
-                  where the wedge jams: friction far above the lead angle), nonfinite, max_steps, max_events, step_underflow",
+                  where the wedge jams: friction far above the lead angle), nonfinite, max_steps, \
+                  max_events, step_underflow",
         summary: Summary::Shares(Of::All),
         compare: Compare::Exact,
         value: Value::W(|r| Some(r.status as usize), status_words),

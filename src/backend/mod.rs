@@ -94,8 +94,9 @@ const AUTO_TRIAL_LANES: usize = 4096;
 /// `auto`: a hardware GPU when there is one; else, for runs of at least
 /// [`AUTO_TRIAL_MIN_LANES`] lanes with a software adapter present and a
 /// precision other than f64, the faster of the CPU path and that adapter
-/// on a trial of 4096 paper-like lanes run on both; else the CPU path. The GPU computes in `precision`
-/// ([`open_gpu`]); the CPU path is f64, and refuses `f32`.
+/// on a trial of 4096 paper-like lanes run on both; else the CPU path.
+/// The GPU computes in `precision` ([`open_gpu`]); the CPU path is f64,
+/// and refuses `f32`.
 pub fn open(
     choice: Choice,
     precision: Precision,

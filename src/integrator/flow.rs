@@ -16,9 +16,9 @@
 //! step's dense output of the integral, a quartic in θ whose slope is p,
 //! gives both the zero (where the slope changes sign, found by the
 //! Illinois method) and the part before it (its value there); the part
-//! after it is the rest of the increment. So in − out is the quadrature itself, w1_in − w1_out + w2_in
-//! − w2_out = w_friction holds to rounding, and no right-hand side is
-//! evaluated again.
+//! after it is the rest of the increment. So in − out is the quadrature
+//! itself, w1_in − w1_out + w2_in − w2_out = w_friction holds to
+//! rounding, and no right-hand side is evaluated again.
 //!
 //! Why the mode and not the ends: where a power tends to 0 (a motor
 //! running up to synchronous speed with no load, where S1 and S2 vanish),
