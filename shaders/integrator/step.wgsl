@@ -99,6 +99,13 @@ fn add_flow(st: ptr<function, State>, tr: Trial, h: real) {
 fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: real, which: u32, h_next: real) {
     let h_ev = theta * plan.h;
     let ev = try_step(l, plan.mode, (*st).y, (*st).yc, (*st).k1, h_ev, g.tol, g.tol_traj, caps(l, st, h_ev));
+    // D has left (0, inf) before the event: the wedge jammed on the way;
+    // at rest, D at zero speed (`step_to_event` in src/integrator/step.rs).
+    let jammed = which == EV_REST && !(rhs(l, plan.mode, 0.0).d > 0.0);
+    if (!(ev.d_end > 0.0) || jammed) {
+        finish(st, S_INCONSISTENT);
+        return;
+    }
     add_flow(st, ev, h_ev);
     time_add(st, h_ev);
     (*st).y = ev.y1;

@@ -245,6 +245,18 @@ pub(crate) fn step_to_event(
 ) {
     let h_ev = theta * plan.h;
     let ev = trial(lane, tables, plan.mode, st, h_ev, set);
+    // D has left (0, inf) before the event: the wedge jammed on the way
+    // (D falls to 0 just short of rest where a friction angle that grows
+    // as the lane slows meets a light worm side), and the mode is
+    // inconsistent there (docs/model.md section 2), however the event
+    // came first in the step's dense output. At rest, D at zero speed:
+    // the located root is within its tolerance of it, and D is
+    // continuous on the way.
+    let jammed = which == EventFn::Rest && !(rhs(lane, tables, plan.mode, 0.0).1 > 0.0);
+    if !(ev.d_end > 0.0) || jammed {
+        st.finish(Status::Inconsistent);
+        return;
+    }
     add_flow(st, &ev, h_ev);
     st.t += h_ev;
     st.y = ev.y1;
