@@ -81,7 +81,7 @@ fn main() {
             .fold(f64::MAX, f64::min)
             / scale;
         let done = st.flags & 4 != 0;
-        let why = tswm::backend::gpu::verify::recheck(l, &g, done);
+        let why = tswm::backend::gpu::verify::recheck(l, &[], &st.end_state(l), &g, done);
         let f = [
             !done,
             res > 1e-4,
@@ -129,14 +129,18 @@ fn main() {
     let rows: Vec<_> = all
         .iter()
         .zip(&lanes)
-        .map(|(st, l)| (st.end_state(l).result(l, &[]), st.flags & 4 != 0))
+        .map(|(st, l)| {
+            let end = st.end_state(l);
+            (end, end.result(l, &[]), st.flags & 4 != 0)
+        })
         .collect();
     let t = std::time::Instant::now();
     let mut flagged_again = 0usize;
     for _ in 0..100 {
-        for ((r, done), l) in rows.iter().zip(&lanes) {
-            flagged_again += tswm::backend::gpu::verify::recheck(std::hint::black_box(l), r, *done)
-                .is_some() as usize;
+        for ((end, r, done), l) in rows.iter().zip(&lanes) {
+            flagged_again +=
+                tswm::backend::gpu::verify::recheck(std::hint::black_box(l), &[], end, r, *done)
+                    .is_some() as usize;
         }
     }
     let ns = t.elapsed().as_secs_f64() * 1e9 / (100.0 * rows.len() as f64);

@@ -21,6 +21,7 @@ pub mod automaton;
 pub mod batch;
 pub mod components;
 pub mod control;
+mod end_words;
 pub mod events;
 pub mod flow;
 mod lockstep;

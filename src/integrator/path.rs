@@ -17,8 +17,18 @@ pub enum Recheck {
     EnergyBalance,
     /// A Kloss motor so stiff near synchronous speed that f32 cannot resolve its force.
     StiffMotor,
-    /// A work that cancels below what f32 resolves of the energy that flowed.
+    /// A work that cancels below what f32 resolves of the energy that
+    /// flowed (w_motor, w_load, and w_friction, whose integrand p1 + p2
+    /// cancels where the mesh passes nearly all of its power).
     Cancellation,
+    /// An efficiency (`eta_direct`, `eta_inverse`) whose two energies f32
+    /// does not resolve to the trusted bound of their ratio, or whose
+    /// emptiness (its input ≤ 1e-6 of the mesh's) f32 cannot decide.
+    Efficiency,
+    /// `hold` or `drive` turns on a sign at the end (of p1, of the
+    /// acceleration, of the speed) that changes within the end speed's
+    /// bound.
+    EndSign,
     /// A step's p1, in a mode that does not decide its part (c·s = −1),
     /// turned and turned back inside it (the slope of its dense output at
     /// the step's middle against its ends): the split of that step's
@@ -31,7 +41,7 @@ pub enum Recheck {
 
 impl Recheck {
     /// Every reason, in order.
-    pub const ALL: [Recheck; 9] = [
+    pub const ALL: [Recheck; 11] = [
         Recheck::F32Range,
         Recheck::Unfinished,
         Recheck::GpuStatus,
@@ -39,6 +49,8 @@ impl Recheck {
         Recheck::EnergyBalance,
         Recheck::StiffMotor,
         Recheck::Cancellation,
+        Recheck::Efficiency,
+        Recheck::EndSign,
         Recheck::FlowTurn,
         Recheck::Traced,
     ];
@@ -53,6 +65,8 @@ impl Recheck {
             Recheck::EnergyBalance => "energy_balance",
             Recheck::StiffMotor => "stiff_motor",
             Recheck::Cancellation => "cancellation",
+            Recheck::Efficiency => "efficiency",
+            Recheck::EndSign => "end_sign",
             Recheck::FlowTurn => "flow_turn",
             Recheck::Traced => "traced",
         }

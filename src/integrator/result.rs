@@ -6,7 +6,7 @@ use super::components::NY;
 pub use super::outcome::{Contact, Drive, Hold, SearchOutcome, SearchStatus, Side};
 pub use super::path::{Recheck, RowPath};
 use crate::model::kernel::sliding_speed;
-use crate::model::{branch_of, efficiency, motion, mu_at, FrictionTable, Lane, Mode};
+use crate::model::{efficiency, motion, mu_at, FrictionTable, Lane};
 use crate::params::gear::rpm;
 
 /// Why a lane ended; `Ok` unless it could not be finished.
@@ -287,28 +287,17 @@ impl EndState {
     pub fn result(&self, lane: &Lane, tables: &[FrictionTable]) -> LaneResult {
         let v = self.y[1];
         let ok = self.status == Status::Ok;
-        let mode = Mode {
-            side: self.side,
-            dir: self.dir,
-            motor_on: self.motor_on,
-            branch: branch_of(lane, tables, sliding_speed(1.0, v.abs(), lane.inv_cos_g)),
-        };
-        let m = motion(lane, tables, mode, v);
+        let m = motion(lane, tables, self.mode_at(lane, tables, v), v);
         let eta_end = if self.stuck || v == 0.0 || !ok {
             f64::NAN
         } else {
             efficiency(lane, &m, self.side, self.dir, v)
         };
-        let hold = (ok && lane.motor_cut()).then(|| {
-            if self.stuck {
-                Hold::Held
-            } else if self.speeding || speeding_up(self.dir, m.acc) {
-                Hold::RunsAway
-            } else {
-                Hold::Coasting
-            }
-        });
-        let drive = if ok { self.drive(lane, m.s1 * v) } else { None };
+        let (hold, drive) = if ok {
+            self.words(lane, &m, v)
+        } else {
+            (None, None)
+        };
         let [eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss, lock_margin_deg, eta_direct_start, eta_inverse_start] =
             engineering(lane, tables, &self.flow, v);
         LaneResult {
@@ -351,35 +340,6 @@ impl EndState {
             path: RowPath::Cpu,
             search: None,
         }
-    }
-}
-
-impl EndState {
-    /// What the motor achieved, for a lane whose motor runs to the end
-    /// and drives (docs/model.md section 10): stalled at rest, else by the
-    /// direction of motion against the motor's, and in the motor's
-    /// direction by the power `p1` = S1 ẋ1 the worm side puts into the
-    /// mesh (negative: the load overhauls and the motor brakes it).
-    fn drive(&self, lane: &Lane, p1: f64) -> Option<Drive> {
-        let d = lane.motor_direction().filter(|_| !lane.motor_cut())?;
-        if self.stuck {
-            return Some(Drive::Stalled);
-        }
-        // The direction of motion; at an exact zero speed the direction
-        // the lane was sliding in.
-        let v = self.y[1];
-        let s = if v != 0.0 {
-            v.signum()
-        } else {
-            self.dir as f64
-        };
-        Some(if s != d {
-            Drive::BackDriven
-        } else if p1 < 0.0 {
-            Drive::Overhauled
-        } else {
-            Drive::Runs
-        })
     }
 }
 

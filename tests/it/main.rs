@@ -17,6 +17,7 @@ mod fuzz;
 mod gear;
 mod gpu;
 mod gpu64;
+mod gpu_recipes;
 mod math64;
 mod output;
 mod pareto;

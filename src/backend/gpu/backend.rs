@@ -156,7 +156,7 @@ impl Backend for GpuBackend {
             let why = if f64 {
                 verify::recheck_f64(finished)
             } else {
-                verify::recheck(&self.lanes64[i], &r, finished)
+                verify::recheck(&self.lanes64[i], tables, end, &r, finished)
             }
             .or(turned.then_some(Recheck::FlowTurn));
             // An f64 lane whose estimate is over the bound is run again at

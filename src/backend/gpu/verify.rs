@@ -10,8 +10,8 @@
 //! 3.7e-4 (1e-3 leaves a factor 2.7), or a status other than `ok`; with
 //! the check no row off by more than 5e-3 stays uncaught in any set.
 
-use crate::integrator::{LaneResult, Recheck, Status};
-use crate::model::{Lane, MotorKind};
+use crate::integrator::{EndState, LaneResult, Recheck, Status};
+use crate::model::{FrictionTable, Lane, MotorKind};
 
 /// Largest energy-balance residual (relative to the largest energy term)
 /// a trusted row may have.
@@ -64,9 +64,16 @@ pub(crate) fn representable(lane: &Lane) -> bool {
     vals.into_iter().all(ok) && (lane.motor_off.is_infinite() || ok(lane.motor_off))
 }
 
-/// Why a GPU row cannot be trusted, if it cannot. `finished` says whether
-/// the lane reached its end within the dispatch budget.
-pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
+/// Why a GPU row cannot be trusted, if it cannot: `r` is the row of the
+/// lane's end state `end`; `finished` says whether the lane reached its
+/// end within the dispatch budget.
+pub fn recheck(
+    lane: &Lane,
+    tables: &[FrictionTable],
+    end: &EndState,
+    r: &LaneResult,
+    finished: bool,
+) -> Option<Recheck> {
     if !finished {
         return Some(Recheck::Unfinished);
     }
@@ -104,13 +111,42 @@ pub fn recheck(lane: &Lane, r: &LaneResult, finished: bool) -> Option<Recheck> {
     {
         return Some(Recheck::EnergyBalance);
     }
-    // Only w_motor (a motor that drives, then brakes) and w_load (a
-    // reversal) have integrands that change sign; w_friction's never does.
-    let resolved = |w: f64| F32_ENERGY_RESOLUTION * scale <= TRUSTED_BOUND * w.abs().max(1.0);
-    if !resolved(r.w_motor) || !resolved(r.w_load) {
+    // w_motor (a motor that drives, then brakes) and w_load (a reversal)
+    // have integrands that change sign; w_friction's, p1 + p2, is the
+    // difference of the two mesh powers, nearly equal where the mesh
+    // passes nearly all of its power (an efficiency near 1).
+    let res = F32_ENERGY_RESOLUTION * scale;
+    let resolved = |w: f64| res <= TRUSTED_BOUND * w.abs().max(1.0);
+    if !resolved(r.w_motor) || !resolved(r.w_load) || !resolved(r.w_friction) {
         return Some(Recheck::Cancellation);
     }
+    if !efficiency_resolved(r.eta_direct, r.w2_out, r.w1_in, r.w2_in, res)
+        || !efficiency_resolved(r.eta_inverse, r.w1_out, r.w2_in, r.w1_in, res)
+    {
+        return Some(Recheck::Efficiency);
+    }
+    // The words at the end hold within the bound of the end speed.
+    let dv = crate::columns::VALUE_BOUND * r.v1_end.abs().max(1.0);
+    if !end.words_decided(lane, tables, (r.hold, r.drive), dv) {
+        return Some(Recheck::EndSign);
+    }
     None
+}
+
+/// Whether an efficiency `eta` = `out` / `inp` (NaN: empty, its input at
+/// most 1e-6 of the mesh's, `inp` + `other`: docs/model.md section 10)
+/// is what f32's energies, each known to `res` J, vouch for: its ratio
+/// within the trusted bound (a quotient's error, (res + eta res) / inp to
+/// first order, without the first res where `out` is 0), and its emptiness, where some energy went in, not
+/// within `res` of the threshold.
+fn efficiency_resolved(eta: f64, out: f64, inp: f64, other: f64, res: f64) -> bool {
+    let fed = 1e-6 * (inp + other);
+    if inp > 0.0 && (inp - fed).abs() <= res {
+        return false;
+    }
+    // An output of exactly 0 is the mode's (no step gave it any): exact.
+    let d_out = if out == 0.0 { 0.0 } else { res };
+    eta.is_nan() || d_out + res * eta.abs() <= TRUSTED_BOUND * inp.abs()
 }
 
 /// Why an f64 GPU row cannot be trusted, if it cannot: only a lane the
