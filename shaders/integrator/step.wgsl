@@ -61,6 +61,7 @@ fn finish_step(l: Lane, st: ptr<function, State>, plan: StepPlan, tr: Trial) {
         return;
     } else {
         add_flow(st, tr, h);
+        set_flag(st, F_JUST_SWITCHED, false);
         (*st).y = tr.y1;
         (*st).yc = tr.y1c;
         (*st).k1 = tr.k7;
@@ -113,6 +114,12 @@ fn step_to_event(l: Lane, st: ptr<function, State>, plan: StepPlan, theta: real,
     set_flag(st, F_K1_VALID, false);
     (*st).events += 1u;
     (*st).h = max(h_next, h_ev);
+    // A switch that ends a mode a switch began, before a step of it was
+    // accepted: the switching function grazed zero (touched it and
+    // turned back), where f32's rounding of it decides whether the lane
+    // stays in the mode at all, and the mode's share of the energy flow.
+    if (which == EV_SWITCH && has(st, F_JUST_SWITCHED)) { set_flag(st, F_GRAZE, true); }
+    set_flag(st, F_JUST_SWITCHED, which == EV_SWITCH);
     if (which == EV_REST) {
         come_to_rest(l, st);
     } else if (which == EV_SWITCH) {

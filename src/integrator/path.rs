@@ -34,6 +34,11 @@ pub enum Recheck {
     /// the step's middle against its ends): the split of that step's
     /// energy flow into in and out parts cannot be vouched for.
     FlowTurn,
+    /// A switch ended a mode that a switch began before a step of it was
+    /// accepted: the switching function grazed zero, and f32's rounding
+    /// of it decides whether the lane stays in that mode, and the mode's
+    /// share of the energy flow (a trusted row's w1_in read 0 for 0.038 J).
+    SwitchGraze,
     /// A traced lane: its row comes from the f64 integration its trace is
     /// taken from, so the row and the trace are one integration.
     Traced,
@@ -41,7 +46,7 @@ pub enum Recheck {
 
 impl Recheck {
     /// Every reason, in order.
-    pub const ALL: [Recheck; 11] = [
+    pub const ALL: [Recheck; 12] = [
         Recheck::F32Range,
         Recheck::Unfinished,
         Recheck::GpuStatus,
@@ -52,6 +57,7 @@ impl Recheck {
         Recheck::Efficiency,
         Recheck::EndSign,
         Recheck::FlowTurn,
+        Recheck::SwitchGraze,
         Recheck::Traced,
     ];
 
@@ -68,6 +74,7 @@ impl Recheck {
             Recheck::Efficiency => "efficiency",
             Recheck::EndSign => "end_sign",
             Recheck::FlowTurn => "flow_turn",
+            Recheck::SwitchGraze => "switch_graze",
             Recheck::Traced => "traced",
         }
     }

@@ -1,5 +1,5 @@
 //! The GPU's f32 rows on the wide random lane recipes
-//! (`tests/reference/random_lanes.py ... noload|jam|extreme`) against the
+//! (`tests/reference/random_lanes.py ... noload|jam|extreme|wide`) against the
 //! f64 path's rows of the same lanes: no row says what f32 could not
 //! vouch for. Needs an adapter (lavapipe counts) and a python3.
 
@@ -30,7 +30,7 @@ fn values() -> Vec<&'static str> {
         .collect()
 }
 
-/// 1,500 lanes each of three recipes, seed 77, where the self-check let
+/// 1,500 lanes each of four recipes, seed 77, where the self-check let
 /// through rows it should not have (measured before each fix on these
 /// lanes, `tswm check --lanes`):
 /// - `noload`: a motor run up to synchronous speed without load, whose
@@ -44,7 +44,10 @@ fn values() -> Vec<&'static str> {
 /// - `extreme`: 33 rows off by more than 5e-5 (97.8 % within, 98 %
 ///   required), one by 7.7e-3 (over the trusted bound 5e-3): efficiencies
 ///   of energies f32 does not resolve (now `cpu:efficiency`) and a
-///   w_friction of nearly equal mesh powers (`cpu:cancellation`).
+///   w_friction of nearly equal mesh powers (`cpu:cancellation`);
+/// - `wide`: one lane whose switching function grazed zero, where f32
+///   switched back at once and its trusted row read w1_in 0 for 0.038 J
+///   (now `cpu:switch_graze`).
 #[test]
 fn gpu_rows_of_wide_recipes_keep_their_bounds() {
     if no_gpu("gpu_rows_of_wide_recipes_keep_their_bounds") {
@@ -53,7 +56,7 @@ fn gpu_rows_of_wide_recipes_keep_their_bounds() {
     let Some(py) = python_for(&SCIPY, "the wide recipes on the GPU") else {
         return;
     };
-    for recipe in ["noload", "jam", "extreme"] {
+    for recipe in ["noload", "jam", "extreme", "wide"] {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
         let lanes = d.join("lanes.csv");

@@ -153,12 +153,15 @@ impl Backend for GpuBackend {
             r.path = if f64 { RowPath::Gpu64 } else { RowPath::Gpu };
             let finished = bits & flags::DONE != 0;
             let turned = bits & flags::FLOW_TURN != 0;
+            // f64 resolves a graze as the CPU path does (the same steps).
+            let grazed = !f64 && bits & flags::GRAZE != 0;
             let why = if f64 {
                 verify::recheck_f64(finished)
             } else {
                 verify::recheck(&self.lanes64[i], tables, end, &r, finished)
             }
-            .or(turned.then_some(Recheck::FlowTurn));
+            .or(turned.then_some(Recheck::FlowTurn))
+            .or(grazed.then_some(Recheck::SwitchGraze));
             // An f64 lane whose estimate is over the bound is run again at
             // the tighter settings, as the CPU path runs its own.
             let redo = match why {

@@ -19,8 +19,7 @@ pub mod flags {
     macro_rules! flags {
         ($($(#[$m:meta])* $name:ident = $value:expr;)*) => {
             $($(#[$m])* pub const $name: u32 = $value;)*
-            /// Every flag by its name (the shader's `F_*` constants are
-            /// generated from it: `shader::prelude`).
+            /// Every flag by its name (the shader's `F_*`: `shader::prelude`).
             pub const ALL: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
         };
     }
@@ -39,10 +38,12 @@ pub mod flags {
         RUNNING_ON = 32;
         /// Running on ended because the lane began to speed up.
         SPEEDING = 64;
-        /// A step's p1, where the mode does not decide its part, turned
-        /// and turned back inside it
-        /// ([`Recheck::FlowTurn`](crate::integrator::path::Recheck::FlowTurn)).
+        /// A step's p1 turned and turned back inside it (`Recheck::FlowTurn`).
         FLOW_TURN = 256;
+        /// The mode began at a switch and has no accepted step yet.
+        JUST_SWITCHED = 512;
+        /// A switch ended such a mode (`Recheck::SwitchGraze`).
+        GRAZE = 1024;
     }
 }
 

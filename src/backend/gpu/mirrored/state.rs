@@ -176,7 +176,7 @@ pub(super) fn state_values(s: &GpuState64) -> (Vec<(String, f64)>, String) {
     };
     let words = format!(
         "side {} dir {} flags {:b} status {status} switches {} reversals {} sticks {} steps {} events {}",
-        s.side, s.dir, s.flags & !flags::FLOW_TURN, s.switches, s.reversals, s.sticks, s.steps, s.events
+        s.side, s.dir, s.flags & !(flags::FLOW_TURN | flags::JUST_SWITCHED | flags::GRAZE), s.switches, s.reversals, s.sticks, s.steps, s.events
     );
     (v, words)
 }
