@@ -46,6 +46,12 @@ CTRL_C = textwrap.dedent(
     import os, signal, sys, threading, time
     import tswm
 
+    # Ctrl-C in an interactive session reaches Python's own handler. A
+    # Python started with SIGINT ignored (a background job of a
+    # non-interactive shell, as some test runners start their tests) keeps
+    # it ignored, and the run would never hear it: install the handler an
+    # interactive session has.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     out = sys.argv[1]
     sent = {}
 
