@@ -67,6 +67,11 @@ impl EndState {
     /// ends of the interval (each sign changes once there: p1 at
     /// synchronous speed or where ρ crosses γ, the acceleration at a
     /// terminal speed). At rest and stuck, or with no word, nothing turns.
+    /// A lane whose running on ended where it began to speed up is held
+    /// to its acceleration there too: in a mode the speed cannot pass a
+    /// terminal speed (where the acceleration is 0), so a speeding event
+    /// located at one is rounding (f32 ran a table lane on to it at 6.2 s
+    /// where the f64 path coasts on towards it to t_max, 18.3 s).
     pub fn words_decided(
         &self,
         lane: &Lane,
@@ -77,9 +82,13 @@ impl EndState {
         if self.stuck || said == (None, None) {
             return true;
         }
+        let by_acc = EndState {
+            speeding: false,
+            ..*self
+        };
         let at = |v: f64| {
             let m = motion(lane, tables, self.mode_at(lane, tables, v), v);
-            self.words(lane, &m, v)
+            by_acc.words(lane, &m, v)
         };
         let v = self.y[1];
         at(v - dv) == said && at(v + dv) == said

@@ -1,5 +1,5 @@
 //! The GPU's f32 rows on the wide random lane recipes
-//! (`tests/reference/random_lanes.py ... noload|jam|extreme|wide`) against the
+//! (`tests/reference/random_lanes.py ... noload|jam|extreme|wide|table`) against the
 //! f64 path's rows of the same lanes: no row says what f32 could not
 //! vouch for. Needs an adapter (lavapipe counts) and a python3.
 
@@ -30,7 +30,7 @@ fn values() -> Vec<&'static str> {
         .collect()
 }
 
-/// 1,500 lanes each of four recipes, seed 77, where the self-check let
+/// 1,500 lanes each of five recipes, seed 77 unless said, where the self-check let
 /// through rows it should not have (measured before each fix on these
 /// lanes, `tswm check --lanes`):
 /// - `noload`: a motor run up to synchronous speed without load, whose
@@ -47,7 +47,10 @@ fn values() -> Vec<&'static str> {
 ///   w_friction of nearly equal mesh powers (`cpu:cancellation`);
 /// - `wide`: one lane whose switching function grazed zero, where f32
 ///   switched back at once and its trusted row read w1_in 0 for 0.038 J
-///   (now `cpu:switch_graze`).
+///   (now `cpu:switch_graze`);
+/// - `table` (seed 79): a lane running on towards a terminal speed,
+///   where f32's acceleration changed sign at 6.2 s and the row said
+///   `runs_away` for the f64 path's `coasting` at t_max (now `end_sign`).
 #[test]
 fn gpu_rows_of_wide_recipes_keep_their_bounds() {
     if no_gpu("gpu_rows_of_wide_recipes_keep_their_bounds") {
@@ -56,7 +59,13 @@ fn gpu_rows_of_wide_recipes_keep_their_bounds() {
     let Some(py) = python_for(&SCIPY, "the wide recipes on the GPU") else {
         return;
     };
-    for recipe in ["noload", "jam", "extreme", "wide"] {
+    for (recipe, seed) in [
+        ("noload", "77"),
+        ("jam", "77"),
+        ("extreme", "77"),
+        ("wide", "77"),
+        ("table", "79"),
+    ] {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
         let lanes = d.join("lanes.csv");
@@ -66,7 +75,7 @@ fn gpu_rows_of_wide_recipes_keep_their_bounds() {
             &[
                 gen.to_str().unwrap(),
                 "1500",
-                "77",
+                seed,
                 lanes.to_str().unwrap(),
                 recipe,
             ],
@@ -74,8 +83,12 @@ fn gpu_rows_of_wide_recipes_keep_their_bounds() {
         quiet_mesa();
         let mut rows = Vec::new();
         for (backend, out) in [("cpu", "c"), ("gpu", "g")] {
-            let args = [
-                "run",
+            let mut args = vec!["run"];
+            // The table recipe's friction tables, as its sweep file.
+            if d.join("lanes.toml").exists() {
+                args.push("lanes.toml");
+            }
+            args.extend([
                 "--lanes",
                 "lanes.csv",
                 "--backend",
@@ -85,7 +98,7 @@ fn gpu_rows_of_wide_recipes_keep_their_bounds() {
                 "--out",
                 out,
                 "--no-report",
-            ];
+            ]);
             let o = tswm(&args, d);
             assert!(
                 o.status.success(),
