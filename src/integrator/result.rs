@@ -212,12 +212,16 @@ impl LaneResult {
     };
 }
 
+/// An efficiency is empty where its input is at most this share of the
+/// energy fed into the mesh, w1_in + w2_in (docs/model.md section 10).
+pub(crate) const EMPTY_SHARE: f64 = 1e-6;
+
 /// Section 10's efficiencies and margin from a lane's energies and final
 /// speed: (eta_direct, eta_inverse, eta_direct_ss, eta_inverse_ss,
 /// lock_margin_deg, eta_direct_start, eta_inverse_start).
 pub fn engineering(lane: &Lane, tables: &[FrictionTable], flow: &[f64; 4], v_end: f64) -> [f64; 7] {
     let [w1_in, w1_out, w2_in, w2_out] = *flow;
-    let fed = 1e-6 * (w1_in + w2_in);
+    let fed = EMPTY_SHARE * (w1_in + w2_in);
     let ratio = |out: f64, inp: f64| if inp > fed { out / inp } else { f64::NAN };
     // Steady values at the final sliding speed (at rest: the sliding law's
     // limit at zero speed, which summary.csv and the report leave out).

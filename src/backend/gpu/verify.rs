@@ -134,14 +134,14 @@ pub fn recheck(
 }
 
 /// Whether an efficiency `eta` = `out` / `inp` (NaN: empty, its input at
-/// most 1e-6 of the mesh's, `inp` + `other`: docs/model.md section 10)
+/// most `EMPTY_SHARE` of the mesh's, `inp` + `other`: docs/model.md section 10)
 /// is what f32's energies, each known to `res` J, vouch for: its ratio
 /// within the trusted bound (a quotient's error, (res + eta res) / inp
 /// to first order, without the first res where `out` is 0), and its
 /// emptiness, where some energy went in, not within `res` of the
 /// threshold.
 fn efficiency_resolved(eta: f64, out: f64, inp: f64, other: f64, res: f64) -> bool {
-    let fed = 1e-6 * (inp + other);
+    let fed = crate::integrator::result::EMPTY_SHARE * (inp + other);
     if inp > 0.0 && (inp - fed).abs() <= res {
         return false;
     }
